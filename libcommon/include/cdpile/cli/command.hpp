@@ -1,0 +1,155 @@
+/// The one command-line layer every cdpile tool uses.
+///
+/// A tool file declares its usage (synopsis, description, examples, positional
+/// arguments, options with type, default, unit and range) and a `run` function, then
+/// ends with `CDPILE_TOOL(usage, run)`. Parsing (Boost.Program_options, no prefix
+/// guessing), `--help`, `--version`, error printing and exit codes live here:
+///   0  success (also for --help and --version)
+///   1  runtime or data error (cdpile::Error and anything unexpected)
+///   2  usage error (cdpile::UsageError: unknown option, bad value, missing argument)
+/// Every message goes to stderr as one line `tool: FILE: WHERE: WHAT`.
+#pragma once
+
+#include "cdpile/error.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cdpile::cli {
+
+/// The kinds of value an option takes; each is parsed strictly (no trailing junk,
+/// no nan or inf, range checked), so `--grains 1e` or `--mu nan` is a usage error.
+enum class Kind { flag, integer, real, text, real_list, path_in, path_out };
+
+struct OptionSpec {
+  std::string name;          ///< long name without dashes, e.g. "grains"
+  char short_name = 0;       ///< e.g. 'o', or 0
+  Kind kind = Kind::text;
+  std::string help;          ///< one sentence
+  std::string unit;          ///< e.g. "m", "deg", "D" (mean diameters); empty if none
+  std::string default_text;  ///< shown by --help; empty means "no default" (optional)
+  bool has_default = false;
+  bool required = false;
+  double min = -1e308, max = 1e308;  ///< for integer and real values (inclusive)
+  std::string group = "Options";
+};
+
+struct Example {
+  std::string title, command, explanation;
+};
+
+/// The declaration of a tool's interface. Built by the tool's `usage` function.
+class Usage {
+ public:
+  std::string name;                      ///< set by CDPILE_TOOL from the executable
+  std::string synopsis;                  ///< one line
+  std::vector<std::string> description;  ///< paragraphs: definitions, choices, units
+  std::vector<Example> examples;
+  std::vector<OptionSpec> positionals;   ///< in order; the last may repeat
+  bool last_positional_repeats = false;
+  std::vector<OptionSpec> options;
+
+  /// A positional argument (a file, "-" for standard input where the tool allows it).
+  Usage& argument(const std::string& name, const std::string& help, bool repeats = false,
+                  bool required = true);
+  Usage& flag(const std::string& name, const std::string& help, char short_name = 0);
+  Usage& integer(const std::string& name, std::int64_t def, const std::string& help,
+                 std::int64_t min = INT64_MIN, std::int64_t max = INT64_MAX,
+                 const std::string& unit = "");
+  /// An integer option with no default: absent means "not given".
+  Usage& integer_opt(const std::string& name, const std::string& help,
+                     std::int64_t min = INT64_MIN, std::int64_t max = INT64_MAX,
+                     const std::string& unit = "");
+  Usage& real(const std::string& name, double def, const std::string& help,
+              const std::string& unit = "", double min = -1e308, double max = 1e308);
+  /// A real option with no default: absent means "not given".
+  Usage& real_opt(const std::string& name, const std::string& help, const std::string& unit = "",
+                  double min = -1e308, double max = 1e308);
+  /// A comma-separated list of reals, or a range FIRST:STEP:LAST.
+  Usage& real_list(const std::string& name, const std::string& def, const std::string& help,
+                   const std::string& unit = "", double min = -1e308, double max = 1e308);
+  Usage& text(const std::string& name, const std::string& def, const std::string& help,
+              const std::vector<std::string>& choices = {});
+  Usage& text_opt(const std::string& name, const std::string& help);
+  /// Declares `-o FILE` / `--output FILE`. `def` "-" means standard output by default.
+  Usage& output(const std::string& help, const std::string& def = "");
+  /// Declares `--seed N` (default 1), the one seed option of every tool.
+  Usage& seed(const std::string& help = "seed of the random number generator");
+  /// Starts a new group of options in --help.
+  Usage& group(const std::string& title);
+  Usage& example(const std::string& title, const std::string& command,
+                 const std::string& explanation);
+
+ private:
+  std::string current_group_ = "Options";
+  Usage& add(OptionSpec s);
+};
+
+/// The parsed command line, typed by the declaration.
+class Args {
+ public:
+  bool has(const std::string& name) const;  ///< given on the command line or defaulted
+  bool given(const std::string& name) const;  ///< given on the command line
+  bool flag(const std::string& name) const;
+  std::int64_t integer(const std::string& name) const;
+  double real(const std::string& name) const;
+  std::optional<double> real_opt(const std::string& name) const;
+  std::optional<std::int64_t> integer_opt(const std::string& name) const;
+  std::vector<double> real_list(const std::string& name) const;
+  const std::string& text(const std::string& name) const;
+  /// Positional arguments by name; a repeating one gives all its values.
+  const std::vector<std::string>& arguments(const std::string& name) const;
+  const std::string& argument(const std::string& name) const;
+  /// Output path from -o ("-" is standard output); empty if absent and no default.
+  const std::string& output() const;
+  bool force() const { return flag("force"); }
+  bool quiet() const { return flag("quiet"); }
+  std::uint64_t seed() const { return static_cast<std::uint64_t>(integer("seed")); }
+
+  /// The full command line as typed (shell-quoted), for provenance.
+  const std::string& command_line() const { return command_line_; }
+  const std::string& tool() const { return tool_; }
+
+  // Filled by parse().
+  std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> positional_;
+  std::map<std::string, bool> given_;
+  std::map<std::string, Kind> kinds_;
+  std::string command_line_, tool_;
+};
+
+/// Parses argv against the declaration. Throws UsageError with a one-line reason.
+/// `--help` and `--version` are handled by run_tool, not here.
+Args parse(const Usage& usage, const std::vector<std::string>& argv);
+
+/// The help text: synopsis, usage line, description, arguments, options with their
+/// default and unit, examples, exit codes.
+std::string help_text(const Usage& usage);
+/// The same declaration as a Markdown page (docs/tools/<tool>.md is generated from it).
+std::string help_markdown(const Usage& usage);
+
+/// The one main() of every tool: builds the usage, parses, runs, prints errors and
+/// returns the exit code. Adds the standard options (--help, --version, --force,
+/// --quiet) to every tool.
+int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
+             const std::function<void(const Args&)>& body);
+
+/// Messages on stderr, prefixed by the tool name; suppressed by --quiet except errors.
+void warn(const std::string& what);
+void info(const std::string& what);
+const std::string& tool_name();
+
+/// Ctrl-C and SIGTERM: by default they remove every registered temporary output and
+/// exit with 130. A tool with a long loop calls defer_interrupts() and polls
+/// interrupted() to stop cleanly after the current step.
+void defer_interrupts();
+bool interrupted();
+
+}  // namespace cdpile::cli
+
+#define CDPILE_TOOL(declare_fn, run_fn) \
+  int main(int argc, char** argv) { return ::cdpile::cli::run_tool(argc, argv, declare_fn, run_fn); }

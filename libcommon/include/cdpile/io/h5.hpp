@@ -1,0 +1,123 @@
+/// A thin RAII layer over the HDF5 C API: handles that close themselves, typed reads
+/// and writes of datasets and attributes, and errors that name the file and the path
+/// inside it instead of printing HDF5's error stack.
+#pragma once
+
+#include "cdpile/error.hpp"
+
+#include <hdf5.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cdpile::io::h5 {
+
+/// Turns off HDF5's automatic error-stack printing (once per process).
+void silence_errors();
+
+/// An owned HDF5 identifier, closed with the right H5*close on destruction.
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  ~Handle() { reset(); }
+  Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = H5I_INVALID_HID; }
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) { reset(); id_ = o.id_; o.id_ = H5I_INVALID_HID; }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  hid_t id() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  void reset() noexcept;
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+};
+
+/// An open file, remembering the name used in messages.
+class File {
+ public:
+  File() = default;
+  File(Handle h, std::string name) : h_(std::move(h)), name_(std::move(name)) {}
+  hid_t id() const { return h_.id(); }
+  bool valid() const { return h_.valid(); }
+  const std::string& name() const { return name_; }
+  void close();  ///< closes now and reports a failure (a plain destruction does not)
+ private:
+  Handle h_;
+  std::string name_;
+};
+
+File create(const std::string& path, const std::string& name);  ///< truncate
+File create_in_memory(const std::string& name);                 ///< core driver, no backing store
+File open_read(const std::string& path, const std::string& name);
+File open_write(const std::string& path, const std::string& name);  ///< read-write
+File open_image(const std::vector<char>& bytes, const std::string& name);
+std::vector<char> image_of(const File& f);  ///< flushes and copies the file image
+
+bool exists(const File& f, const std::string& path);  ///< a link at this absolute path
+void create_group(const File& f, const std::string& path);  ///< creates parents too
+void hard_link(const File& f, const std::string& target, const std::string& link);
+/// Names of the members of a group, in creation (or name) order.
+std::vector<std::string> members(const File& f, const std::string& group);
+
+/// Dataset shape, or error naming the path.
+std::vector<hsize_t> shape(const File& f, const std::string& path);
+
+/// Compression and chunking of a dataset. `chunk_rows` 0 = contiguous, fixed size.
+struct Layout {
+  hsize_t chunk_rows = 0;   ///< rows (first dimension) per chunk; extendible if > 0
+  int deflate = 0;          ///< 0 = none, 1..9 gzip level (with the shuffle filter)
+};
+
+template <class T> hid_t native_type();
+
+/// Writes a dataset of shape rows x cols... (`dims`), creating it.
+template <class T>
+void write(const File& f, const std::string& path, const T* data,
+           const std::vector<hsize_t>& dims, Layout layout = {});
+template <class T>
+void write(const File& f, const std::string& path, const std::vector<T>& v, Layout layout = {}) {
+  write(f, path, v.data(), {static_cast<hsize_t>(v.size())}, layout);
+}
+/// Appends rows to an extendible dataset (first dimension); creates it if absent with
+/// the given layout and the trailing dimensions of `dims` (dims[0] = rows appended).
+template <class T>
+void append(const File& f, const std::string& path, const T* data,
+            const std::vector<hsize_t>& dims, Layout layout);
+/// Shrinks an extendible dataset to `rows` along its first dimension.
+void truncate_rows(const File& f, const std::string& path, hsize_t rows);
+
+/// Reads a whole dataset, checking its rank and the trailing dimensions given
+/// (`expect`, a 0 entry matches anything). Returns the data flattened in C order.
+template <class T>
+std::vector<T> read(const File& f, const std::string& path, const std::vector<hsize_t>& expect,
+                    std::vector<hsize_t>* dims_out = nullptr);
+/// Reads rows [first, first+count) of a dataset along its first dimension.
+template <class T>
+std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, hsize_t count);
+
+// Attributes on an object (group or dataset) at `path`.
+void set_attr(const File& f, const std::string& path, const std::string& name, const std::string& v);
+void set_attr(const File& f, const std::string& path, const std::string& name, double v);
+void set_attr(const File& f, const std::string& path, const std::string& name, std::int64_t v);
+void set_attr(const File& f, const std::string& path, const std::string& name,
+              const std::vector<std::int64_t>& v);
+void set_attr(const File& f, const std::string& path, const std::string& name,
+              const std::vector<double>& v);
+void set_attr(const File& f, const std::string& path, const std::string& name,
+              const std::vector<std::string>& v);
+bool has_attr(const File& f, const std::string& path, const std::string& name);
+/// Class of an attribute: H5T_INTEGER, H5T_FLOAT or H5T_STRING.
+H5T_class_t attr_class(const File& f, const std::string& path, const std::string& name);
+std::string attr_string(const File& f, const std::string& path, const std::string& name);
+double attr_double(const File& f, const std::string& path, const std::string& name);
+std::int64_t attr_int(const File& f, const std::string& path, const std::string& name);
+std::vector<std::int64_t> attr_ints(const File& f, const std::string& path, const std::string& name);
+std::vector<std::string> attr_strings(const File& f, const std::string& path, const std::string& name);
+std::vector<std::string> attr_names(const File& f, const std::string& path);
+
+}  // namespace cdpile::io::h5

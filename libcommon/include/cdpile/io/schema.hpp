@@ -1,0 +1,142 @@
+/// The cdpile file schema (docs/schema.md): one HDF5 layout for piles, runs and the
+/// analysis products, following H5MD 1.1 for the grains.
+///
+///   /                         attrs: schema = "cdpile", schema_version, kind
+///   /h5md                     attrs: version = [1, 1]; author/, creator/ (name, version)
+///   /particles/grains/box     attrs: dimension = 2, boundary = [none, none],
+///                             edges [2] (width, height, m), walls (floor, left, right)
+///   /particles/grains/{radius,mass,inertia,species}      [N] fixed per grain
+///   /particles/grains/{position,velocity}/{step,time,value}   value [F][N][2]
+///   /particles/grains/{orientation,angular_velocity}/{step,time,value}  value [F][N]
+///   /contacts/{step,time,tilt_angle,offset,count}        [F] per frame
+///   /contacts/{i,j,fn,ft,gap,status} [K], {point,normal} [K][2]: all frames, flat
+///   /observables/<name>/{step,time,value}   one row per time step (step/time linked)
+///   /parameters               attrs: every physical and numerical parameter, the
+///                             unit in the name's suffix (time_step_s, mu_grain, ...)
+///   /results                  attrs: results of the run (e.g. avalanche_angle_deg)
+///   /provenance/<k>           attrs: tool, version, command_line, inputs, date
+#pragma once
+
+#include "cdpile/io/files.hpp"
+#include "cdpile/io/h5.hpp"
+#include "cdpile/model.hpp"
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace cdpile::io {
+
+inline constexpr std::int64_t schema_version = 1;
+
+/// A parameter or result: an integer, a real or a text. Names carry their unit as a
+/// suffix (`time_step_s`, `tilt_rate_deg_per_step`); a bare name is dimensionless.
+using Value = std::variant<std::int64_t, double, std::string>;
+using Values = std::map<std::string, Value>;
+
+double as_real(const Values& v, const std::string& key, const std::string& file);
+std::int64_t as_int(const Values& v, const std::string& key, const std::string& file);
+
+/// Who made a file, from what: one entry per tool that wrote into it, appended.
+struct Provenance {
+  std::string tool, version, command_line, inputs, date;
+};
+/// Provenance of the running tool (date now, version of this build).
+Provenance provenance_now(const std::string& tool, const std::string& command_line,
+                          const std::string& inputs);
+
+/// Per-step scalar time series: named columns over steps. Standard names (units):
+/// tilt_angle (deg), kinetic_energy (J/m, translational, sum over grains),
+/// rotational_energy (J/m), contacts (active, f_n > 0), contacts_grain (active
+/// grain-grain), sliding (status slide), sweeps (NSGS sweeps), residual (solver
+/// residual, dimensionless), converged (1/0), max_overlap (m).
+struct Series {
+  std::vector<std::int64_t> step;
+  std::vector<double> time;  ///< [s]
+  std::map<std::string, std::vector<double>> real;
+  std::map<std::string, std::vector<std::int64_t>> integer;
+  std::map<std::string, std::string> unit;  ///< unit per column name ("" = none)
+
+  std::size_t size() const { return step.size(); }
+  void clear();
+};
+
+/// Kind of a file: "pile" (one static frame), "run" (a tilt simulation); analysis
+/// products name themselves ("localnu", ...).
+struct RunHeader {
+  std::string kind = "run";
+  Box box;
+  Values parameters;
+  Values results;
+  std::vector<Provenance> provenance;
+};
+
+/// Writes a pile or a run. The grains' fixed properties are written once; frames and
+/// observables are appended (chunked, extendible datasets).
+class RunWriter {
+ public:
+  /// Starts a new file in `f` with the grains' fixed properties from `grains`.
+  RunWriter(h5::File& f, const RunHeader& header, const Grains& grains);
+  /// Reopens an existing run for appending, dropping frames and observables after
+  /// `last_step` (resume from a checkpoint).
+  static RunWriter reopen(h5::File& f, std::int64_t last_step);
+
+  void append_frame(const Frame& frame);
+  void append_series(const Series& rows);
+  void set_result(const std::string& name, const Value& v);
+  void add_provenance(const Provenance& p);
+  void flush();
+
+  std::size_t frames() const { return frames_; }
+  std::int64_t contacts_written() const { return contacts_; }
+
+ private:
+  explicit RunWriter(h5::File& f) : f_(&f) {}
+  h5::File* f_;
+  std::size_t frames_ = 0, grains_ = 0;
+  std::int64_t contacts_ = 0;
+};
+
+/// Reads and validates a pile or run. Every problem (missing group, wrong schema
+/// version, wrong shape, NaN or infinite value, negative radius, inconsistent
+/// offsets) is an Error naming the file and the path inside it.
+class RunReader {
+ public:
+  explicit RunReader(const h5::File& f);
+  const RunHeader& header() const { return header_; }
+  std::size_t grain_count() const { return n_; }
+  std::size_t frame_count() const { return frame_steps_.size(); }
+  const std::vector<std::int64_t>& frame_steps() const { return frame_steps_; }
+  /// Frame k: the grains (fixed properties and state) and contacts.
+  Frame frame(std::size_t k) const;
+  /// Only the contacts of frame k (cheaper: no grain state).
+  Contacts contacts(std::size_t k) const;
+  double frame_tilt_angle(std::size_t k) const { return frame_tilt_[k]; }
+  double frame_time(std::size_t k) const { return frame_time_[k]; }
+  /// The grains' fixed properties (radius, mass, inertia, species), state zeroed.
+  const Grains& grain_properties() const { return grains_; }
+  /// All per-step observables.
+  Series series() const;
+  const std::string& name() const { return f_->name(); }
+
+ private:
+  const h5::File* f_;
+  RunHeader header_;
+  Grains grains_;
+  std::size_t n_ = 0;
+  std::vector<std::int64_t> frame_steps_, offset_, count_;
+  std::vector<double> frame_time_, frame_tilt_;
+};
+
+/// Writes and reads the common attributes of any cdpile file (root attributes,
+/// /h5md, /parameters, /results, /provenance). Used by RunWriter and by the analysis
+/// products.
+void write_header(const h5::File& f, const RunHeader& h);
+RunHeader read_header(const h5::File& f, const std::string& expected_kind = "");
+void write_values(const h5::File& f, const std::string& group, const Values& v);
+Values read_values(const h5::File& f, const std::string& group);
+void append_provenance(const h5::File& f, const Provenance& p);
+
+}  // namespace cdpile::io
