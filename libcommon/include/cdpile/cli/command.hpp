@@ -52,6 +52,7 @@ class Usage {
   std::vector<OptionSpec> positionals;   ///< in order; the last may repeat
   bool last_positional_repeats = false;
   std::vector<OptionSpec> options;
+  std::map<std::string, std::vector<std::string>> choices_;  ///< allowed values of text options
 
   /// A positional argument (a file, "-" for standard input where the tool allows it).
   Usage& argument(const std::string& name, const std::string& help, bool repeats = false,

@@ -33,6 +33,8 @@ class Handle {
   hid_t id() const { return id_; }
   bool valid() const { return id_ >= 0; }
   void reset() noexcept;
+  /// Gives up ownership without closing.
+  hid_t release() noexcept { hid_t x = id_; id_ = H5I_INVALID_HID; return x; }
  private:
   hid_t id_ = H5I_INVALID_HID;
 };

@@ -1,0 +1,585 @@
+#include "cdpile/cli/command.hpp"
+
+#include "cdpile/io/files.hpp"
+
+#include <boost/program_options.hpp>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+namespace po = boost::program_options;
+
+namespace cdpile::cli {
+
+namespace {
+
+std::string g_tool = "cdpile";
+bool g_quiet = false;
+std::atomic<bool> g_deferred{false};
+volatile std::sig_atomic_t g_interrupted = 0;
+
+extern "C" void on_signal(int sig) {
+  if (g_deferred.load() && g_interrupted == 0) {  // first Ctrl-C: finish the step, then stop
+    g_interrupted = 1;
+    return;
+  }
+  io::remove_temporaries();
+  _exit(128 + sig);
+}
+
+std::string format_number(double x) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
+}
+
+std::string range_text(const OptionSpec& o) {
+  const bool lo = o.min > -1e307, hi = o.max < 1e307;
+  if (lo && hi) return "in [" + format_number(o.min) + ", " + format_number(o.max) + "]";
+  if (lo) return ">= " + format_number(o.min);
+  if (hi) return "<= " + format_number(o.max);
+  return "";
+}
+
+const char* kind_word(Kind k) {
+  switch (k) {
+    case Kind::integer: return "an integer";
+    case Kind::real: return "a finite number";
+    case Kind::real_list: return "a list of numbers (A,B,C or FIRST:STEP:LAST)";
+    default: return "a value";
+  }
+}
+
+[[noreturn]] void bad_value(const OptionSpec& o, const std::string& v, const std::string& why = "") {
+  std::string want = kind_word(o.kind);
+  const std::string range = range_text(o);
+  if (!range.empty()) want += " " + range;
+  throw UsageError("--" + o.name + ": expected " + want + ", got '" + v + "'" + (why.empty() ? "" : " (" + why + ")"));
+}
+
+double parse_real(const OptionSpec& o, const std::string& v) {
+  double x = 0;
+  const char* b = v.data();
+  const char* e = b + v.size();
+  if (!v.empty() && *b == '+') ++b;
+  auto r = std::from_chars(b, e, x);
+  if (v.empty() || r.ec != std::errc() || r.ptr != e || !std::isfinite(x)) bad_value(o, v);
+  if (x < o.min || x > o.max) bad_value(o, v, "out of range");
+  return x;
+}
+
+std::int64_t parse_integer(const OptionSpec& o, const std::string& v) {
+  std::int64_t x = 0;
+  const char* b = v.data();
+  const char* e = b + v.size();
+  if (!v.empty() && *b == '+') ++b;
+  auto r = std::from_chars(b, e, x);
+  if (v.empty() || r.ec != std::errc() || r.ptr != e) bad_value(o, v);
+  if (static_cast<double>(x) < o.min || static_cast<double>(x) > o.max) bad_value(o, v, "out of range");
+  return x;
+}
+
+std::vector<double> parse_list(const OptionSpec& o, const std::string& v) {
+  std::vector<double> out;
+  OptionSpec item = o;
+  item.kind = Kind::real;
+  if (v.find(':') != std::string::npos) {
+    std::vector<std::string> parts;
+    std::stringstream ss(v);
+    for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+    if (parts.size() != 3) bad_value(o, v, "a range is FIRST:STEP:LAST");
+    OptionSpec any = item;
+    any.min = -1e308;
+    any.max = 1e308;
+    const double first = parse_real(item, parts[0]), step = parse_real(any, parts[1]),
+                 last = parse_real(item, parts[2]);
+    if (!(step > 0) || last < first) bad_value(o, v, "the step must be positive and LAST >= FIRST");
+    const auto n = static_cast<std::size_t>(std::floor((last - first) / step * (1 + 1e-12))) + 1;
+    if (n > 1000000) bad_value(o, v, "more than 10^6 values");
+    for (std::size_t k = 0; k < n; ++k) out.push_back(first + static_cast<double>(k) * step);
+    return out;
+  }
+  std::stringstream ss(v);
+  for (std::string p; std::getline(ss, p, ',');) out.push_back(parse_real(item, p));
+  if (out.empty()) bad_value(o, v);
+  return out;
+}
+
+void validate(const OptionSpec& o, const std::string& v) {
+  switch (o.kind) {
+    case Kind::integer: parse_integer(o, v); break;
+    case Kind::real: parse_real(o, v); break;
+    case Kind::real_list: parse_list(o, v); break;
+    default: break;
+  }
+}
+
+std::string shell_quote(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") == std::string::npos)
+    return s;
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string metavar(const OptionSpec& o) {
+  switch (o.kind) {
+    case Kind::flag: return "";
+    case Kind::integer: return "N";
+    case Kind::real: return "X";
+    case Kind::real_list: return "LIST";
+    case Kind::path_out: return "FILE";
+    case Kind::path_in: return "FILE";
+    default: return "TEXT";
+  }
+}
+
+std::string wrap(const std::string& text, std::size_t indent, std::size_t width = 80) {
+  std::string out, line;
+  std::istringstream ss(text);
+  const std::string pad(indent, ' ');
+  for (std::string w; ss >> w;) {
+    if (!line.empty() && line.size() + 1 + w.size() > width - indent) {
+      out += pad + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + w;
+  }
+  if (!line.empty()) out += pad + line + "\n";
+  return out;
+}
+
+std::string option_detail(const OptionSpec& o) {
+  std::string d = o.help;
+  std::vector<std::string> extra;
+  if (!o.unit.empty()) extra.push_back("unit: " + o.unit);
+  if (o.kind != Kind::flag && o.has_default) extra.push_back("default: " + (o.default_text.empty() ? std::string("''") : o.default_text));
+  if (o.required) extra.push_back("required");
+  const std::string range = (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list) ? range_text(o) : "";
+  if (!range.empty()) extra.push_back(range);
+  if (!extra.empty()) {
+    d += " (";
+    for (std::size_t k = 0; k < extra.size(); ++k) d += (k ? "; " : "") + extra[k];
+    d += ")";
+  }
+  return d;
+}
+
+std::string option_label(const OptionSpec& o) {
+  std::string s = o.short_name ? std::string("-") + o.short_name + ", " : "    ";
+  s += "--" + o.name;
+  const std::string m = metavar(o);
+  if (!m.empty()) s += " " + m;
+  return s;
+}
+
+void add_standard_options(Usage& u) {
+  u.group("Standard options");
+  u.flag("force", "replace an existing output file (otherwise it is never overwritten)");
+  u.flag("quiet", "print no progress or information on stderr (errors are still printed)");
+  u.flag("help", "print this help and exit", 'h');
+  u.flag("version", "print the version and exit");
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------
+// Usage
+
+Usage& Usage::add(OptionSpec s) {
+  s.group = current_group_;
+  for (const auto& o : options)
+    if (o.name == s.name) throw std::logic_error("option --" + s.name + " declared twice");
+  options.push_back(std::move(s));
+  return *this;
+}
+
+Usage& Usage::argument(const std::string& n, const std::string& help, bool repeats, bool required) {
+  OptionSpec s;
+  s.name = n;
+  s.help = help;
+  s.kind = Kind::path_in;
+  s.required = required;
+  positionals.push_back(s);
+  last_positional_repeats = repeats;
+  return *this;
+}
+
+Usage& Usage::flag(const std::string& n, const std::string& help, char short_name) {
+  OptionSpec s;
+  s.name = n; s.help = help; s.kind = Kind::flag; s.short_name = short_name;
+  return add(s);
+}
+
+Usage& Usage::integer(const std::string& n, std::int64_t def, const std::string& help, std::int64_t min,
+                      std::int64_t max, const std::string& unit) {
+  OptionSpec s;
+  s.name = n; s.help = help; s.kind = Kind::integer; s.unit = unit;
+  s.default_text = std::to_string(def); s.has_default = true;
+  s.min = min == INT64_MIN ? -1e308 : static_cast<double>(min);
+  s.max = max == INT64_MAX ? 1e308 : static_cast<double>(max);
+  return add(s);
+}
+
+Usage& Usage::integer_opt(const std::string& n, const std::string& help, std::int64_t min, std::int64_t max,
+                          const std::string& unit) {
+  integer(n, 0, help, min, max, unit);
+  options.back().has_default = false;
+  options.back().default_text.clear();
+  return *this;
+}
+
+Usage& Usage::real(const std::string& n, double def, const std::string& help, const std::string& unit,
+                   double min, double max) {
+  OptionSpec s;
+  s.name = n; s.help = help; s.kind = Kind::real; s.unit = unit;
+  s.default_text = format_number(def); s.has_default = true; s.min = min; s.max = max;
+  return add(s);
+}
+
+Usage& Usage::real_opt(const std::string& n, const std::string& help, const std::string& unit, double min,
+                       double max) {
+  real(n, 0, help, unit, min, max);
+  options.back().has_default = false;
+  options.back().default_text.clear();
+  return *this;
+}
+
+Usage& Usage::real_list(const std::string& n, const std::string& def, const std::string& help,
+                        const std::string& unit, double min, double max) {
+  OptionSpec s;
+  s.name = n; s.help = help; s.kind = Kind::real_list; s.unit = unit;
+  s.default_text = def; s.has_default = true; s.min = min; s.max = max;
+  return add(s);
+}
+
+Usage& Usage::text(const std::string& n, const std::string& def, const std::string& help,
+                   const std::vector<std::string>& choices) {
+  OptionSpec s;
+  s.name = n; s.kind = Kind::text; s.default_text = def; s.has_default = true;
+  s.help = help;
+  if (!choices.empty()) {
+    s.help += "; one of:";
+    for (std::size_t k = 0; k < choices.size(); ++k) s.help += (k ? ", " : " ") + choices[k];
+    s.unit.clear();
+  }
+  add(s);
+  choices_[n] = choices;
+  return *this;
+}
+
+Usage& Usage::text_opt(const std::string& n, const std::string& help) {
+  OptionSpec s;
+  s.name = n; s.kind = Kind::text; s.help = help;
+  return add(s);
+}
+
+Usage& Usage::output(const std::string& help, const std::string& def) {
+  OptionSpec s;
+  s.name = "output"; s.short_name = 'o'; s.kind = Kind::path_out; s.help = help;
+  if (!def.empty()) { s.default_text = def; s.has_default = true; }
+  return add(s);
+}
+
+Usage& Usage::seed(const std::string& help) { return integer("seed", 1, help, 0); }
+
+Usage& Usage::group(const std::string& title) {
+  current_group_ = title;
+  return *this;
+}
+
+Usage& Usage::example(const std::string& title, const std::string& command, const std::string& explanation) {
+  examples.push_back({title, command, explanation});
+  return *this;
+}
+
+// ----------------------------------------------------------------------------------------
+// Args
+
+bool Args::has(const std::string& n) const { return values_.count(n) > 0; }
+bool Args::given(const std::string& n) const {
+  auto it = given_.find(n);
+  return it != given_.end() && it->second;
+}
+bool Args::flag(const std::string& n) const { return given(n); }
+
+namespace {
+const OptionSpec& spec_for(const std::map<std::string, Kind>& kinds, const std::string& n) {
+  static thread_local OptionSpec s;
+  auto it = kinds.find(n);
+  if (it == kinds.end()) throw std::logic_error("option --" + n + " was not declared");
+  s = OptionSpec{};
+  s.name = n;
+  s.kind = it->second;
+  return s;
+}
+}  // namespace
+
+std::int64_t Args::integer(const std::string& n) const {
+  auto v = integer_opt(n);
+  if (!v) throw UsageError("--" + n + " is required");
+  return *v;
+}
+std::optional<std::int64_t> Args::integer_opt(const std::string& n) const {
+  const OptionSpec& s = spec_for(kinds_, n);
+  auto it = values_.find(n);
+  if (it == values_.end()) return std::nullopt;
+  return parse_integer(s, it->second);
+}
+double Args::real(const std::string& n) const {
+  auto v = real_opt(n);
+  if (!v) throw UsageError("--" + n + " is required");
+  return *v;
+}
+std::optional<double> Args::real_opt(const std::string& n) const {
+  const OptionSpec& s = spec_for(kinds_, n);
+  auto it = values_.find(n);
+  if (it == values_.end()) return std::nullopt;
+  return parse_real(s, it->second);
+}
+std::vector<double> Args::real_list(const std::string& n) const {
+  const OptionSpec& s = spec_for(kinds_, n);
+  auto it = values_.find(n);
+  if (it == values_.end()) return {};
+  return parse_list(s, it->second);
+}
+const std::string& Args::text(const std::string& n) const {
+  static const std::string empty;
+  auto it = values_.find(n);
+  return it == values_.end() ? empty : it->second;
+}
+const std::vector<std::string>& Args::arguments(const std::string& n) const {
+  static const std::vector<std::string> none;
+  auto it = positional_.find(n);
+  return it == positional_.end() ? none : it->second;
+}
+const std::string& Args::argument(const std::string& n) const {
+  static const std::string empty;
+  const auto& v = arguments(n);
+  return v.empty() ? empty : v.front();
+}
+const std::string& Args::output() const { return text("output"); }
+
+// ----------------------------------------------------------------------------------------
+// Parsing
+
+Args parse(const Usage& usage, const std::vector<std::string>& argv) {
+  po::options_description desc;
+  for (const auto& o : usage.options) {
+    const std::string key = o.short_name ? o.name + "," + o.short_name : o.name;
+    if (o.kind == Kind::flag)
+      desc.add_options()(key.c_str(), po::bool_switch());
+    else
+      desc.add_options()(key.c_str(), po::value<std::string>());
+  }
+  po::positional_options_description pos;
+  for (std::size_t k = 0; k < usage.positionals.size(); ++k) {
+    const bool last = k + 1 == usage.positionals.size();
+    desc.add_options()(usage.positionals[k].name.c_str(), po::value<std::vector<std::string>>());
+    pos.add(usage.positionals[k].name.c_str(), last && usage.last_positional_repeats ? -1 : 1);
+  }
+  // No prefix guessing: an abbreviation that works today would break when a new
+  // option sharing the prefix is added, silently, inside someone's Makefile.
+  const int style = po::command_line_style::unix_style ^ po::command_line_style::allow_guessing;
+  po::variables_map vm;
+  try {
+    std::vector<std::string> args(argv.begin() + 1, argv.end());
+    po::store(po::command_line_parser(args).options(desc).positional(pos).style(style).run(), vm);
+  } catch (const po::too_many_positional_options_error&) {
+    throw UsageError("too many arguments");
+  } catch (const po::error& e) {
+    throw UsageError(e.what());
+  }
+  Args a;
+  a.tool_ = usage.name;
+  for (const auto& s : argv) a.command_line_ += (a.command_line_.empty() ? "" : " ") + shell_quote(s);
+  for (const auto& o : usage.options) {
+    a.kinds_[o.name] = o.kind;
+    if (o.kind == Kind::flag) {
+      a.given_[o.name] = vm.count(o.name) && vm[o.name].as<bool>();
+      continue;
+    }
+    if (vm.count(o.name)) {
+      const std::string v = vm[o.name].as<std::string>();
+      validate(o, v);
+      auto ch = usage.choices_.find(o.name);
+      if (ch != usage.choices_.end() && !ch->second.empty() &&
+          std::find(ch->second.begin(), ch->second.end(), v) == ch->second.end()) {
+        std::string list;
+        for (const auto& c : ch->second) list += (list.empty() ? "" : ", ") + c;
+        throw UsageError("--" + o.name + ": expected one of " + list + ", got '" + v + "'");
+      }
+      a.values_[o.name] = v;
+      a.given_[o.name] = true;
+    } else if (o.has_default) {
+      a.values_[o.name] = o.default_text;
+    } else if (o.required) {
+      throw UsageError("--" + o.name + " is required");
+    }
+  }
+  for (std::size_t k = 0; k < usage.positionals.size(); ++k) {
+    const auto& p = usage.positionals[k];
+    if (vm.count(p.name)) {
+      a.positional_[p.name] = vm[p.name].as<std::vector<std::string>>();
+    } else if (p.required) {
+      throw UsageError("missing argument " + p.name);
+    }
+  }
+  return a;
+}
+
+// ----------------------------------------------------------------------------------------
+// Help
+
+namespace {
+std::string usage_line(const Usage& u) {
+  std::string s = "Usage: " + u.name + " [options]";
+  for (const auto& p : u.positionals) {
+    std::string n = p.name;
+    for (auto& c : n) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (&p == &u.positionals.back() && u.last_positional_repeats) n += "...";
+    s += p.required ? " " + n : " [" + n + "]";
+  }
+  return s;
+}
+const char* kExitCodes = "Exit status: 0 success; 1 runtime or data error (bad input file, failed write); "
+                         "2 usage error (unknown option, bad value, missing argument). Errors are one line "
+                         "on stderr: 'tool: FILE: WHERE: WHAT'.";
+}  // namespace
+
+std::string help_text(const Usage& u) {
+  std::ostringstream out;
+  out << u.name << ": " << u.synopsis << "\n\n" << usage_line(u) << "\n\n";
+  for (const auto& para : u.description) out << wrap(para, 0) << "\n";
+  if (!u.positionals.empty()) {
+    out << "Arguments:\n";
+    for (const auto& p : u.positionals) {
+      std::string n = p.name;
+      for (auto& c : n) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      out << "  " << n << "\n" << wrap(p.help, 10);
+    }
+    out << "\n";
+  }
+  std::string group;
+  for (const auto& o : u.options) {
+    if (o.group != group) {
+      out << (group.empty() ? "" : "\n") << o.group << ":\n";
+      group = o.group;
+    }
+    out << "  " << option_label(o) << "\n" << wrap(option_detail(o), 10);
+  }
+  if (!u.examples.empty()) {
+    out << "\nExamples:\n";
+    for (const auto& e : u.examples) out << "  " << e.title << ":\n      $ " << e.command << "\n" << wrap(e.explanation, 6);
+  }
+  out << "\n" << wrap(kExitCodes, 0);
+  return out.str();
+}
+
+std::string help_markdown(const Usage& u) {
+  std::ostringstream out;
+  out << "# " << u.name << "\n\n" << u.synopsis << "\n\n```\n" << usage_line(u) << "\n```\n\n";
+  for (const auto& para : u.description) out << para << "\n\n";
+  if (!u.positionals.empty()) {
+    out << "## Arguments\n\n| argument | meaning |\n|---|---|\n";
+    for (const auto& p : u.positionals) out << "| `" << p.name << "` | " << p.help << " |\n";
+    out << "\n";
+  }
+  std::string group;
+  for (const auto& o : u.options) {
+    if (o.group != group) {
+      group = o.group;
+      out << "## " << group << "\n\n| option | meaning | unit | default |\n|---|---|---|---|\n";
+    }
+    std::string label = (o.short_name ? std::string("-") + o.short_name + ", " : "") + "--" + o.name;
+    const std::string m = metavar(o);
+    if (!m.empty()) label += " " + m;
+    std::string help = o.help;
+    const std::string range = (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list) ? range_text(o) : "";
+    if (!range.empty()) help += " (" + range + ")";
+    out << "| `" << label << "` | " << help << " | " << o.unit << " | "
+        << (o.has_default ? "`" + o.default_text + "`" : (o.required ? "required" : "")) << " |\n";
+    if (&o == &u.options.back() || u.options[static_cast<std::size_t>(&o - u.options.data()) + 1].group != group)
+      out << "\n";
+  }
+  if (!u.examples.empty()) {
+    out << "## Examples\n\n";
+    for (const auto& e : u.examples) out << "**" << e.title << "**\n\n```sh\n" << e.command << "\n```\n\n" << e.explanation << "\n\n";
+  }
+  out << "## Exit status\n\n" << kExitCodes << "\n";
+  return out.str();
+}
+
+// ----------------------------------------------------------------------------------------
+// Running
+
+const std::string& tool_name() { return g_tool; }
+
+void warn(const std::string& what) { std::cerr << g_tool << ": warning: " << what << std::endl; }
+void info(const std::string& what) {
+  if (!g_quiet) std::cerr << g_tool << ": " << what << std::endl;
+}
+
+void defer_interrupts() { g_deferred.store(true); }
+bool interrupted() { return g_interrupted != 0; }
+
+int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
+             const std::function<void(const Args&)>& body) {
+  std::string name = argc > 0 ? argv[0] : "cdpile";
+  if (auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
+  g_tool = name;
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is reported as an error line instead
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  io::h5::silence_errors();
+
+  Usage usage;
+  usage.name = name;
+  try {
+    declare(usage);
+    add_standard_options(usage);
+    if (usage.synopsis.empty()) throw std::logic_error("tool declares no synopsis");
+  } catch (const std::exception& e) {
+    std::cerr << name << ": internal error in the usage declaration: " << e.what() << std::endl;
+    return 1;
+  }
+  std::vector<std::string> args(argv, argv + argc);
+  for (std::size_t k = 1; k < args.size(); ++k) {
+    if (args[k] == "--") break;
+    if (args[k] == "--help" || args[k] == "-h") { std::cout << help_text(usage); return 0; }
+    if (args[k] == "--help-markdown") { std::cout << help_markdown(usage); return 0; }
+    if (args[k] == "--version") { std::cout << name << " (cdpile) " << CDPILE_VERSION << "\n"; return 0; }
+  }
+  try {
+    Args a = parse(usage, args);
+    g_quiet = a.quiet();
+    body(a);
+    if (std::fflush(stdout) != 0 || !std::cout.flush()) throw Error("stdout", "", "write failed");
+    return 0;
+  } catch (const UsageError& e) {
+    std::cerr << name << ": " << e.what() << " (see '" << name << " --help')" << std::endl;
+    io::remove_temporaries();
+    return 2;
+  } catch (const Error& e) {
+    std::cerr << name << ": " << e.what() << std::endl;
+    io::remove_temporaries();
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << name << ": out of memory" << std::endl;
+    io::remove_temporaries();
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << name << ": " << e.what() << std::endl;
+    io::remove_temporaries();
+    return 1;
+  }
+}
+
+}  // namespace cdpile::cli

@@ -1,0 +1,491 @@
+#include "cdpile/io/schema.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+
+namespace cdpile::io {
+
+namespace {
+
+constexpr const char* kGrains = "/particles/grains";
+constexpr const char* kContacts = "/contacts";
+constexpr const char* kObservables = "/observables";
+
+// Chunking: one frame of grain state per chunk (N x 2 doubles: 64 KiB at N = 4000);
+// contacts and per-step series in chunks of 16384 and 4096 rows. Deflate with the
+// shuffle filter: measured in docs/schema.md ("Compression").
+constexpr h5::Layout kFrameLayout{1, 4};
+constexpr h5::Layout kContactLayout{16384, 4};
+constexpr h5::Layout kSeriesLayout{4096, 4};
+
+std::string grain_path(const std::string& element) { return std::string(kGrains) + "/" + element; }
+
+[[noreturn]] void bad(const h5::File& f, const std::string& where, const std::string& what) {
+  throw Error(f.name(), where, what);
+}
+
+const double* flat(const std::vector<Vec2>& v) { return v.empty() ? nullptr : v[0].data(); }
+
+std::vector<Vec2> to_vec2(const std::vector<double>& xy) {
+  std::vector<Vec2> out(xy.size() / 2);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = Vec2(xy[2 * k], xy[2 * k + 1]);
+  return out;
+}
+
+/// Creates a time-dependent H5MD element (step, time, value), its step and time linked
+/// to `clock` (an element that already has them) unless it is the clock itself.
+void make_element_links(const h5::File& f, const std::string& element, const std::string& clock) {
+  h5::create_group(f, element);
+  h5::hard_link(f, clock + "/step", element + "/step");
+  h5::hard_link(f, clock + "/time", element + "/time");
+}
+
+}  // namespace
+
+double as_real(const Values& v, const std::string& key, const std::string& file) {
+  auto it = v.find(key);
+  if (it == v.end()) throw Error(file, "/parameters", "missing parameter '" + key + "'");
+  if (auto* d = std::get_if<double>(&it->second)) return *d;
+  if (auto* i = std::get_if<std::int64_t>(&it->second)) return static_cast<double>(*i);
+  throw Error(file, "/parameters", "parameter '" + key + "' is not a number");
+}
+
+std::int64_t as_int(const Values& v, const std::string& key, const std::string& file) {
+  auto it = v.find(key);
+  if (it == v.end()) throw Error(file, "/parameters", "missing parameter '" + key + "'");
+  if (auto* i = std::get_if<std::int64_t>(&it->second)) return *i;
+  throw Error(file, "/parameters", "parameter '" + key + "' is not an integer");
+}
+
+Provenance provenance_now(const std::string& tool, const std::string& command_line,
+                          const std::string& inputs) {
+  std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return {tool, CDPILE_VERSION, command_line, inputs, buf};
+}
+
+void Series::clear() {
+  step.clear();
+  time.clear();
+  for (auto& [k, v] : real) v.clear();
+  for (auto& [k, v] : integer) v.clear();
+}
+
+void write_values(const h5::File& f, const std::string& group, const Values& v) {
+  h5::create_group(f, group);
+  for (const auto& [name, value] : v)
+    std::visit([&](const auto& x) { h5::set_attr(f, group, name, x); }, value);
+}
+
+Values read_values(const h5::File& f, const std::string& group) {
+  Values out;
+  if (!h5::exists(f, group)) return out;
+  for (const auto& name : h5::attr_names(f, group)) {
+    switch (h5::attr_class(f, group, name)) {
+      case H5T_INTEGER: out[name] = h5::attr_int(f, group, name); break;
+      case H5T_FLOAT: out[name] = h5::attr_double(f, group, name); break;
+      case H5T_STRING: out[name] = h5::attr_string(f, group, name); break;
+      default: bad(f, group, "attribute '" + name + "' has an unsupported type");
+    }
+  }
+  return out;
+}
+
+void append_provenance(const h5::File& f, const Provenance& p) {
+  h5::create_group(f, "/provenance");
+  char key[16];
+  std::snprintf(key, sizeof key, "%03zu", h5::members(f, "/provenance").size());
+  const std::string g = std::string("/provenance/") + key;
+  h5::create_group(f, g);
+  h5::set_attr(f, g, "tool", p.tool);
+  h5::set_attr(f, g, "version", p.version);
+  h5::set_attr(f, g, "command_line", p.command_line);
+  h5::set_attr(f, g, "inputs", p.inputs);
+  h5::set_attr(f, g, "date", p.date);
+}
+
+void write_header(const h5::File& f, const RunHeader& h) {
+  h5::set_attr(f, "/", "schema", std::string("cdpile"));
+  h5::set_attr(f, "/", "schema_version", schema_version);
+  h5::set_attr(f, "/", "kind", h.kind);
+  // H5MD 1.1 mandatory metadata.
+  h5::create_group(f, "/h5md/author");
+  h5::create_group(f, "/h5md/creator");
+  h5::set_attr(f, "/h5md", "version", std::vector<std::int64_t>{1, 1});
+  h5::set_attr(f, "/h5md/author", "name", std::string("cdpile user"));
+  h5::set_attr(f, "/h5md/creator", "name", std::string("cdpile"));
+  h5::set_attr(f, "/h5md/creator", "version", std::string(CDPILE_VERSION));
+  write_values(f, "/parameters", h.parameters);
+  write_values(f, "/results", h.results);
+  for (const auto& p : h.provenance) append_provenance(f, p);
+}
+
+RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
+  if (!h5::has_attr(f, "/", "schema") || h5::attr_class(f, "/", "schema") != H5T_STRING ||
+      h5::attr_string(f, "/", "schema") != "cdpile")
+    bad(f, "/", "not a cdpile file (no schema = \"cdpile\" attribute)");
+  if (!h5::has_attr(f, "/", "schema_version")) bad(f, "/", "missing attribute 'schema_version'");
+  const std::int64_t v = h5::attr_int(f, "/", "schema_version");
+  if (v != schema_version)
+    bad(f, "/", "schema version " + std::to_string(v) + ", this build reads version " +
+                    std::to_string(schema_version));
+  RunHeader h;
+  h.kind = h5::attr_string(f, "/", "kind");
+  if (!expected_kind.empty() && h.kind != expected_kind)
+    bad(f, "/", "is a '" + h.kind + "' file, expected '" + expected_kind + "'");
+  if (!h5::exists(f, "/h5md")) bad(f, "/h5md", "missing group");
+  h.parameters = read_values(f, "/parameters");
+  h.results = read_values(f, "/results");
+  if (h5::exists(f, "/provenance")) {
+    for (const auto& k : h5::members(f, "/provenance")) {
+      const std::string g = "/provenance/" + k;
+      h.provenance.push_back({h5::attr_string(f, g, "tool"), h5::attr_string(f, g, "version"),
+                              h5::attr_string(f, g, "command_line"), h5::attr_string(f, g, "inputs"),
+                              h5::attr_string(f, g, "date")});
+    }
+  }
+  return h;
+}
+
+// ---------------------------------------------------------------------------------------
+// Writer
+
+RunWriter::RunWriter(h5::File& f, const RunHeader& header, const Grains& g) : f_(&f) {
+  write_header(f, header);
+  grains_ = g.size();
+  const std::string box = grain_path("box");
+  h5::create_group(f, box);
+  h5::set_attr(f, box, "dimension", std::int64_t{2});
+  h5::set_attr(f, box, "boundary", std::vector<std::string>{"none", "none"});
+  const std::vector<double> edges{header.box.width, header.box.height};
+  h5::write(f, box + "/edges", edges);
+  h5::set_attr(f, box + "/edges", "unit", std::string("m"));
+  // The walls are planes n.x = offset in the box frame; their ids appear in /contacts/j.
+  h5::set_attr(f, box, "wall_names", std::vector<std::string>{"floor", "left", "right"});
+  h5::set_attr(f, box, "wall_ids", std::vector<std::int64_t>{wall_floor, wall_left, wall_right});
+  h5::set_attr(f, box, "wall_normals", std::vector<double>{0, 1, 1, 0, -1, 0});
+  h5::set_attr(f, box, "wall_offsets", std::vector<double>{0, 0, -header.box.width});
+
+  auto fixed = [&](const char* name, const std::vector<double>& v, const char* unit) {
+    h5::write(f, grain_path(name), v);
+    h5::set_attr(f, grain_path(name), "unit", std::string(unit));
+  };
+  fixed("radius", g.radius, "m");
+  fixed("mass", g.mass, "kg m-1");
+  fixed("inertia", g.inertia, "kg m");
+  std::vector<std::uint8_t> species(g.size());
+  for (std::size_t k = 0; k < g.size(); ++k) species[k] = static_cast<std::uint8_t>(g.species[k]);
+  h5::write(f, grain_path("species"), species);
+  h5::set_attr(f, grain_path("species"), "meaning", std::string("0 free grain, 1 grain glued to the floor"));
+}
+
+RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
+  RunReader r(f);
+  RunWriter w(f);
+  w.grains_ = r.grain_count();
+  // Keep the frames with step <= last_step.
+  std::size_t keep = 0;
+  while (keep < r.frame_count() && r.frame_steps()[keep] <= last_step) ++keep;
+  std::int64_t contacts = 0;
+  if (keep > 0) {
+    auto off = h5::read_rows<std::int64_t>(f, std::string(kContacts) + "/offset", keep - 1, 1);
+    auto cnt = h5::read_rows<std::int64_t>(f, std::string(kContacts) + "/count", keep - 1, 1);
+    contacts = off[0] + cnt[0];
+  }
+  if (r.frame_count() > 0) {
+    for (const char* e : {"position", "velocity", "orientation", "angular_velocity"}) {
+      h5::truncate_rows(f, grain_path(e) + "/value", keep);
+      if (std::string(e) == "position") {
+        h5::truncate_rows(f, grain_path(e) + "/step", keep);
+        h5::truncate_rows(f, grain_path(e) + "/time", keep);
+      }
+    }
+    for (const char* e : {"step", "time", "tilt_angle", "offset", "count"})
+      h5::truncate_rows(f, std::string(kContacts) + "/" + e, keep);
+    for (const char* e : {"i", "j", "point", "normal", "fn", "ft", "gap", "status"})
+      h5::truncate_rows(f, std::string(kContacts) + "/" + e, static_cast<hsize_t>(contacts));
+  }
+  w.frames_ = keep;
+  w.contacts_ = contacts;
+  // Observables: keep the rows with step <= last_step.
+  if (h5::exists(f, kObservables)) {
+    auto names = h5::members(f, kObservables);
+    if (!names.empty()) {
+      const std::string clock = std::string(kObservables) + "/" + names.front();
+      auto steps = h5::read<std::int64_t>(f, clock + "/step", {0});
+      hsize_t rows = 0;
+      while (rows < steps.size() && steps[rows] <= last_step) ++rows;
+      for (const auto& n : names) h5::truncate_rows(f, std::string(kObservables) + "/" + n + "/value", rows);
+      h5::truncate_rows(f, clock + "/step", rows);
+      h5::truncate_rows(f, clock + "/time", rows);
+    }
+  }
+  return w;
+}
+
+void RunWriter::append_frame(const Frame& fr) {
+  h5::File& f = *f_;
+  const Grains& g = fr.grains;
+  if (g.size() != grains_)
+    throw Error(f.name(), kGrains, "frame has " + std::to_string(g.size()) + " grains, file has " +
+                                       std::to_string(grains_));
+  const hsize_t n = grains_;
+  const std::string pos = grain_path("position");
+  const bool first = !h5::exists(f, pos + "/step");
+  h5::append(f, pos + "/step", &fr.step, {1}, {1024, 0});
+  h5::append(f, pos + "/time", &fr.time, {1}, {1024, 0});
+  h5::append(f, pos + "/value", flat(g.position), {1, n, 2}, kFrameLayout);
+  h5::append(f, grain_path("velocity") + "/value", flat(g.velocity), {1, n, 2}, kFrameLayout);
+  h5::append(f, grain_path("orientation") + "/value", g.orientation.data(), {1, n}, kFrameLayout);
+  h5::append(f, grain_path("angular_velocity") + "/value", g.angular_velocity.data(), {1, n}, kFrameLayout);
+  if (first) {
+    for (const char* e : {"velocity", "orientation", "angular_velocity"}) make_element_links(f, grain_path(e), pos);
+    h5::set_attr(f, pos + "/value", "unit", std::string("m"));
+    h5::set_attr(f, pos + "/time", "unit", std::string("s"));
+    h5::set_attr(f, grain_path("velocity") + "/value", "unit", std::string("m s-1"));
+    h5::set_attr(f, grain_path("orientation") + "/value", "unit", std::string("rad"));
+    h5::set_attr(f, grain_path("angular_velocity") + "/value", "unit", std::string("rad s-1"));
+  }
+
+  const Contacts& c = fr.contacts;
+  const hsize_t k = c.size();
+  const std::string cg = kContacts;
+  const double tilt_deg = fr.tilt_angle * 180.0 / M_PI;
+  const std::int64_t count = static_cast<std::int64_t>(k);
+  h5::append(f, cg + "/step", &fr.step, {1}, {1024, 0});
+  h5::append(f, cg + "/time", &fr.time, {1}, {1024, 0});
+  h5::append(f, cg + "/tilt_angle", &tilt_deg, {1}, {1024, 0});
+  h5::append(f, cg + "/offset", &contacts_, {1}, {1024, 0});
+  h5::append(f, cg + "/count", &count, {1}, {1024, 0});
+  h5::append(f, cg + "/i", c.i.data(), {k}, kContactLayout);
+  h5::append(f, cg + "/j", c.j.data(), {k}, kContactLayout);
+  h5::append(f, cg + "/point", flat(c.point), {k, 2}, kContactLayout);
+  h5::append(f, cg + "/normal", flat(c.normal), {k, 2}, kContactLayout);
+  h5::append(f, cg + "/fn", c.fn.data(), {k}, kContactLayout);
+  h5::append(f, cg + "/ft", c.ft.data(), {k}, kContactLayout);
+  h5::append(f, cg + "/gap", c.gap.data(), {k}, kContactLayout);
+  h5::append(f, cg + "/status", reinterpret_cast<const std::int8_t*>(c.status.data()), {k}, kContactLayout);
+  if (first) {
+    h5::set_attr(f, cg, "description", std::string(
+        "ragged table: frame k's contacts are rows offset[k] .. offset[k]+count[k]-1 of the flat "
+        "datasets; j < 0 is a wall (-1 floor, -2 left, -3 right); normal points from j to i; "
+        "tangent t = (-n_y, n_x); fn, ft are impulse / time step"));
+    h5::set_attr(f, cg + "/time", "unit", std::string("s"));
+    h5::set_attr(f, cg + "/tilt_angle", "unit", std::string("deg"));
+    h5::set_attr(f, cg + "/point", "unit", std::string("m"));
+    h5::set_attr(f, cg + "/fn", "unit", std::string("N m-1"));
+    h5::set_attr(f, cg + "/ft", "unit", std::string("N m-1"));
+    h5::set_attr(f, cg + "/gap", "unit", std::string("m"));
+    h5::set_attr(f, cg + "/status", "meaning", std::string("0 open, 1 stick, 2 slide"));
+  }
+  contacts_ += count;
+  ++frames_;
+}
+
+void RunWriter::append_series(const Series& s) {
+  h5::File& f = *f_;
+  const hsize_t rows = s.size();
+  if (s.time.size() != rows) throw Error(f.name(), kObservables, "series: step and time differ in length");
+  std::vector<std::string> names;
+  for (const auto& [name, v] : s.real) names.push_back(name);
+  for (const auto& [name, v] : s.integer) names.push_back(name);
+  if (names.empty()) return;
+  std::string clock;
+  if (h5::exists(f, kObservables) && !h5::members(f, kObservables).empty()) {
+    clock = std::string(kObservables) + "/" + h5::members(f, kObservables).front();
+    for (const auto& n : names)
+      if (!h5::exists(f, std::string(kObservables) + "/" + n))
+        throw Error(f.name(), std::string(kObservables) + "/" + n,
+                    "a column cannot be added to an existing series");
+  } else {
+    clock = std::string(kObservables) + "/" + names.front();
+    h5::append(f, clock + "/step", s.step.data(), {0}, kSeriesLayout);
+    h5::append(f, clock + "/time", s.time.data(), {0}, kSeriesLayout);
+    h5::set_attr(f, clock + "/time", "unit", std::string("s"));
+    for (const auto& n : names)
+      if (std::string(kObservables) + "/" + n != clock)
+        make_element_links(f, std::string(kObservables) + "/" + n, clock);
+  }
+  h5::append(f, clock + "/step", s.step.data(), {rows}, kSeriesLayout);
+  h5::append(f, clock + "/time", s.time.data(), {rows}, kSeriesLayout);
+  auto unit_of = [&](const std::string& n) {
+    auto it = s.unit.find(n);
+    return it == s.unit.end() ? std::string() : it->second;
+  };
+  for (const auto& [name, v] : s.real) {
+    if (v.size() != rows) throw Error(f.name(), std::string(kObservables) + "/" + name, "column length differs from step");
+    const std::string p = std::string(kObservables) + "/" + name + "/value";
+    const bool fresh = !h5::exists(f, p);
+    h5::append(f, p, v.data(), {rows}, kSeriesLayout);
+    if (fresh) h5::set_attr(f, p, "unit", unit_of(name));
+  }
+  for (const auto& [name, v] : s.integer) {
+    if (v.size() != rows) throw Error(f.name(), std::string(kObservables) + "/" + name, "column length differs from step");
+    const std::string p = std::string(kObservables) + "/" + name + "/value";
+    const bool fresh = !h5::exists(f, p);
+    h5::append(f, p, v.data(), {rows}, kSeriesLayout);
+    if (fresh) h5::set_attr(f, p, "unit", unit_of(name));
+  }
+}
+
+void RunWriter::set_result(const std::string& name, const Value& v) {
+  h5::create_group(*f_, "/results");
+  std::visit([&](const auto& x) { h5::set_attr(*f_, "/results", name, x); }, v);
+}
+
+void RunWriter::add_provenance(const Provenance& p) { append_provenance(*f_, p); }
+
+void RunWriter::flush() {
+  if (H5Fflush(f_->id(), H5F_SCOPE_GLOBAL) < 0) throw Error(f_->name(), "", "cannot flush (disk full?)");
+}
+
+// ---------------------------------------------------------------------------------------
+// Reader
+
+RunReader::RunReader(const h5::File& f) : f_(&f) {
+  header_ = read_header(f);
+  if (header_.kind != "pile" && header_.kind != "run")
+    bad(f, "/", "is a '" + header_.kind + "' file, expected a pile or a run");
+  const std::string box = grain_path("box");
+  if (!h5::exists(f, kGrains)) bad(f, kGrains, "missing group");
+  if (!h5::exists(f, box)) bad(f, box, "missing group");
+  if (h5::attr_int(f, box, "dimension") != 2)
+    bad(f, box, "dimension is " + std::to_string(h5::attr_int(f, box, "dimension")) + ", expected 2");
+  auto edges = h5::read<double>(f, box + "/edges", {2});
+  header_.box = {edges[0], edges[1]};
+  if (!(header_.box.width > 0)) bad(f, box + "/edges", "box width must be positive");
+
+  std::vector<hsize_t> dims;
+  grains_.radius = h5::read<double>(f, grain_path("radius"), {0}, &dims);
+  n_ = dims[0];
+  grains_.mass = h5::read<double>(f, grain_path("mass"), {n_});
+  grains_.inertia = h5::read<double>(f, grain_path("inertia"), {n_});
+  auto species = h5::read<std::uint8_t>(f, grain_path("species"), {n_});
+  for (std::size_t k = 0; k < n_; ++k) {
+    if (!(grains_.radius[k] > 0))
+      bad(f, grain_path("radius"), "radius of grain " + std::to_string(k) + " is not positive");
+    if (!(grains_.mass[k] > 0)) bad(f, grain_path("mass"), "mass of grain " + std::to_string(k) + " is not positive");
+    if (!(grains_.inertia[k] > 0))
+      bad(f, grain_path("inertia"), "inertia of grain " + std::to_string(k) + " is not positive");
+    if (species[k] > 1) bad(f, grain_path("species"), "unknown species " + std::to_string(species[k]) + " of grain " + std::to_string(k));
+  }
+  grains_.species.resize(n_);
+  for (std::size_t k = 0; k < n_; ++k) grains_.species[k] = static_cast<Species>(species[k]);
+  grains_.position.assign(n_, Vec2::Zero());
+  grains_.velocity.assign(n_, Vec2::Zero());
+  grains_.orientation.assign(n_, 0.0);
+  grains_.angular_velocity.assign(n_, 0.0);
+
+  const std::string pos = grain_path("position");
+  if (!h5::exists(f, pos)) return;  // a file with no frame yet
+  frame_steps_ = h5::read<std::int64_t>(f, pos + "/step", {0}, &dims);
+  const hsize_t frames = dims[0];
+  frame_time_ = h5::read<double>(f, pos + "/time", {frames});
+  for (const char* e : {"position", "velocity"}) {
+    auto d = h5::shape(f, grain_path(e) + "/value");
+    if (d.size() != 3 || d[0] != frames || d[1] != n_ || d[2] != 2)
+      bad(f, grain_path(e) + "/value", "expected shape [" + std::to_string(frames) + " x " +
+                                             std::to_string(n_) + " x 2]");
+  }
+  for (const char* e : {"orientation", "angular_velocity"}) {
+    auto d = h5::shape(f, grain_path(e) + "/value");
+    if (d.size() != 2 || d[0] != frames || d[1] != n_)
+      bad(f, grain_path(e) + "/value", "expected shape [" + std::to_string(frames) + " x " + std::to_string(n_) + "]");
+  }
+  const std::string cg = kContacts;
+  frame_tilt_ = h5::read<double>(f, cg + "/tilt_angle", {frames});
+  for (auto& t : frame_tilt_) t *= M_PI / 180.0;
+  offset_ = h5::read<std::int64_t>(f, cg + "/offset", {frames});
+  count_ = h5::read<std::int64_t>(f, cg + "/count", {frames});
+  auto csteps = h5::read<std::int64_t>(f, cg + "/step", {frames});
+  if (csteps != frame_steps_) bad(f, cg + "/step", "differs from " + pos + "/step");
+  const auto k = static_cast<std::int64_t>(h5::shape(f, cg + "/i").at(0));
+  std::int64_t expect = 0;
+  for (std::size_t q = 0; q < frames; ++q) {
+    if (offset_[q] != expect || count_[q] < 0)
+      bad(f, cg + "/offset", "frame " + std::to_string(q) + ": offset and count are inconsistent");
+    expect += count_[q];
+  }
+  if (expect != k)
+    bad(f, cg + "/i", "holds " + std::to_string(k) + " contacts, the frames count " + std::to_string(expect));
+  for (const char* e : {"j", "fn", "ft", "gap", "status"})
+    if (h5::shape(f, cg + "/" + e) != std::vector<hsize_t>{static_cast<hsize_t>(k)})
+      bad(f, cg + "/" + e, "expected " + std::to_string(k) + " rows");
+  for (const char* e : {"point", "normal"})
+    if (h5::shape(f, cg + "/" + e) != std::vector<hsize_t>{static_cast<hsize_t>(k), 2})
+      bad(f, cg + "/" + e, "expected shape [" + std::to_string(k) + " x 2]");
+}
+
+Contacts RunReader::contacts(std::size_t k) const {
+  const h5::File& f = *f_;
+  if (k >= frame_count()) bad(f, kContacts, "no frame " + std::to_string(k));
+  const auto first = static_cast<hsize_t>(offset_[k]);
+  const auto n = static_cast<hsize_t>(count_[k]);
+  const std::string cg = kContacts;
+  Contacts c;
+  c.i = h5::read_rows<std::int32_t>(f, cg + "/i", first, n);
+  c.j = h5::read_rows<std::int32_t>(f, cg + "/j", first, n);
+  c.point = to_vec2(h5::read_rows<double>(f, cg + "/point", first, n));
+  c.normal = to_vec2(h5::read_rows<double>(f, cg + "/normal", first, n));
+  c.fn = h5::read_rows<double>(f, cg + "/fn", first, n);
+  c.ft = h5::read_rows<double>(f, cg + "/ft", first, n);
+  c.gap = h5::read_rows<double>(f, cg + "/gap", first, n);
+  auto st = h5::read_rows<std::int8_t>(f, cg + "/status", first, n);
+  c.status.resize(n);
+  const auto grains = static_cast<std::int64_t>(n_);
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::string row = "row " + std::to_string(first + q);
+    if (c.i[q] < 0 || c.i[q] >= grains) bad(f, cg + "/i", row + ": grain id " + std::to_string(c.i[q]) + " out of range");
+    if (c.j[q] < wall_right || c.j[q] >= grains || c.j[q] == c.i[q])
+      bad(f, cg + "/j", row + ": id " + std::to_string(c.j[q]) + " is neither another grain nor a wall");
+    if (c.fn[q] < 0) bad(f, cg + "/fn", row + ": negative normal force");
+    if (st[q] < 0 || st[q] > 2) bad(f, cg + "/status", row + ": unknown status " + std::to_string(st[q]));
+    c.status[q] = static_cast<ContactStatus>(st[q]);
+  }
+  return c;
+}
+
+Frame RunReader::frame(std::size_t k) const {
+  const h5::File& f = *f_;
+  if (k >= frame_count()) bad(f, kGrains, "no frame " + std::to_string(k));
+  Frame fr;
+  fr.step = frame_steps_[k];
+  fr.time = frame_time_[k];
+  fr.tilt_angle = frame_tilt_[k];
+  fr.grains = grains_;
+  fr.grains.position = to_vec2(h5::read_rows<double>(f, grain_path("position") + "/value", k, 1));
+  fr.grains.velocity = to_vec2(h5::read_rows<double>(f, grain_path("velocity") + "/value", k, 1));
+  fr.grains.orientation = h5::read_rows<double>(f, grain_path("orientation") + "/value", k, 1);
+  fr.grains.angular_velocity = h5::read_rows<double>(f, grain_path("angular_velocity") + "/value", k, 1);
+  fr.contacts = contacts(k);
+  return fr;
+}
+
+Series RunReader::series() const {
+  const h5::File& f = *f_;
+  Series s;
+  if (!h5::exists(f, kObservables)) return s;
+  auto names = h5::members(f, kObservables);
+  if (names.empty()) return s;
+  const std::string clock = std::string(kObservables) + "/" + names.front();
+  std::vector<hsize_t> dims;
+  s.step = h5::read<std::int64_t>(f, clock + "/step", {0}, &dims);
+  s.time = h5::read<double>(f, clock + "/time", {dims[0]});
+  for (const auto& n : names) {
+    const std::string p = std::string(kObservables) + "/" + n + "/value";
+    if (!h5::exists(f, p)) bad(f, std::string(kObservables) + "/" + n, "missing value dataset");
+    hid_t d = H5Dopen2(f.id(), p.c_str(), H5P_DEFAULT);
+    h5::Handle dh(d);
+    h5::Handle t(H5Dget_type(d));
+    if (H5Tget_class(t.id()) == H5T_INTEGER)
+      s.integer[n] = h5::read<std::int64_t>(f, p, {dims[0]});
+    else
+      s.real[n] = h5::read<double>(f, p, {dims[0]});
+    s.unit[n] = h5::has_attr(f, p, "unit") ? h5::attr_string(f, p, "unit") : "";
+  }
+  return s;
+}
+
+}  // namespace cdpile::io

@@ -1,0 +1,363 @@
+// The common schema: exact round trips (file, and in-memory image as a pipe carries it),
+// resume truncation, atomic output, and one clear error per kind of bad input.
+#include "cdpile/io/files.hpp"
+#include "cdpile/io/sample.hpp"
+#include "cdpile/io/schema.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace cdpile;
+namespace h5 = cdpile::io::h5;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("cdpile-test-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(std::random_device{}()));
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+/// A frame with every field filled by awkward values (negative, tiny, huge), so an exact
+/// comparison would catch any lossy conversion.
+Frame random_frame(std::size_t n, std::size_t k, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+  Frame fr;
+  fr.step = 123456789012LL;
+  fr.time = 0.1 + u();
+  fr.tilt_angle = 0.3 * u();
+  for (std::size_t q = 0; q < n; ++q) {
+    fr.grains.add_disk(1e-3 * (0.4 + u()), 2500, Vec2(u() - 0.5, 1e-300 + u()),
+                       q % 3 == 0 ? Species::floor : Species::free);
+    fr.grains.velocity.back() = Vec2(-u(), 1e-12 * u());
+    fr.grains.orientation.back() = 100 * u();
+    fr.grains.angular_velocity.back() = -1e5 * u();
+  }
+  for (std::size_t q = 0; q < k; ++q) {
+    const auto i = static_cast<std::int32_t>(q % n);
+    const auto j = q % 4 == 0 ? wall_floor : static_cast<std::int32_t>((q + 1) % n);
+    fr.contacts.push_back(i, j == i ? wall_left : j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
+                          1e-9 + u(), u() - 0.5, -1e-7 * u(), static_cast<ContactStatus>(q % 3));
+  }
+  return fr;
+}
+
+void expect_same(const Grains& a, const Grains& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t q = 0; q < a.size(); ++q) {
+    EXPECT_EQ(a.radius[q], b.radius[q]);
+    EXPECT_EQ(a.mass[q], b.mass[q]);
+    EXPECT_EQ(a.inertia[q], b.inertia[q]);
+    EXPECT_EQ(a.species[q], b.species[q]);
+    EXPECT_EQ(a.position[q], b.position[q]);
+    EXPECT_EQ(a.velocity[q], b.velocity[q]);
+    EXPECT_EQ(a.orientation[q], b.orientation[q]);
+    EXPECT_EQ(a.angular_velocity[q], b.angular_velocity[q]);
+  }
+}
+
+void expect_same(const Contacts& a, const Contacts& b) {
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.i, b.i);
+  EXPECT_EQ(a.j, b.j);
+  EXPECT_EQ(a.point, b.point);
+  EXPECT_EQ(a.normal, b.normal);
+  EXPECT_EQ(a.fn, b.fn);
+  EXPECT_EQ(a.ft, b.ft);
+  EXPECT_EQ(a.gap, b.gap);
+  EXPECT_EQ(a.status, b.status);
+}
+
+io::RunHeader test_header() {
+  io::RunHeader h;
+  h.kind = "run";
+  h.box = {0.12, 0.05};
+  h.parameters = {{"mu_grain", 0.5}, {"grains", std::int64_t{7}}, {"time_step_s", 1e-4},
+                  {"integrator", std::string("moreau-jean")}};
+  h.results = {{"avalanche_angle_deg", 19.5}};
+  h.provenance = {{"deposit", "0.1.0", "deposit --grains 7 -o 'a b.h5'", "", "2026-11-22T00:00:00Z"}};
+  return h;
+}
+
+/// Writes a run of `frames` frames with `n` grains and a series of `steps` steps.
+std::vector<Frame> write_run(h5::File& f, std::size_t n, std::size_t frames, std::size_t steps) {
+  std::vector<Frame> out;
+  for (std::size_t q = 0; q < frames; ++q) {
+    out.push_back(random_frame(n, 3 * n + q, 42 + q));
+    out.back().step = static_cast<std::int64_t>(10 * q);
+    out.back().grains.radius = out.front().grains.radius;
+    out.back().grains.mass = out.front().grains.mass;
+    out.back().grains.inertia = out.front().grains.inertia;
+    out.back().grains.species = out.front().grains.species;
+  }
+  io::RunWriter w(f, test_header(), out.front().grains);
+  for (const auto& fr : out) w.append_frame(fr);
+  w.append_series(io::sample_series(steps));
+  return out;
+}
+
+void expect_run(const io::RunReader& r, const std::vector<Frame>& frames, std::size_t steps) {
+  ASSERT_EQ(r.frame_count(), frames.size());
+  EXPECT_EQ(r.header().kind, "run");
+  EXPECT_EQ(r.header().box.width, 0.12);
+  EXPECT_EQ(std::get<double>(r.header().parameters.at("mu_grain")), 0.5);
+  EXPECT_EQ(std::get<std::int64_t>(r.header().parameters.at("grains")), 7);
+  EXPECT_EQ(std::get<std::string>(r.header().parameters.at("integrator")), "moreau-jean");
+  EXPECT_EQ(std::get<double>(r.header().results.at("avalanche_angle_deg")), 19.5);
+  ASSERT_EQ(r.header().provenance.size(), 1u);
+  EXPECT_EQ(r.header().provenance[0].command_line, "deposit --grains 7 -o 'a b.h5'");
+  for (std::size_t q = 0; q < frames.size(); ++q) {
+    Frame got = r.frame(q);
+    EXPECT_EQ(got.step, frames[q].step);
+    EXPECT_EQ(got.time, frames[q].time);
+    EXPECT_NEAR(got.tilt_angle, frames[q].tilt_angle, 1e-15);  // stored in degrees
+    expect_same(got.grains, frames[q].grains);
+    expect_same(got.contacts, frames[q].contacts);
+  }
+  io::Series s = r.series();
+  io::Series want = io::sample_series(steps);
+  EXPECT_EQ(s.step, want.step);
+  EXPECT_EQ(s.time, want.time);
+  EXPECT_EQ(s.real, want.real);
+  EXPECT_EQ(s.integer, want.integer);
+  EXPECT_EQ(s.unit.at("tilt_angle"), "deg");
+}
+
+}  // namespace
+
+TEST(Schema, RoundTripThroughAFileIsExact) {
+  TempDir dir;
+  const std::string path = dir / "run.h5";
+  std::vector<Frame> frames;
+  {
+    io::Output out(path, false);
+    frames = write_run(out.create_hdf5(), 7, 3, 10);
+    out.commit();
+  }
+  io::Input in(path);
+  expect_run(io::RunReader(in.hdf5()), frames, 10);
+}
+
+TEST(Schema, RoundTripThroughAnInMemoryImageIsExact) {
+  // What `tool -o - | tool -` does: the writer's file image, read back as bytes.
+  std::vector<char> bytes;
+  std::vector<Frame> frames;
+  {
+    h5::File f = h5::create_in_memory("stdout");
+    frames = write_run(f, 7, 2, 5000);
+    bytes = h5::image_of(f);
+  }
+  ASSERT_TRUE(io::has_hdf5_signature(bytes));
+  h5::File g = h5::open_image(bytes, "stdin");
+  expect_run(io::RunReader(g), frames, 5000);
+}
+
+TEST(Schema, ObservablesShareOneClockAsH5mdHardLinks) {
+  h5::File f = h5::create_in_memory("mem");
+  write_run(f, 3, 1, 4);
+  // Every element of /observables has step and time; they are the same datasets.
+  H5O_info_t a, b;
+  H5Oget_info_by_name2(f.id(), "/observables/contacts/step", &a, H5O_INFO_BASIC, H5P_DEFAULT);
+  H5Oget_info_by_name2(f.id(), "/observables/tilt_angle/step", &b, H5O_INFO_BASIC, H5P_DEFAULT);
+  EXPECT_EQ(a.addr, b.addr);  // one object, two links
+  EXPECT_GE(a.rc, 2u);
+  EXPECT_EQ(h5::attr_ints(f, "/h5md", "version"), (std::vector<std::int64_t>{1, 1}));
+  EXPECT_EQ(h5::attr_int(f, "/particles/grains/box", "dimension"), 2);
+}
+
+TEST(Schema, ReopenDropsWhatCameAfterTheCheckpoint) {
+  h5::File f = h5::create_in_memory("mem");
+  auto frames = write_run(f, 5, 3, 40);  // frames at steps 0, 10, 20; series steps 0..39
+  io::RunWriter w = io::RunWriter::reopen(f, 15);
+  EXPECT_EQ(w.frames(), 2u);
+  io::RunReader r(f);
+  ASSERT_EQ(r.frame_count(), 2u);
+  expect_same(r.frame(1).contacts, frames[1].contacts);
+  EXPECT_EQ(r.series().size(), 16u);
+  // Appending goes on after the kept rows.
+  w.append_frame(frames[2]);
+  io::RunReader r2(f);
+  ASSERT_EQ(r2.frame_count(), 3u);
+  expect_same(r2.frame(2).contacts, frames[2].contacts);
+}
+
+TEST(Output, RefusesToOverwriteWithoutForceAndLeavesNoPartialFile) {
+  TempDir dir;
+  const std::string path = dir / "keep.h5";
+  { std::ofstream(path) << "precious"; }
+  try {
+    io::Output out(path, false);
+    FAIL() << "an existing file was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": exists; not overwritten (use --force to replace it)");
+  }
+  {
+    io::Output out(path, true);  // forced, but the run fails before commit
+    write_run(out.create_hdf5(), 3, 1, 2);
+    EXPECT_TRUE(fs::exists(out.temporary_path()));
+  }
+  std::ifstream in(path);
+  std::string s;
+  in >> s;
+  EXPECT_EQ(s, "precious");  // the good file is untouched
+  std::size_t files = 0;
+  for ([[maybe_unused]] auto& e : fs::directory_iterator(dir.path)) ++files;
+  EXPECT_EQ(files, 1u);  // no temporary left behind
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: each gives one Error naming the file, the path inside it and what is wrong.
+
+namespace {
+
+/// Writes a valid run to `path`, lets `damage` change it, and returns the reader's error.
+template <class Damage>
+std::string error_after(const std::string& path, Damage damage) {
+  {
+    io::Output out(path, true);
+    write_run(out.create_hdf5(), 4, 2, 3);
+    out.commit();
+  }
+  {
+    h5::File f = h5::open_write(path, path);
+    damage(f);
+  }
+  try {
+    io::Input in(path);
+    io::RunReader r(in.hdf5());
+    for (std::size_t k = 0; k < r.frame_count(); ++k) r.frame(k);
+    r.series();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void replace(const h5::File& f, const std::string& path, const std::vector<double>& v,
+             const std::vector<hsize_t>& dims) {
+  H5Ldelete(f.id(), path.c_str(), H5P_DEFAULT);
+  h5::write(f, path, v.data(), dims);
+}
+
+}  // namespace
+
+TEST(ReaderErrors, MissingGroup) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { H5Ldelete(f.id(), "/particles/grains/box", H5P_DEFAULT); }),
+            p + ": /particles/grains/box: missing group");
+}
+
+TEST(ReaderErrors, WrongSchemaVersion) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { h5::set_attr(f, "/", "schema_version", std::int64_t{2}); }),
+            p + ": /: schema version 2, this build reads version 1");
+}
+
+TEST(ReaderErrors, NotACdpileFile) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { H5Adelete(f.id(), "schema"); }),
+            p + ": /: not a cdpile file (no schema = \"cdpile\" attribute)");
+}
+
+TEST(ReaderErrors, WrongShape) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/mass", std::vector<double>(8, 1.0), {4, 2}); }),
+            p + ": /particles/grains/mass: expected shape [4], found [4 x 2]");
+  EXPECT_EQ(error_after(p, [](h5::File& f) {
+              replace(f, "/contacts/fn", std::vector<double>(3, 1.0), {3});
+            }),
+            p + ": /contacts/fn: expected 25 rows");
+}
+
+TEST(ReaderErrors, NotFiniteValues) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, NAN, 1e-3, 1e-3}, {4}); }),
+            p + ": /particles/grains/radius: non-finite value (NaN) at element 1");
+  EXPECT_EQ(error_after(p, [](h5::File& f) {
+              std::vector<double> pos(2 * 4 * 2, 0.0);
+              pos[5] = INFINITY;
+              H5Ldelete(f.id(), "/particles/grains/position/value", H5P_DEFAULT);
+              h5::write(f, "/particles/grains/position/value", pos.data(), {2, 4, 2});
+            }),
+            p + ": /particles/grains/position/value: non-finite value at element 5");
+}
+
+TEST(ReaderErrors, NegativeRadius) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, 1e-3, -1e-3, 1e-3}, {4}); }),
+            p + ": /particles/grains/radius: radius of grain 2 is not positive");
+}
+
+TEST(ReaderErrors, InconsistentContactTable) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) {
+              std::int64_t c[2] = {12, 99};
+              H5Ldelete(f.id(), "/contacts/count", H5P_DEFAULT);
+              h5::write(f, "/contacts/count", c, {2});
+            }),
+            p + ": /contacts/i: holds 25 contacts, the frames count 111");
+}
+
+TEST(ReaderErrors, TruncatedFile) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  {
+    io::Output out(p, false);
+    write_run(out.create_hdf5(), 4, 2, 3);
+    out.commit();
+  }
+  fs::resize_file(p, fs::file_size(p) / 2);
+  std::string msg = "no error";
+  try {
+    io::Input in(p);
+    io::RunReader r(in.hdf5());
+    for (std::size_t k = 0; k < r.frame_count(); ++k) r.frame(k);
+  } catch (const Error& e) {
+    msg = e.what();
+  }
+  EXPECT_EQ(msg.rfind(p + ": ", 0), 0u) << msg;
+  EXPECT_NE(msg.find("truncated"), std::string::npos) << msg;
+}
+
+TEST(ReaderErrors, NotHdf5) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  { std::ofstream(p) << "x\ty\tfn\tft\n1\t2\t3\t4\n"; }
+  io::Input in(p);
+  EXPECT_FALSE(in.is_hdf5());
+  try {
+    in.hdf5();
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), p + ": not an HDF5 file (no HDF5 signature)");
+  }
+}
+
+TEST(ReaderErrors, MissingFile) {
+  try {
+    io::Input in("/nonexistent/x.h5");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/x.h5: no such file");
+  }
+}
