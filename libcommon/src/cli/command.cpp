@@ -35,6 +35,8 @@ extern "C" void on_signal(int sig) {
 }
 
 std::string format_number(double x) {
+  if (x == std::floor(x) && std::fabs(x) < 1e15)  // integers as integers: 100000, not 1e+05
+    return std::to_string(static_cast<long long>(x));
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, x);
   return std::string(buf, r.ptr);
