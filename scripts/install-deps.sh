@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages cdpile needs, if any are missing. As root it runs
+# apt-get; otherwise it prints the one sudo line to run and exits 1.
+set -euo pipefail
+packages=(
+  g++ cmake make pkg-config          # toolchain (CMake >= 3.25 for the presets)
+  libeigen3-dev                      # Eigen 3.4: vectors, sparse matrices, fits
+  libhdf5-dev hdf5-tools             # HDF5 1.10 C library; h5dump and h5diff for tests
+  libcgal-dev                        # CGAL 5.5: neighbour queries for localnu
+  libboost-program-options-dev       # the command-line layer
+  libgtest-dev                       # unit tests
+  libbenchmark-dev                   # micro-benchmarks
+  python3 python3-numpy python3-h5py python3-matplotlib  # figures
+  util-linux                         # script(1), used by one test of terminal output
+)
+missing=()
+for p in "${packages[@]}"; do
+  if [[ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" != "install ok installed" ]]; then
+    missing+=("$p")
+  fi
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "setup: all Debian packages present"
+  exit 0
+fi
+if [[ $(id -u) -ne 0 ]]; then
+  echo "setup: missing Debian packages; run this once, then again ./setup.sh:" >&2
+  echo "  sudo apt-get update && sudo apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"
