@@ -1,0 +1,115 @@
+/// Critical contacts and the state of the pile (Staron, Vilotte & Radjai 2002, eqs 1-2).
+///
+/// A contact is *active* when f_n > 0. It is *critical* when the friction is fully
+/// mobilised to a tolerance eps:
+///
+///     f_n > 0  and  |f_t| >= (1 - eps) mu f_n                                   (Coulomb threshold)
+///
+/// nu = Nc / N over the contacts that count (eq 1 with V the whole pile),
+/// z = 2 N / Np (coordination number, with a stated rattler convention) and
+/// lambda = sqrt(2 / (z nu)) D, the mean distance between critical contacts (eq 2).
+///
+/// Which contacts count: active grain-grain contacts. A wall contact is one whose second
+/// body is a wall plane (j < 0) or, when `floor_grains_are_walls`, a grain glued to the
+/// floor (Species::floor); wall contacts count only with `include_walls`.
+///
+/// These kernels take plain arrays or the model types, never files: contact data from
+/// another code (io/contact_table.hpp) goes through the same code as our runs.
+#pragma once
+
+#include "cdpile/model.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace cdpile::analysis {
+
+/// The default tolerance eps of the critical test. The NSGS local solver puts a sliding
+/// contact on the cone to round-off, while a sticking contact can sit inside it by up to
+/// about the solver tolerance (1e-4 relative); 1e-3 is ten times that, so sliding
+/// contacts are always critical and sticking ones only when within 0.1 % of the cone.
+inline constexpr double default_eps = 1e-3;
+
+/// The choices that say which contacts count and which are critical.
+struct CriticalRule {
+  double eps = default_eps;             ///< tolerance of the Coulomb test, in [0, 1)
+  bool include_walls = false;           ///< count contacts with walls (and glued floor grains)
+  bool floor_grains_are_walls = true;   ///< a contact with a glued floor grain is a wall contact
+};
+
+/// Friction coefficients: grain-grain (also used with glued floor grains) and grain-wall.
+struct Friction {
+  double grain = 0.5;
+  double wall = 0.5;
+};
+
+/// Whether a contact with forces (fn, ft) and friction mu is critical (Coulomb threshold
+/// to the tolerance eps). False when fn <= 0 (not active).
+inline bool is_critical(double fn, double ft, double mu, double eps) {
+  return fn > 0.0 && (ft < 0.0 ? -ft : ft) >= (1.0 - eps) * mu * fn;
+}
+
+/// Checks a rule and friction coefficients; throws cdpile::Error with a one-line reason
+/// (mu <= 0 or not finite, eps outside [0, 1)).
+void validate(const CriticalRule& rule, const Friction& mu);
+
+/// The contacts of one instant that count, in the order of the source table.
+struct ContactSet {
+  std::vector<std::size_t> row;         ///< row in the source Contacts table
+  std::vector<std::int32_t> i, j;       ///< bodies (j < 0: wall)
+  std::vector<Vec2> point;              ///< contact points [m]
+  std::vector<std::uint8_t> critical;   ///< 1 if critical by the rule
+  std::vector<std::uint8_t> sliding;    ///< 1 if the solver's status is `slide`
+  std::vector<double> mobilisation;     ///< |f_t| / (mu f_n), in [0, 1] up to round-off
+
+  std::size_t size() const { return point.size(); }
+  std::size_t critical_count() const;
+  std::size_t sliding_count() const;
+};
+
+/// Selects the contacts that count and classifies them. `species` may be empty (no glued
+/// grains, e.g. a contact table). Throws cdpile::Error if a force is not finite or the
+/// rule is invalid.
+ContactSet select_contacts(const Contacts& c, std::span<const Species> species, const Friction& mu,
+                           const CriticalRule& rule);
+
+/// How the coordination number treats rattlers (grains that carry no load).
+enum class RattlerRule {
+  exclude,  ///< z = 2 N / Np', Np' = free grains with >= 2 counted contacts (default)
+  include,  ///< z = 2 N / Np, Np = all free grains
+};
+
+/// The state of the whole pile at one instant. Undefined quantities are empty optionals
+/// (nu when N = 0; lambda when Nc = 0, where it is infinite; z when Np = 0).
+struct PileState {
+  std::int64_t contacts = 0;           ///< N, counted active contacts
+  std::int64_t critical = 0;           ///< Nc
+  std::int64_t sliding = 0;            ///< solver status `slide` among the counted contacts
+  std::int64_t grains = 0;             ///< Np, free grains
+  std::int64_t loaded_grains = 0;      ///< free grains with >= 2 counted contacts
+  std::optional<double> nu;            ///< Nc / N (eq 1)
+  std::optional<double> nu_sliding;    ///< sliding / N, the solver's own view
+  std::optional<double> z;             ///< by the chosen rattler rule
+  std::optional<double> z_all;         ///< 2 N / Np, rattlers included
+  std::optional<double> lambda;        ///< sqrt(2 / (z nu)) D [m] (eq 2), z by the rule
+};
+
+/// Computes the pile state of a selected contact set. `free_grains` is the number of
+/// free (not glued) grains, `diameter` the mean diameter D [m]; grain ids in the set are
+/// used to find rattlers (ids >= grain_count or < 0 are ignored for that).
+PileState pile_state(const ContactSet& set, std::span<const Species> species,
+                     std::int64_t free_grains, double diameter, RattlerRule rattlers);
+
+/// lambda = sqrt(2 / (z nu)) D (eq 2); empty if z nu <= 0.
+std::optional<double> critical_spacing(double z, double nu, double diameter);
+
+/// The mean diameter D of the free grains (all grains if none is marked free) [m].
+double mean_diameter(const Grains& g);
+/// The mean mass of the free grains [kg/m].
+double mean_mass(const Grains& g);
+/// Number of free (not glued) grains.
+std::int64_t free_grain_count(const Grains& g);
+
+}  // namespace cdpile::analysis

@@ -1,0 +1,173 @@
+/// The four analyses behind the tools critical, localnu, correlate and clusterfit, from
+/// plain data to a Product (tables + results). The tools only read files, fill these
+/// inputs and write the product; everything here is testable without files.
+/// Definitions and defaults: docs/analysis.md.
+#pragma once
+
+#include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/local_state.hpp"
+#include "cdpile/analysis/series.hpp"
+#include "cdpile/analysis/table.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cdpile::analysis {
+
+/// A closed range of tilt angles [deg]; the default covers everything.
+struct ThetaRange {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool contains(double t) const { return t >= lo && t <= hi; }
+  bool bounded() const { return lo > -std::numeric_limits<double>::infinity() || hi < std::numeric_limits<double>::infinity(); }
+};
+
+// =================================================================================
+// critical: nu(theta), events, ensemble, envelope, avalanche angle (eqs 1-2, Figs 1-2)
+
+/// Which nu(theta) series the ensemble mean, the envelope and the events use.
+enum class SeriesSource {
+  automatic,  ///< `steps` when every run records a per-step critical count, else `frames`
+  steps,      ///< per-step critical count from the observables (column critical_grain/critical)
+  frames,     ///< the frames' contacts with the eps rule (exact definition, sparser)
+  sliding,    ///< per-step count of contacts the solver reports sliding
+};
+const char* source_name(SeriesSource s);
+
+struct CriticalOptions {
+  CriticalRule rule;
+  RattlerRule rattlers = RattlerRule::exclude;
+  EventRule events;
+  AvalancheRule avalanche;
+  bool cut_at_avalanche = true;       ///< ensemble and envelope use each run up to its theta_c
+  double grid_step = 0.1;             ///< [deg] bins of the ensemble mean
+  double envelope_window = 0.5;       ///< [deg] windows of the envelope of maxima
+  std::optional<ThetaRange> envelope_fit;  ///< default: windows where every run contributes
+  SeriesSource source = SeriesSource::automatic;
+  bool step_table = true;             ///< include the per-step table
+};
+
+/// Per-step observables of one run, as recorded. Optional series are empty when absent.
+struct RunSteps {
+  std::vector<std::int64_t> step;
+  std::vector<double> theta;               ///< [deg]
+  std::vector<std::int64_t> contacts;      ///< N, counted as the rule says
+  std::vector<std::int64_t> critical;      ///< Nc per step, if the run records it
+  std::vector<std::int64_t> sliding;       ///< contacts with solver status slide, if recorded
+  std::vector<double> kinetic_energy;      ///< translational, summed over grains [J/m]
+};
+
+struct FrameRecord {
+  std::int64_t frame = 0, step = 0;
+  double theta = 0.0;  ///< [deg]
+  PileState state;
+};
+
+struct RunRecord {
+  std::string name;
+  std::int64_t free_grains = 0;
+  double diameter = 0.0;    ///< mean diameter D [m]
+  double mean_mass = 0.0;   ///< [kg/m]
+  double gravity = 0.0;     ///< [m/s^2]; 0 if unknown (then no avalanche angle)
+  std::optional<double> recorded_avalanche;  ///< [deg] the simulator's own detection
+  RunSteps steps;
+  std::vector<FrameRecord> frames;
+};
+
+Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
+
+/// theta_c of a run by the rule [deg]: empty when the run never passes it, or when its
+/// kinetic energy, gravity, grain mass or diameter is unknown.
+std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule);
+
+// =================================================================================
+// localnu: nu_i(r) around every contact, pdfs P_c, P_nc, the nu field (Figs 3, 5)
+
+struct LocalNuOptions {
+  std::vector<double> radii;          ///< [D], ascending; default 1..20
+  bool exclude_self = false;
+  EdgeRule edge = EdgeRule::keep;
+  double pdf_radius = 6.0;            ///< [D]
+  std::size_t pdf_bins = 50;
+  std::optional<ThetaRange> pdf_theta;  ///< default: the loading phase of each run
+  double map_radius = 6.0;            ///< [D]
+  double map_spacing = 1.0;           ///< [D]
+  double nu_c = 0.08;                 ///< threshold of the map (Fig 5)
+  bool per_contact = false;           ///< table of nu_i(r) of every contact of the map frame
+};
+
+LocalNuOptions default_localnu_options();
+
+class LocalNuStudy {
+ public:
+  explicit LocalNuStudy(LocalNuOptions opt);
+  /// Adds one frame: its contacts that count (from select_contacts), the run's mean
+  /// diameter D [m], whether it is in the loading phase (pdf pooling by default) and
+  /// whether it is the frame to map. Returns the frame's local states (for callers that
+  /// want more).
+  void add_frame(std::int64_t run, const std::string& run_name, std::int64_t frame,
+                 std::int64_t step, std::optional<double> theta, double diameter,
+                 const ContactSet& set, bool loading, bool map_this);
+  Product product() const;
+  std::size_t frames() const { return frames_; }
+
+ private:
+  LocalNuOptions opt_;
+  std::vector<double> query_;      // radii of the query [D]: radii + pdf radius, sorted
+  std::vector<std::size_t> out_k_; // index in query_ of each output radius
+  std::size_t pdf_k_ = 0;
+  std::size_t frames_ = 0;
+  Table frames_t_, states_t_, contacts_t_, map_t_;
+  Histogram pc_, pnc_;
+  std::int64_t pdf_frames_ = 0;
+  bool mapped_ = false;
+  Values map_info_;
+};
+
+// =================================================================================
+// correlate: nu_bar(theta, r) per frame and pooled in theta windows (eq 3, Fig 4)
+
+struct CorrelateOptions {
+  double window = 1.0;        ///< [deg]
+  double window_start = 0.0;  ///< [deg] windows are [start + k w, start + (k+1) w)
+  ThetaRange theta;           ///< frames used
+  bool frame_table = true;
+};
+
+Product correlate(const Product& localnu, const CorrelateOptions& opt);
+
+// =================================================================================
+// clusterfit: eq (4) per theta window, affine A(theta), alpha(theta), r_c (eq 5), and
+// the divergence r_c ~ (theta_c - theta)^-beta (Fig 6)
+
+enum class NuInfSource {
+  automatic,  ///< `ensemble` when a critical product is given, else `pile`
+  ensemble,   ///< critical's ensemble mean nu(theta) over the window (the paper's definition)
+  pile,       ///< the mean pile nu of the window's frames (from correlate)
+  fit,        ///< a free parameter of the fit
+};
+const char* nu_inf_name(NuInfSource s);
+
+enum class RcFrom { window, affine };
+
+struct ClusterFitOptions {
+  double r_min = 1.0;          ///< [D]
+  double r_max = 10.0;         ///< L [D]
+  NuInfSource nu_inf = NuInfSource::automatic;
+  std::optional<double> nu_c;  ///< overrides the critical product's nu_c
+  double nu_c_se = 0.0;        ///< its standard error, with nu_c given
+  ThetaRange theta;            ///< windows fitted
+  std::optional<ThetaRange> affine;  ///< default: every fitted window
+  ThetaRange power{15.0, std::numeric_limits<double>::infinity()};  ///< windows of the power law
+  std::optional<double> theta_c;     ///< given: not fitted
+  RcFrom rc_from = RcFrom::window;
+  int min_points = 4;          ///< radii needed to fit a window
+};
+
+Product clusterfit(const Product& correlate, const Product* critical, const ClusterFitOptions& opt);
+
+}  // namespace cdpile::analysis

@@ -1,0 +1,53 @@
+/// 2D frictional contact problems in Delassus form, as other codes exchange them, solved
+/// by the engine's non-smooth Gauss-Seidel with the same exact local solver
+/// (local_solver.hpp). Used to compare the solver with Siconos on its own test data
+/// (physics.md 3.2; ../shared/data/siconos-fc2d/).
+///
+/// The problem: find impulses r and local velocities u = W r + q such that, for each
+/// contact a (components 2a normal, 2a+1 tangent), Signorini and Coulomb hold with mu_a.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <string>
+
+namespace cdpile::cd {
+
+struct DelassusProblem {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> W;  ///< 2m x 2m Delassus operator
+  Eigen::VectorXd q;                               ///< 2m free local velocities
+  Eigen::VectorXd mu;                              ///< m friction coefficients
+  Eigen::Index contacts() const { return mu.size(); }
+};
+
+/// Reads a problem in the text format of Siconos' `frictionContact_printInFile` (2D):
+/// dimension, number of contacts, the matrix (storage code 2 = sparse, a CSparse
+/// `cs_print` listing in compressed columns), q, mu. Throws cdpile::Error naming the
+/// file and the line on any malformed or inconsistent content.
+DelassusProblem read_siconos_fc2d(const std::string& path);
+
+/// Siconos' natural-map residual (fc2d_compute_error, physics.md 2.2):
+///   || r - Proj_K(r - u_hat) || / ||q||,   u = W r + q,  u_hat = (u_n + mu |u_t|, u_t),
+/// K the product of the 2D Coulomb cones. Zero exactly at a solution. The division by
+/// ||q|| is what Siconos' fc2d_nsgs passes (it skips it when ||q|| ~ 0).
+double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r);
+
+struct NsgsOptions {
+  double tolerance = 1e-5;  ///< on natural_map_residual
+  int max_sweeps = 10000;
+};
+
+struct NsgsReport {
+  int sweeps = 0;
+  double residual = 0.0;  ///< natural_map_residual at the end
+  bool converged = false;
+  double seconds = 0.0;   ///< wall-clock time of the solve
+};
+
+/// Non-smooth Gauss-Seidel on a Delassus problem, from the initial guess in `r` (resized
+/// to 2m and zeroed if it has the wrong size). Contacts in file order; the residual is
+/// evaluated after every sweep.
+NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOptions& options);
+
+}  // namespace cdpile::cd

@@ -1,0 +1,175 @@
+/// The Contact Dynamics engine (Moreau-Jean time stepping with non-smooth Gauss-Seidel),
+/// for rigid disks in a box of a floor and two side walls, under a gravity rotated by
+/// the tilt angle. docs/method.md states the scheme, every default and its reason.
+///
+/// One step, in stages (physics.md 2.1, LMGC90's `one_step`):
+///   1. free velocity       v_free = v + h g(theta), g(theta) = g (sin theta, -cos theta)
+///   2. detect              pairs within the alert distance in the predicted
+///                          configuration q_m = q + (1 - theta_s) h v (cell grid, O(N))
+///   3. frames              normal, tangent, lever arms and gap of each contact at q_m
+///   4. Delassus diagonal   W_nn = sum 1/m, W_tt = sum (1/m + r^2/I) (disk blocks are diagonal)
+///   5. warm start          impulses of the previous step, matched by the pair (i, j)
+///   6. NSGS sweeps         exact local solves until residual < tolerance or the cap
+///   7. update velocities   v = v_free + M^-1 H R (already held by the bodies, ELG style)
+///   8. update positions    q = q_m + theta_s h v
+///   9. store impulses      for the next warm start
+/// theta_s is the theta-method parameter (Settings::theta).
+#pragma once
+
+#include "cdpile/model.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace cdpile::cd {
+
+/// Numerical and physical settings of the engine. SI units. Defaults are for a mean
+/// grain diameter D = 1e-3 m (docs/method.md gives the reason for each).
+struct Settings {
+  double time_step = 1e-4;       ///< h [s]; h sqrt(g/D) = 0.0099 for D = 1 mm
+  double theta = 0.5;            ///< theta-method parameter, in [0.5, 1]
+  double gravity = 9.81;         ///< |g| [m/s^2]
+  double mu_grain = 0.5;         ///< grain-grain friction (glued floor grains included)
+  double mu_wall = 0.5;          ///< grain-wall friction (floor plane and side walls)
+  double alert_distance = 1e-4;  ///< contact candidates within this gap [m] (0.1 D)
+  double tolerance = 1e-4;       ///< NSGS convergence threshold on the residual (see Report)
+  int max_sweeps = 2000;         ///< NSGS sweep cap per step; hitting it is reported
+  bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
+};
+
+/// Checks a settings value range; throws cdpile::UsageError naming the bad field.
+void validate(const Settings& s);
+
+/// What one step did. Energies per unit thickness [J/m].
+struct StepReport {
+  std::int64_t step = 0;      ///< index of the step just done (1 = first)
+  double time = 0.0;          ///< time at the end of the step [s]
+  double tilt_angle = 0.0;    ///< [rad]
+  int sweeps = 0;             ///< NSGS sweeps done
+  /// Convergence residual after the last sweep: the largest velocity correction
+  /// max_a |W_aa dR_a| (max-norm over contacts and components) made by the last sweep,
+  /// divided by max(g h, mean W_nn R_n over active contacts). Zero when no contact.
+  double residual = 0.0;
+  bool converged = true;      ///< residual <= tolerance before the sweep cap
+  int candidates = 0;         ///< contacts detected (within the alert distance)
+  int contacts = 0;           ///< active contacts (R_n > 0), walls included
+  int contacts_grain = 0;     ///< active contacts between two free grains
+  int sliding = 0;            ///< active contacts whose local solve ended on the cone
+  double kinetic_energy = 0.0;     ///< translational, sum over free grains
+  double rotational_energy = 0.0;  ///< sum over free grains
+  double max_overlap = 0.0;   ///< largest overlap (-gap) at the predicted configuration [m]
+  double max_speed = 0.0;     ///< largest grain speed |v| at the end of the step [m/s]
+};
+
+/// Cumulated wall-clock time per stage [s], for benchmarks.
+struct StepProfile {
+  double detect = 0, frames = 0, delassus = 0, warm_start = 0, solve = 0,
+         update_velocities = 0, update_positions = 0, store = 0;
+  std::int64_t steps = 0, sweeps = 0, contact_updates = 0;
+  double total() const {
+    return detect + frames + delassus + warm_start + solve + update_velocities +
+           update_positions + store;
+  }
+};
+
+/// One stored impulse of the previous step, for warm starting [N s/m].
+struct StoredImpulse {
+  std::int32_t i = 0, j = 0;  ///< the pair, as in Contacts (j < 0: a wall)
+  double rn = 0.0, rt = 0.0;
+};
+
+/// The engine's restartable state besides the grains: clock and warm-start impulses.
+/// An engine rebuilt from the same grains, settings and this state continues bit for bit.
+struct EngineState {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::vector<StoredImpulse> impulses;
+};
+
+class Engine {
+ public:
+  /// Grains of Species::floor are fixed (glued); the others are free. Throws
+  /// cdpile::Error on invalid grains (non-positive radius or mass, sizes differ).
+  Engine(Box box, Grains grains, Settings settings);
+
+  /// One Moreau-Jean step under gravity tilted by `tilt_angle` [rad].
+  StepReport step(double tilt_angle);
+
+  const Grains& grains() const { return grains_; }
+  const Box& box() const { return box_; }
+  const Settings& settings() const { return settings_; }
+  /// Contacts of the last step (forces = impulses / h), in (i, j) order, the open
+  /// candidates included (status open, zero force).
+  Contacts contacts() const;
+  /// Time-independent checks of the last step's contact set.
+  std::size_t contact_count() const { return rows_.size(); }
+
+  /// Locks (or unlocks) a grain's rotation: infinite inertia (validation tests).
+  void lock_rotation(std::size_t grain, bool locked = true);
+
+  EngineState state() const;
+  void set_state(const EngineState& s);
+
+  const StepProfile& profile() const { return profile_; }
+  void reset_profile() { profile_ = {}; }
+
+ private:
+  struct Body {
+    double vx, vy, w;  // velocity being solved for (free velocity + M^-1 H R)
+    double inv_m, inv_i;
+  };
+  struct Row {  // one contact, as the solver sees it (contiguous for the sweeps)
+    std::int32_t i, j;    // grains; j < 0 is a wall
+    std::int32_t bi, bj;  // body indices (a wall is the static body N)
+    double nx, ny;        // unit normal from j to i
+    double ri, rj;        // lever arms (radii; 0 for a wall)
+    double w_nn, w_tt;    // diagonal Delassus block
+    double mu;
+    double gap;           // at the predicted configuration [m]
+    double gap_velocity;  // max(0, gap / h) [m/s], LMGC90 IQS_CLB
+    double rn, rt;        // impulses [N s/m]
+    ContactStatus status;
+  };
+
+  void detect(const Vec2& g);
+  void compute_frames();
+  void compute_delassus();
+  void warm_start();
+  void solve(StepReport& report);
+  double sweep(bool backward, double& scale_sum, int& active);
+  void update_velocities();
+  void update_positions();
+  void store_impulses();
+  void measure(StepReport& report) const;
+
+  Box box_;
+  Grains grains_;
+  Settings settings_;
+  std::vector<double> inv_mass_, inv_inertia_;
+  std::vector<Body> bodies_;
+  std::vector<Row> rows_;
+  std::vector<Vec2> predicted_, velocity_begin_;
+  std::vector<double> omega_begin_, margin_;
+  std::vector<std::int32_t> cell_start_, cell_items_, neighbours_;
+  std::vector<std::uint64_t> stored_keys_;
+  std::vector<double> stored_rn_, stored_rt_;
+  std::int64_t step_ = 0;
+  double time_ = 0.0;
+  StepProfile profile_;
+};
+
+/// The sort key of a pair (i, j): lexicographic in (i, j) with j signed, so the walls
+/// (j < 0) of grain i come before its grain partners.
+inline std::uint64_t pair_key(std::int32_t i, std::int32_t j) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
+         (static_cast<std::uint32_t>(j) ^ 0x80000000u);
+}
+
+/// Gravity in the box frame when the box is tilted by `tilt_angle` [rad]:
+/// g (sin theta, -cos theta), so a positive tilt drives grains towards the right wall.
+inline Vec2 tilted_gravity(double g, double tilt_angle) {
+  return {g * std::sin(tilt_angle), -g * std::cos(tilt_angle)};
+}
+
+}  // namespace cdpile::cd

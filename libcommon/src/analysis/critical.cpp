@@ -1,0 +1,145 @@
+#include "cdpile/analysis/critical.hpp"
+
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace cdpile::analysis {
+
+void validate(const CriticalRule& rule, const Friction& mu) {
+  if (!(std::isfinite(mu.grain) && mu.grain > 0.0))
+    throw Error("friction coefficient mu must be > 0, got " + std::to_string(mu.grain));
+  if (!(std::isfinite(mu.wall) && mu.wall > 0.0))
+    throw Error("wall friction coefficient must be > 0, got " + std::to_string(mu.wall));
+  if (!(rule.eps >= 0.0 && rule.eps < 1.0))
+    throw Error("critical tolerance eps must be in [0, 1), got " + std::to_string(rule.eps));
+}
+
+std::size_t ContactSet::critical_count() const {
+  return static_cast<std::size_t>(std::count(critical.begin(), critical.end(), 1));
+}
+std::size_t ContactSet::sliding_count() const {
+  return static_cast<std::size_t>(std::count(sliding.begin(), sliding.end(), 1));
+}
+
+namespace {
+bool is_floor_grain(std::int32_t id, std::span<const Species> species) {
+  return id >= 0 && static_cast<std::size_t>(id) < species.size() &&
+         species[static_cast<std::size_t>(id)] == Species::floor;
+}
+}  // namespace
+
+ContactSet select_contacts(const Contacts& c, std::span<const Species> species, const Friction& mu,
+                           const CriticalRule& rule) {
+  validate(rule, mu);
+  ContactSet s;
+  const std::size_t n = c.size();
+  s.row.reserve(n); s.i.reserve(n); s.j.reserve(n); s.point.reserve(n);
+  s.critical.reserve(n); s.sliding.reserve(n); s.mobilisation.reserve(n);
+  const bool have_status = c.status.size() == n;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double fn = c.fn[k], ft = c.ft[k];
+    if (!std::isfinite(fn) || !std::isfinite(ft) || !std::isfinite(c.point[k].x()) ||
+        !std::isfinite(c.point[k].y()))
+      throw Error("", "contact " + std::to_string(k), "force or contact point is not finite");
+    if (!(fn > 0.0)) continue;  // not active
+    const bool plane = c.j[k] < 0;
+    const bool glued = rule.floor_grains_are_walls &&
+                       (is_floor_grain(c.i[k], species) || is_floor_grain(c.j[k], species));
+    if ((plane || glued) && !rule.include_walls) continue;
+    const double m = plane ? mu.wall : mu.grain;
+    s.row.push_back(k);
+    s.i.push_back(c.i[k]);
+    s.j.push_back(c.j[k]);
+    s.point.push_back(c.point[k]);
+    s.critical.push_back(is_critical(fn, ft, m, rule.eps) ? 1 : 0);
+    s.sliding.push_back(have_status && c.status[k] == ContactStatus::slide ? 1 : 0);
+    s.mobilisation.push_back(std::abs(ft) / (m * fn));
+  }
+  return s;
+}
+
+std::optional<double> critical_spacing(double z, double nu, double diameter) {
+  if (!(z * nu > 0.0)) return std::nullopt;
+  return std::sqrt(2.0 / (z * nu)) * diameter;  // eq (2)
+}
+
+PileState pile_state(const ContactSet& set, std::span<const Species> species,
+                     std::int64_t free_grains, double diameter, RattlerRule rattlers) {
+  PileState p;
+  p.contacts = static_cast<std::int64_t>(set.size());
+  p.critical = static_cast<std::int64_t>(set.critical_count());
+  p.sliding = static_cast<std::int64_t>(set.sliding_count());
+  p.grains = free_grains;
+  if (p.contacts > 0) {
+    p.nu = static_cast<double>(p.critical) / static_cast<double>(p.contacts);  // eq (1)
+    p.nu_sliding = static_cast<double>(p.sliding) / static_cast<double>(p.contacts);
+  }
+  // Contacts per grain, for the rattler rule: sort the grain ends of the counted
+  // contacts and count runs (ids may be large or sparse in a user's table). Wall ends
+  // (id < 0) and glued grains are not grains of the count.
+  std::vector<std::int32_t> ends;
+  ends.reserve(2 * set.size());
+  for (std::size_t k = 0; k < set.size(); ++k) {
+    for (std::int32_t id : {set.i[k], set.j[k]}) {
+      if (id < 0) continue;
+      if (static_cast<std::size_t>(id) < species.size() &&
+          species[static_cast<std::size_t>(id)] == Species::floor)
+        continue;
+      ends.push_back(id);
+    }
+  }
+  std::sort(ends.begin(), ends.end());
+  std::int64_t loaded = 0;
+  for (std::size_t a = 0; a < ends.size();) {
+    std::size_t b = a;
+    while (b < ends.size() && ends[b] == ends[a]) ++b;
+    if (b - a >= 2) ++loaded;
+    a = b;
+  }
+  p.loaded_grains = loaded;
+  const double two_n = 2.0 * static_cast<double>(p.contacts);
+  if (free_grains > 0) p.z_all = two_n / static_cast<double>(free_grains);
+  if (rattlers == RattlerRule::include) {
+    p.z = p.z_all;
+  } else if (loaded > 0) {
+    p.z = two_n / static_cast<double>(loaded);
+  }
+  if (p.z && p.nu) p.lambda = critical_spacing(*p.z, *p.nu, diameter);
+  return p;
+}
+
+namespace {
+template <class F>
+double mean_over_free(const Grains& g, F value) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    if (k < g.species.size() && g.species[k] != Species::free) continue;
+    sum += value(k);
+    ++n;
+  }
+  if (n == 0) {  // nothing marked free: use every grain
+    for (std::size_t k = 0; k < g.size(); ++k) sum += value(k);
+    n = g.size();
+  }
+  return n ? sum / static_cast<double>(n) : 0.0;
+}
+}  // namespace
+
+double mean_diameter(const Grains& g) {
+  return mean_over_free(g, [&](std::size_t k) { return 2.0 * g.radius[k]; });
+}
+double mean_mass(const Grains& g) {
+  return mean_over_free(g, [&](std::size_t k) { return g.mass.size() > k ? g.mass[k] : 0.0; });
+}
+std::int64_t free_grain_count(const Grains& g) {
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < g.size(); ++k)
+    if (k >= g.species.size() || g.species[k] == Species::free) ++n;
+  return n;
+}
+
+}  // namespace cdpile::analysis

@@ -1,0 +1,408 @@
+// critical: the state of the pile nu(theta) (eq 1), z and lambda (eq 2), rearrangement
+// events (Fig 2), the ensemble mean (inset of Fig 1a), the envelope of maxima and its
+// limit nu_c (Fig 1c), the avalanche angle.
+#include "cdpile/analysis/fit.hpp"
+#include "cdpile/analysis/studies.hpp"
+
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cdpile::analysis {
+
+const char* source_name(SeriesSource s) {
+  switch (s) {
+    case SeriesSource::steps: return "steps";
+    case SeriesSource::frames: return "frames";
+    case SeriesSource::sliding: return "sliding";
+    default: return "auto";
+  }
+}
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+std::optional<double> ratio(std::int64_t a, std::int64_t b) {
+  if (b <= 0) return std::nullopt;
+  return static_cast<double>(a) / static_cast<double>(b);
+}
+
+void check_steps(const RunRecord& r) {
+  const std::size_t n = r.steps.step.size();
+  auto same = [&](std::size_t m, const char* what, bool optional) {
+    if ((optional && m == 0) || m == n) return;
+    throw Error(r.name, "/observables", std::string(what) + " has " + std::to_string(m) +
+                                            " rows, the step series " + std::to_string(n));
+  };
+  same(r.steps.theta.size(), "tilt_angle", false);
+  same(r.steps.contacts.size(), "the contact count", false);
+  same(r.steps.critical.size(), "the critical count", true);
+  same(r.steps.sliding.size(), "sliding", true);
+  same(r.steps.kinetic_energy.size(), "kinetic_energy", true);
+}
+
+// The nu(theta) series a run contributes to the ensemble and the envelope.
+struct Curve {
+  std::vector<double> theta, nu;
+};
+
+}  // namespace
+
+std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule) {
+  const RunSteps& s = r.steps;
+  const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
+  if (s.kinetic_energy.empty() || s.kinetic_energy.size() != s.theta.size() || r.free_grains <= 0 ||
+      !(scale > 0.0))
+    return std::nullopt;
+  std::vector<double> e(s.theta.size());
+  for (std::size_t k = 0; k < e.size(); ++k)
+    e[k] = s.kinetic_energy[k] / static_cast<double>(r.free_grains) / scale;
+  if (auto k = avalanche_index(s.theta, e, rule)) return s.theta[*k];
+  return std::nullopt;
+}
+
+Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt) {
+  validate(opt.rule, Friction{});
+  if (!(opt.grid_step > 0.0)) throw Error("ensemble grid step must be > 0 deg");
+  if (!(opt.envelope_window > 0.0)) throw Error("envelope window must be > 0 deg");
+
+  bool all_critical = !runs.empty(), all_sliding = !runs.empty();
+  for (const RunRecord& r : runs) {
+    check_steps(r);
+    all_critical = all_critical && !r.steps.step.empty() && r.steps.critical.size() == r.steps.step.size();
+    all_sliding = all_sliding && !r.steps.step.empty() && r.steps.sliding.size() == r.steps.step.size();
+  }
+  SeriesSource src = opt.source;
+  if (src == SeriesSource::automatic) src = all_critical ? SeriesSource::steps : SeriesSource::frames;
+  if (src == SeriesSource::steps && !all_critical && !runs.empty())
+    throw Error("--series steps: a run does not record a per-step critical count "
+                "(observable critical_grain or critical); use --series frames or sliding");
+  if (src == SeriesSource::sliding && !all_sliding && !runs.empty())
+    throw Error("--series sliding: a run does not record the per-step sliding count");
+
+  Product p;
+  p.kind = "critical";
+  p.parameters = {{"eps", opt.rule.eps},
+                  {"include_walls", std::int64_t{opt.rule.include_walls}},
+                  {"floor_grains_are_walls", std::int64_t{opt.rule.floor_grains_are_walls}},
+                  {"rattlers", std::string(opt.rattlers == RattlerRule::exclude ? "exclude" : "include")},
+                  {"event_hysteresis", opt.events.hysteresis},
+                  {"event_min_drop", opt.events.min_drop},
+                  {"avalanche_threshold", opt.avalanche.threshold},
+                  {"avalanche_hold_deg", opt.avalanche.hold},
+                  {"cut_at_avalanche", std::int64_t{opt.cut_at_avalanche}},
+                  {"grid_step_deg", opt.grid_step},
+                  {"envelope_window_deg", opt.envelope_window},
+                  {"series", std::string(source_name(src))}};
+  p.notes = {
+      "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; N counts active contacts (f_n > 0), "
+      "grain-grain unless include_walls",
+      "nu = Nc/N (eq 1); z = 2N/Np' with Np' the free grains with >= 2 counted contacts "
+      "(rattlers excluded) or all free grains (z_all); lambda = sqrt(2/(z nu)) D (eq 2), in D",
+      "per-step z and lambda use z_all = 2N/Np (the per-step series has no per-grain counts)",
+      "Ek: mean translational kinetic energy per free grain [J/m]; ek_norm = Ek/(m g D)",
+      "theta_c: first step where ek_norm >= avalanche_threshold and stays so for "
+      "avalanche_hold_deg (or to the end of the run); ensemble theta_c = mean over runs",
+      "event: from a local maximum of N to the next local minimum (turning points confirmed "
+      "after event_hysteresis contacts); loss = Delta N/N; nu_before = nu of the series at "
+      "or before the maximum",
+      "ensemble: per run the mean of nu in each theta bin, then mean and standard error over "
+      "runs; envelope: per run the maximum of nu in each window, then mean and se over runs, "
+      "placed at the mean theta where the maxima occur",
+      "envelope fit: nu_c - B exp(-theta/tau) by Levenberg-Marquardt, weighted by the se when "
+      "every window has one; uncertainties from the covariance (scaled by chi2/dof if > 1)",
+      "missing values (NA): nu with N = 0, lambda with Nc = 0 (infinite), se from one run"};
+
+  Table& runs_t = p.add_table("runs", "one row per run");
+  Table* steps_t = opt.step_table ? &p.add_table("steps", "one row per time step of each run") : nullptr;
+  Table& frames_t = p.add_table("frames", "one row per saved frame of each run");
+  Table& events_t = p.add_table("events", "rearrangement events: a drop of the contact count N");
+  Table& ens_t = p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid");
+  Table& env_t = p.add_table("envelope", "mean over runs of the maximum of nu in theta windows");
+
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"run", "", ColumnKind::integer}, {"name", "", ColumnKind::text},
+           {"grains", "", ColumnKind::integer}, {"diameter", "m", ColumnKind::real},
+           {"steps", "", ColumnKind::integer}, {"frames", "", ColumnKind::integer},
+           {"events", "", ColumnKind::integer}, {"theta_c", "deg", ColumnKind::real},
+           {"theta_c_recorded", "deg", ColumnKind::real}, {"nu_max", "", ColumnKind::real}})
+    runs_t.add_column(n, u, k);
+  if (steps_t)
+    for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+             {"run", "", ColumnKind::integer}, {"step", "", ColumnKind::integer},
+             {"theta", "deg", ColumnKind::real}, {"N", "", ColumnKind::integer},
+             {"Nc", "", ColumnKind::integer}, {"nu", "", ColumnKind::real},
+             {"sliding", "", ColumnKind::integer}, {"nu_sliding", "", ColumnKind::real},
+             {"z_all", "", ColumnKind::real}, {"lambda", "D", ColumnKind::real},
+             {"Ek", "J m-1", ColumnKind::real}, {"ek_norm", "", ColumnKind::real}})
+      steps_t->add_column(n, u, k);
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
+           {"step", "", ColumnKind::integer}, {"theta", "deg", ColumnKind::real},
+           {"N", "", ColumnKind::integer}, {"Nc", "", ColumnKind::integer},
+           {"nu", "", ColumnKind::real}, {"sliding", "", ColumnKind::integer},
+           {"nu_sliding", "", ColumnKind::real}, {"z", "", ColumnKind::real},
+           {"z_all", "", ColumnKind::real}, {"loaded_grains", "", ColumnKind::integer},
+           {"lambda", "D", ColumnKind::real}, {"loading", "", ColumnKind::integer}})
+    frames_t.add_column(n, u, k);
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
+           {"peak_step", "", ColumnKind::integer}, {"trough_step", "", ColumnKind::integer},
+           {"theta", "deg", ColumnKind::real}, {"theta_end", "deg", ColumnKind::real},
+           {"n_peak", "", ColumnKind::integer}, {"n_trough", "", ColumnKind::integer},
+           {"loss", "", ColumnKind::real}, {"nu_before", "", ColumnKind::real},
+           {"nu_before_step", "", ColumnKind::integer}, {"nu_sliding_before", "", ColumnKind::real},
+           {"open", "", ColumnKind::integer}, {"after_avalanche", "", ColumnKind::integer}})
+    events_t.add_column(n, u, k);
+
+  std::vector<Curve> curves(runs.size());
+  std::vector<double> theta_cs;
+  double z_sum = 0.0;
+  std::int64_t z_n = 0;
+
+  for (std::size_t ri = 0; ri < runs.size(); ++ri) {
+    const RunRecord& r = runs[ri];
+    const RunSteps& s = r.steps;
+    const std::size_t n = s.step.size();
+    const auto run = static_cast<std::int64_t>(ri);
+    const double np = static_cast<double>(r.free_grains);
+    const bool have_ek = !s.kinetic_energy.empty() && r.free_grains > 0;
+    const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
+
+    // per-step quantities
+    std::vector<double> nu_c(n, nan), nu_s(n, nan), ekn(n, nan);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!s.critical.empty()) nu_c[k] = ratio(s.critical[k], s.contacts[k]).value_or(nan);
+      if (!s.sliding.empty()) nu_s[k] = ratio(s.sliding[k], s.contacts[k]).value_or(nan);
+      if (have_ek && scale > 0.0) ekn[k] = s.kinetic_energy[k] / np / scale;
+    }
+    const std::optional<double> theta_c = avalanche_angle(r, opt.avalanche);
+    if (theta_c) theta_cs.push_back(*theta_c);
+    const double cut = !opt.cut_at_avalanche ? inf : theta_c ? *theta_c : r.recorded_avalanche.value_or(inf);
+
+    if (steps_t) {
+      for (std::size_t k = 0; k < n; ++k) {
+        steps_t->column("run").add_int(run);
+        steps_t->column("step").add_int(s.step[k]);
+        steps_t->column("theta").add(s.theta[k]);
+        steps_t->column("N").add_int(s.contacts[k]);
+        steps_t->column("Nc").add(s.critical.empty() ? nan : static_cast<double>(s.critical[k]));
+        steps_t->column("nu").add(nu_c[k]);
+        steps_t->column("sliding").add(s.sliding.empty() ? nan : static_cast<double>(s.sliding[k]));
+        steps_t->column("nu_sliding").add(nu_s[k]);
+        const auto z_all = ratio(2 * s.contacts[k], r.free_grains);
+        steps_t->column("z_all").add(z_all);
+        const double nu_for_lambda = !s.critical.empty() ? nu_c[k] : nan;
+        steps_t->column("lambda").add(z_all && std::isfinite(nu_for_lambda)
+                                          ? critical_spacing(*z_all, nu_for_lambda, 1.0)
+                                          : std::nullopt);
+        steps_t->column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
+        steps_t->column("ek_norm").add(ekn[k]);
+      }
+    }
+
+    for (const FrameRecord& f : r.frames) {
+      const PileState& st = f.state;
+      frames_t.column("run").add_int(run);
+      frames_t.column("frame").add_int(f.frame);
+      frames_t.column("step").add_int(f.step);
+      frames_t.column("theta").add(f.theta);
+      frames_t.column("N").add_int(st.contacts);
+      frames_t.column("Nc").add_int(st.critical);
+      frames_t.column("nu").add(st.nu);
+      frames_t.column("sliding").add_int(st.sliding);
+      frames_t.column("nu_sliding").add(st.nu_sliding);
+      frames_t.column("z").add(st.z);
+      frames_t.column("z_all").add(st.z_all);
+      frames_t.column("loaded_grains").add_int(st.loaded_grains);
+      frames_t.column("lambda").add(st.lambda && r.diameter > 0 ? std::optional<double>(*st.lambda / r.diameter)
+                                                              : std::nullopt);
+      const bool loading = f.theta <= cut;
+      frames_t.column("loading").add_int(loading);
+      if (loading && st.z) { z_sum += *st.z; ++z_n; }
+    }
+
+    // The run's nu(theta) series by the chosen source.
+    Curve& cv = curves[ri];
+    std::vector<std::int64_t> cv_step;
+    if (src == SeriesSource::frames) {
+      for (const FrameRecord& f : r.frames)
+        if (f.state.nu) { cv.theta.push_back(f.theta); cv.nu.push_back(*f.state.nu); cv_step.push_back(f.step); }
+    } else {
+      const std::vector<double>& v = src == SeriesSource::steps ? nu_c : nu_s;
+      for (std::size_t k = 0; k < n; ++k)
+        if (std::isfinite(v[k])) { cv.theta.push_back(s.theta[k]); cv.nu.push_back(v[k]); cv_step.push_back(s.step[k]); }
+    }
+
+    // Events (Fig 2).
+    const auto events = rearrangements(s.contacts, opt.events);
+    std::int64_t e_index = 0;
+    for (const Event& e : events) {
+      const std::int64_t peak_step = s.step[e.peak];
+      // the state just before: the last sample of the series at or before the peak step
+      std::optional<double> nu_before;
+      std::optional<double> nu_before_step;
+      auto it = std::upper_bound(cv_step.begin(), cv_step.end(), peak_step);
+      if (it != cv_step.begin()) {
+        const auto q = static_cast<std::size_t>(it - cv_step.begin() - 1);
+        nu_before = cv.nu[q];
+        nu_before_step = static_cast<double>(cv_step[q]);
+      }
+      events_t.column("run").add_int(run);
+      events_t.column("event").add_int(e_index++);
+      events_t.column("peak_step").add_int(peak_step);
+      events_t.column("trough_step").add_int(s.step[e.trough]);
+      events_t.column("theta").add(s.theta[e.peak]);
+      events_t.column("theta_end").add(s.theta[e.trough]);
+      events_t.column("n_peak").add_int(e.n_peak);
+      events_t.column("n_trough").add_int(e.n_trough);
+      events_t.column("loss").add(e.loss);
+      events_t.column("nu_before").add(nu_before);
+      events_t.column("nu_before_step").add(nu_before_step);
+      events_t.column("nu_sliding_before").add(nu_s.empty() ? nan : nu_s[e.peak]);
+      events_t.column("open").add_int(e.open);
+      events_t.column("after_avalanche").add_int(s.theta[e.peak] > cut);
+    }
+
+    // Keep the loading phase for the ensemble and the envelope.
+    Curve kept;
+    double nu_max = nan;
+    for (std::size_t k = 0; k < cv.theta.size(); ++k) {
+      if (cv.theta[k] > cut) continue;
+      kept.theta.push_back(cv.theta[k]);
+      kept.nu.push_back(cv.nu[k]);
+      nu_max = std::isfinite(nu_max) ? std::max(nu_max, cv.nu[k]) : cv.nu[k];
+    }
+    cv = std::move(kept);
+
+    runs_t.column("run").add_int(run);
+    runs_t.column("name").add_text(r.name);
+    runs_t.column("grains").add_int(r.free_grains);
+    runs_t.column("diameter").add(r.diameter);
+    runs_t.column("steps").add_int(static_cast<std::int64_t>(n));
+    runs_t.column("frames").add_int(static_cast<std::int64_t>(r.frames.size()));
+    runs_t.column("events").add_int(static_cast<std::int64_t>(events.size()));
+    runs_t.column("theta_c").add(theta_c);
+    runs_t.column("theta_c_recorded").add(r.recorded_avalanche);
+    runs_t.column("nu_max").add(nu_max);
+  }
+
+  // Ensemble and envelope on common grids.
+  double tmin = inf, tmax = -inf;
+  for (const Curve& c : curves)
+    for (double t : c.theta) { tmin = std::min(tmin, t); tmax = std::max(tmax, t); }
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
+           {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
+           {"nu", "", ColumnKind::real}, {"nu_se", "", ColumnKind::real}})
+    ens_t.add_column(n, u, k);
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
+           {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
+           {"envelope", "", ColumnKind::real}, {"envelope_se", "", ColumnKind::real},
+           {"fit", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer}})
+    env_t.add_column(n, u, k);
+
+  p.results["runs"] = static_cast<std::int64_t>(runs.size());
+  if (!theta_cs.empty()) {
+    Summary s = summarize(theta_cs);
+    p.results["theta_c_runs"] = s.n;
+    p.results["theta_c_deg"] = *s.mean;
+    if (s.se) p.results["theta_c_se_deg"] = *s.se;
+  }
+  if (z_n > 0) p.results["z_loading_mean"] = z_sum / static_cast<double>(z_n);
+
+  if (tmin <= tmax) {
+    auto grid_of = [&](double step) {
+      const double start = std::floor(tmin / step + 1e-9) * step;
+      return make_grid(start, std::max(tmax, start + step * 0.5), step);
+    };
+    const Grid g = grid_of(opt.grid_step);
+    const Grid w = grid_of(opt.envelope_window);
+    std::vector<std::vector<std::optional<double>>> means, maxima, argmax;
+    for (const Curve& c : curves) {
+      means.push_back(bin_mean(c.theta, c.nu, g));
+      argmax.emplace_back();
+      maxima.push_back(bin_max(c.theta, c.nu, w, &argmax.back()));
+    }
+    const auto ens = across_runs(means, g.count);
+    for (std::size_t b = 0; b < g.count; ++b) {
+      if (ens[b].n == 0) continue;
+      ens_t.column("theta").add(g.centre(b));
+      ens_t.column("theta_lo").add(g.lower(b));
+      ens_t.column("theta_hi").add(g.upper(b));
+      ens_t.column("runs").add_int(ens[b].n);
+      ens_t.column("nu").add(ens[b].mean);
+      ens_t.column("nu_se").add(ens[b].se);
+    }
+    const auto env = across_runs(maxima, w.count);
+    const auto env_at = across_runs(argmax, w.count);
+    const auto nruns = static_cast<std::int64_t>(runs.size());
+    std::vector<double> ft, fv, fs;
+    std::vector<std::size_t> rows_in_fit;
+    bool all_se = true;
+    for (std::size_t b = 0; b < w.count; ++b) {
+      if (env[b].n == 0) continue;
+      // the envelope's abscissa: the mean over runs of where the maxima occur (the maximum
+      // of a rising nu sits at the window's end, not at its centre)
+      const double c = env_at[b].mean.value_or(w.centre(b));
+      const bool in = opt.envelope_fit ? opt.envelope_fit->contains(c) : env[b].n == nruns;
+      env_t.column("theta").add(c);
+      env_t.column("theta_lo").add(w.lower(b));
+      env_t.column("theta_hi").add(w.upper(b));
+      env_t.column("runs").add_int(env[b].n);
+      env_t.column("envelope").add(env[b].mean);
+      env_t.column("envelope_se").add(env[b].se);
+      env_t.column("in_fit").add_int(in);
+      if (in) {
+        rows_in_fit.push_back(ft.size());
+        ft.push_back(c);
+        fv.push_back(*env[b].mean);
+        fs.push_back(env[b].se && *env[b].se > 0 ? *env[b].se : 0.0);
+        all_se = all_se && fs.back() > 0.0;
+      }
+    }
+    Column& fitcol = env_t.column("fit");
+    fitcol.num.assign(env_t.column("theta").num.size(), nan);
+    if (ft.size() >= 4) {
+      try {
+        EnvelopeFit ef = fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
+        if (ef.fit.converged) {
+          p.results["nu_c"] = ef.nu_c();
+          if (auto e = ef.fit.se(0)) p.results["nu_c_se"] = *e;
+          p.results["envelope_b"] = ef.b();
+          if (auto e = ef.fit.se(1)) p.results["envelope_b_se"] = *e;
+          p.results["envelope_tau_deg"] = ef.tau();
+          if (auto e = ef.fit.se(2)) p.results["envelope_tau_se_deg"] = *e;
+          p.results["envelope_chi2"] = ef.fit.chi2;
+          p.results["envelope_dof"] = static_cast<std::int64_t>(ef.fit.dof);
+          p.results["envelope_points"] = static_cast<std::int64_t>(ft.size());
+          p.results["envelope_weighted"] = std::int64_t{all_se};
+          p.results["envelope_theta_lo_deg"] = ft.front();
+          p.results["envelope_theta_hi_deg"] = ft.back();
+          const auto& th = env_t.column("theta").num;
+          for (std::size_t k = 0; k < th.size(); ++k)
+            fitcol.num[k] = ef.nu_c() - ef.b() * std::exp(-th[k] / ef.tau());
+          if (z_n > 0 && ef.nu_c() > 0)
+            if (auto l = critical_spacing(z_sum / static_cast<double>(z_n), ef.nu_c(), 1.0))
+              p.results["lambda_c_D"] = *l;
+        } else {
+          p.notes.push_back("envelope fit did not converge: " + ef.fit.status);
+        }
+      } catch (const Error& e) {
+        p.notes.push_back(std::string("envelope fit failed: ") + e.what());
+      }
+    } else {
+      p.notes.push_back("envelope fit not done: fewer than 4 windows in the fit range");
+    }
+  } else {
+    p.notes.push_back("no nu(theta) data: the ensemble and envelope tables are empty");
+  }
+  return p;
+}
+
+}  // namespace cdpile::analysis

@@ -1,0 +1,452 @@
+// The Contact Dynamics engine: one Moreau-Jean step as named stages (engine.hpp).
+#include "cdpile/cd/engine.hpp"
+
+#include "cdpile/cd/local_solver.hpp"
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace cdpile::cd {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Adds the seconds since `start` to `acc` and restarts the stopwatch.
+void lap(Clock::time_point& start, double& acc) {
+  const auto now = Clock::now();
+  acc += std::chrono::duration<double>(now - start).count();
+  start = now;
+}
+
+bool is_fixed(const Grains& g, std::size_t i) { return g.species[i] == Species::floor; }
+
+}  // namespace
+
+void validate(const Settings& s) {
+  auto bad = [](const std::string& what) { throw UsageError("engine settings: " + what); };
+  if (!(s.time_step > 0.0) || !std::isfinite(s.time_step)) bad("time step must be > 0");
+  if (!(s.theta >= 0.5 && s.theta <= 1.0)) bad("theta must be in [0.5, 1]");
+  if (!(s.gravity >= 0.0) || !std::isfinite(s.gravity)) bad("gravity must be >= 0");
+  if (!(s.mu_grain >= 0.0) || !(s.mu_wall >= 0.0)) bad("friction coefficients must be >= 0");
+  if (!(s.alert_distance >= 0.0)) bad("alert distance must be >= 0");
+  if (!(s.tolerance > 0.0)) bad("tolerance must be > 0");
+  if (s.max_sweeps < 1) bad("the sweep cap must be >= 1");
+}
+
+Engine::Engine(Box box, Grains grains, Settings settings)
+    : box_(box), grains_(std::move(grains)), settings_(settings) {
+  validate(settings_);
+  const std::size_t n = grains_.size();
+  if (grains_.mass.size() != n || grains_.inertia.size() != n || grains_.species.size() != n ||
+      grains_.position.size() != n || grains_.velocity.size() != n ||
+      grains_.orientation.size() != n || grains_.angular_velocity.size() != n)
+    throw Error("engine: grain arrays have different sizes");
+  if (!(box_.width > 0.0)) throw Error("engine: the box width must be > 0");
+  inv_mass_.resize(n);
+  inv_inertia_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(grains_.radius[i] > 0.0) || !(grains_.mass[i] > 0.0) || !(grains_.inertia[i] > 0.0))
+      throw Error("engine: grain " + std::to_string(i) + " has a non-positive radius, mass or inertia");
+    const bool fixed = is_fixed(grains_, i);
+    inv_mass_[i] = fixed ? 0.0 : 1.0 / grains_.mass[i];
+    inv_inertia_[i] = fixed ? 0.0 : 1.0 / grains_.inertia[i];
+    if (fixed) {  // glued grains never move
+      grains_.velocity[i] = Vec2::Zero();
+      grains_.angular_velocity[i] = 0.0;
+    }
+  }
+  bodies_.resize(n + 1);
+  bodies_[n] = {0.0, 0.0, 0.0, 0.0, 0.0};  // the walls: one static body
+}
+
+void Engine::lock_rotation(std::size_t grain, bool locked) {
+  if (grain >= grains_.size()) throw Error("engine: no grain " + std::to_string(grain));
+  inv_inertia_[grain] =
+      (locked || is_fixed(grains_, grain)) ? 0.0 : 1.0 / grains_.inertia[grain];
+  if (locked) grains_.angular_velocity[grain] = 0.0;
+}
+
+StepReport Engine::step(double tilt_angle) {
+  const Vec2 g = tilted_gravity(settings_.gravity, tilt_angle);
+  StepReport report;
+  auto t = Clock::now();
+  detect(g);
+  lap(t, profile_.detect);
+  compute_frames();
+  lap(t, profile_.frames);
+  compute_delassus();
+  lap(t, profile_.delassus);
+  warm_start();
+  lap(t, profile_.warm_start);
+  solve(report);
+  lap(t, profile_.solve);
+  update_velocities();
+  lap(t, profile_.update_velocities);
+  update_positions();
+  lap(t, profile_.update_positions);
+  store_impulses();
+  lap(t, profile_.store);
+
+  ++step_;
+  time_ = static_cast<double>(step_) * settings_.time_step;  // no drift from summing h
+  report.step = step_;
+  report.time = time_;
+  report.tilt_angle = tilt_angle;
+  measure(report);
+  profile_.steps += 1;
+  profile_.sweeps += report.sweeps;
+  profile_.contact_updates += static_cast<std::int64_t>(report.sweeps) *
+                              static_cast<std::int64_t>(rows_.size());
+  return report;
+}
+
+// Stage 1 and 2. Free velocities go into the bodies; candidates are found in the
+// predicted configuration q_m = q + (1 - theta) h v (physics.md 2.1, step 3) with a cell
+// grid. A pair is a candidate when its gap at q_m is below the alert distance plus what
+// the two grains can travel in one step, h (|v| + g h) each, so that no contact can be
+// missed whatever the speed (the margin is zero for grains at rest).
+void Engine::detect(const Vec2& g) {
+  const std::size_t n = grains_.size();
+  const double h = settings_.time_step;
+  const double lead = (1.0 - settings_.theta) * h;
+  predicted_.resize(n);
+  margin_.resize(n);
+  velocity_begin_.resize(n);
+  omega_begin_.resize(n);
+  double r_max = 0.0, m_max = 0.0;
+  Vec2 lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  Vec2 hi = -lo;
+  const double g_norm = g.norm();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& v = grains_.velocity[i];
+    velocity_begin_[i] = v;
+    omega_begin_[i] = grains_.angular_velocity[i];
+    const bool fixed = inv_mass_[i] == 0.0;
+    // Free velocity v_free = v + h g (stage 1); a fixed grain has none.
+    const Vec2 vf = fixed ? Vec2::Zero() : Vec2(v + h * g);
+    bodies_[i] = {vf.x(), vf.y(), grains_.angular_velocity[i], inv_mass_[i], inv_inertia_[i]};
+    predicted_[i] = grains_.position[i] + lead * v;
+    margin_[i] = fixed ? 0.0 : h * (v.norm() + g_norm * h);
+    r_max = std::max(r_max, grains_.radius[i]);
+    m_max = std::max(m_max, margin_[i]);
+    lo = lo.cwiseMin(predicted_[i]);
+    hi = hi.cwiseMax(predicted_[i]);
+  }
+  rows_.clear();
+  if (n == 0) return;
+
+  // Cell grid: a cell is at least as wide as the largest interaction range, so pairs
+  // are in neighbouring cells; it is widened if scattered grains would need too many.
+  double cell = 2.0 * r_max + settings_.alert_distance + 2.0 * m_max;
+  const Vec2 extent = hi - lo;
+  const double max_cells = 4.0 * static_cast<double>(n) + 16.0;
+  if ((extent.x() / cell + 1.0) * (extent.y() / cell + 1.0) > max_cells)
+    cell = std::max(cell, std::sqrt((extent.x() + cell) * (extent.y() + cell) / max_cells) * 1.01);
+  const auto nx = static_cast<std::int32_t>(extent.x() / cell) + 1;
+  const auto ny = static_cast<std::int32_t>(extent.y() / cell) + 1;
+  auto cell_of = [&](const Vec2& p, std::int32_t& cx, std::int32_t& cy) {
+    cx = std::min(nx - 1, static_cast<std::int32_t>((p.x() - lo.x()) / cell));
+    cy = std::min(ny - 1, static_cast<std::int32_t>((p.y() - lo.y()) / cell));
+  };
+  // Counting sort of the grains into cells (row-major, cy then cx): deterministic.
+  cell_start_.assign(static_cast<std::size_t>(nx) * ny + 1, 0);
+  std::vector<std::int32_t>& items = cell_items_;
+  items.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int32_t cx, cy;
+    cell_of(predicted_[i], cx, cy);
+    ++cell_start_[static_cast<std::size_t>(cy) * nx + cx + 1];
+  }
+  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  {
+    std::vector<std::int32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int32_t cx, cy;
+      cell_of(predicted_[i], cx, cy);
+      items[fill[static_cast<std::size_t>(cy) * nx + cx]++] = static_cast<std::int32_t>(i);
+    }
+  }
+
+  const double alert = settings_.alert_distance;
+  auto add_row = [&](std::int32_t i, std::int32_t j, double gap, const Vec2& normal) {
+    Row r{};
+    r.i = i;
+    r.j = j;
+    r.bi = i;
+    r.bj = j < 0 ? static_cast<std::int32_t>(n) : j;
+    r.nx = normal.x();
+    r.ny = normal.y();
+    r.gap = gap;
+    rows_.push_back(r);
+  };
+  for (std::size_t ui = 0; ui < n; ++ui) {
+    const auto i = static_cast<std::int32_t>(ui);
+    const Vec2& xi = predicted_[ui];
+    const double ri = grains_.radius[ui];
+    const double reach = alert + margin_[ui];
+    if (inv_mass_[ui] != 0.0) {  // walls, in the order of their ids: right, left, floor
+      const double g_right = box_.width - xi.x() - ri;
+      if (g_right < reach) add_row(i, wall_right, g_right, Vec2(-1.0, 0.0));
+      const double g_left = xi.x() - ri;
+      if (g_left < reach) add_row(i, wall_left, g_left, Vec2(1.0, 0.0));
+      const double g_floor = xi.y() - ri;
+      if (g_floor < reach) add_row(i, wall_floor, g_floor, Vec2(0.0, 1.0));
+    }
+    std::int32_t cx, cy;
+    cell_of(xi, cx, cy);
+    neighbours_.clear();
+    for (std::int32_t y = std::max(0, cy - 1); y <= std::min(ny - 1, cy + 1); ++y)
+      for (std::int32_t x = std::max(0, cx - 1); x <= std::min(nx - 1, cx + 1); ++x) {
+        const std::size_t c = static_cast<std::size_t>(y) * nx + x;
+        for (std::int32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const std::int32_t j = items[k];
+          if (j <= i) continue;
+          const auto uj = static_cast<std::size_t>(j);
+          if (inv_mass_[ui] == 0.0 && inv_mass_[uj] == 0.0) continue;  // two glued grains
+          const double d = (xi - predicted_[uj]).norm();
+          if (d - ri - grains_.radius[uj] < reach + margin_[uj]) neighbours_.push_back(j);
+        }
+      }
+    std::sort(neighbours_.begin(), neighbours_.end());
+    for (const std::int32_t j : neighbours_) {
+      const Vec2 dx = xi - predicted_[static_cast<std::size_t>(j)];
+      const double d = dx.norm();
+      // Coincident centres cannot happen without a huge overlap; keep a valid normal.
+      const Vec2 normal = d > 0.0 ? Vec2(dx / d) : Vec2(0.0, 1.0);
+      add_row(i, j, d - ri - grains_.radius[static_cast<std::size_t>(j)], normal);
+    }
+  }
+}
+
+// Stage 3. Lever arms and the gap term of each contact. The tangent is
+// t = (-n_y, n_x); the relative velocity of i with respect to j at the contact is
+//   u_n = (v_i - v_j).n,   u_t = (v_i - v_j).t - w_i r_i - w_j r_j
+// (the contact point is at -r_i n from i and +r_j n from j).
+void Engine::compute_frames() {
+  const double inv_h = 1.0 / settings_.time_step;
+  for (Row& r : rows_) {
+    r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
+    r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
+    r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
+    // LMGC90 IQS_CLB (physics.md 2.1): u_n + max(0, gap/h) >= 0. A contact becomes active
+    // only if the gap would close within the step; an existing overlap is not pushed
+    // out, so no energy is injected (restitution 0).
+    r.gap_velocity = std::max(0.0, r.gap * inv_h);
+  }
+}
+
+// Stage 4. The diagonal blocks of W = H^T M^-1 H. For disks the normal passes through
+// both centres, so W_nt = 0 (physics.md 2.1, "2D local solver").
+void Engine::compute_delassus() {
+  for (Row& r : rows_) {
+    const Body& a = bodies_[static_cast<std::size_t>(r.bi)];
+    const Body& b = bodies_[static_cast<std::size_t>(r.bj)];
+    r.w_nn = a.inv_m + b.inv_m;
+    r.w_tt = a.inv_m + b.inv_m + r.ri * r.ri * a.inv_i + r.rj * r.rj * b.inv_i;
+  }
+}
+
+// Stage 5. Impulses of the previous step, matched by pair (both lists are sorted by
+// pair_key), then applied to the free velocities: v = v_free + M^-1 H R.
+void Engine::warm_start() {
+  std::size_t k = 0;
+  for (Row& r : rows_) {
+    const std::uint64_t key = pair_key(r.i, r.j);
+    while (k < stored_keys_.size() && stored_keys_[k] < key) ++k;
+    if (k < stored_keys_.size() && stored_keys_[k] == key) {
+      r.rn = stored_rn_[k];
+      r.rt = stored_rt_[k];
+    } else {
+      r.rn = 0.0;
+      r.rt = 0.0;
+    }
+    r.status = r.rn > 0.0 ? ContactStatus::stick : ContactStatus::open;
+    if (r.rn == 0.0 && r.rt == 0.0) continue;
+    Body& a = bodies_[static_cast<std::size_t>(r.bi)];
+    Body& b = bodies_[static_cast<std::size_t>(r.bj)];
+    const double px = r.rn * r.nx - r.rt * r.ny;  // R = R_n n + R_t t
+    const double py = r.rn * r.ny + r.rt * r.nx;
+    a.vx += a.inv_m * px;
+    a.vy += a.inv_m * py;
+    a.w -= a.inv_i * r.ri * r.rt;
+    b.vx -= b.inv_m * px;
+    b.vy -= b.inv_m * py;
+    b.w -= b.inv_i * r.rj * r.rt;
+  }
+}
+
+// One non-smooth Gauss-Seidel sweep (ELG layout: the bodies carry v = v_free + M^-1 H R,
+// so each contact's free local velocity is read from them in O(1)). Returns the largest
+// velocity correction max |W_aa dR_a|; accumulates sum W_nn R_n and the active count.
+double Engine::sweep(bool backward, double& scale_sum, int& active) {
+  double largest = 0.0;
+  const std::size_t m = rows_.size();
+  for (std::size_t q = 0; q < m; ++q) {
+    Row& r = rows_[backward ? m - 1 - q : q];
+    Body& a = bodies_[static_cast<std::size_t>(r.bi)];
+    Body& b = bodies_[static_cast<std::size_t>(r.bj)];
+    const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
+    const double u_n = dvx * r.nx + dvy * r.ny;
+    const double u_t = -dvx * r.ny + dvy * r.nx - a.w * r.ri - b.w * r.rj;
+    // Free local velocity of this contact: remove its own impulse, add the gap term.
+    const double b_n = u_n - r.w_nn * r.rn + r.gap_velocity;
+    const double b_t = u_t - r.w_tt * r.rt;
+    const LocalImpulse s = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
+    const double dn = s.rn - r.rn, dt = s.rt - r.rt;
+    r.rn = s.rn;
+    r.rt = s.rt;
+    r.status = s.status;
+    if (s.rn > 0.0) {
+      scale_sum += r.w_nn * s.rn;
+      ++active;
+    }
+    if (dn == 0.0 && dt == 0.0) continue;
+    largest = std::max(largest, std::max(std::abs(r.w_nn * dn), std::abs(r.w_tt * dt)));
+    const double px = dn * r.nx - dt * r.ny;
+    const double py = dn * r.ny + dt * r.nx;
+    a.vx += a.inv_m * px;
+    a.vy += a.inv_m * py;
+    a.w -= a.inv_i * r.ri * dt;
+    b.vx -= b.inv_m * px;
+    b.vy -= b.inv_m * py;
+    b.w -= b.inv_i * r.rj * dt;
+  }
+  return largest;
+}
+
+// Stage 6. Sweeps until the residual (engine.hpp, StepReport::residual) is below the
+// tolerance: a max-norm over contacts, so a contact that has just formed is converged
+// on its own and cannot hide in an average (LMGC90's "newcomer syndrome", physics.md
+// 2.1). The velocity scale is the mean normal velocity jump of the active contacts,
+// bounded below by g h, the velocity gravity adds in one step.
+void Engine::solve(StepReport& report) {
+  report.sweeps = 0;
+  report.residual = 0.0;
+  report.converged = true;
+  if (rows_.empty()) return;
+  const double floor_scale = settings_.gravity * settings_.time_step;
+  for (int k = 0; k < settings_.max_sweeps; ++k) {
+    double scale_sum = 0.0;
+    int active = 0;
+    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
+    const double largest = sweep(backward, scale_sum, active);
+    const double scale =
+        std::max(floor_scale, active > 0 ? scale_sum / static_cast<double>(active) : 0.0);
+    report.sweeps = k + 1;
+    report.residual = scale > 0.0 ? largest / scale : largest;
+    if (!std::isfinite(report.residual))
+      throw Error("engine: NSGS diverged (non-finite impulse) at step " +
+                  std::to_string(step_ + 1));
+    if (report.residual <= settings_.tolerance) return;
+  }
+  report.converged = false;
+}
+
+// Stage 7. The bodies hold v = v_free + M^-1 H R; copy it to the grains.
+void Engine::update_velocities() {
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    if (inv_mass_[i] == 0.0) continue;
+    grains_.velocity[i] = Vec2(bodies_[i].vx, bodies_[i].vy);
+    grains_.angular_velocity[i] = inv_inertia_[i] == 0.0 ? 0.0 : bodies_[i].w;
+  }
+}
+
+// Stage 8. theta-method: q = q + h ((1 - theta) v_begin + theta v) = q_m + theta h v.
+void Engine::update_positions() {
+  const double h = settings_.time_step, th = settings_.theta;
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    if (inv_mass_[i] == 0.0) continue;
+    grains_.position[i] = predicted_[i] + (th * h) * grains_.velocity[i];
+    grains_.orientation[i] +=
+        h * ((1.0 - th) * omega_begin_[i] + th * grains_.angular_velocity[i]);
+  }
+}
+
+// Stage 9. Keep the non-zero impulses, sorted by pair, for the next warm start.
+void Engine::store_impulses() {
+  stored_keys_.clear();
+  stored_rn_.clear();
+  stored_rt_.clear();
+  for (const Row& r : rows_) {
+    if (r.rn == 0.0 && r.rt == 0.0) continue;
+    stored_keys_.push_back(pair_key(r.i, r.j));
+    stored_rn_.push_back(r.rn);
+    stored_rt_.push_back(r.rt);
+  }
+}
+
+void Engine::measure(StepReport& report) const {
+  report.candidates = static_cast<int>(rows_.size());
+  for (const Row& r : rows_) {
+    report.max_overlap = std::max(report.max_overlap, -r.gap);
+    if (!(r.rn > 0.0)) continue;
+    ++report.contacts;
+    if (r.status == ContactStatus::slide) ++report.sliding;
+    if (r.j >= 0 && inv_mass_[static_cast<std::size_t>(r.i)] != 0.0 &&
+        inv_mass_[static_cast<std::size_t>(r.j)] != 0.0)
+      ++report.contacts_grain;
+  }
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    if (inv_mass_[i] == 0.0) continue;
+    const double v2 = grains_.velocity[i].squaredNorm();
+    const double w = grains_.angular_velocity[i];
+    report.kinetic_energy += 0.5 * grains_.mass[i] * v2;
+    report.rotational_energy += 0.5 * grains_.inertia[i] * w * w;
+    report.max_speed = std::max(report.max_speed, std::sqrt(v2));
+  }
+}
+
+Contacts Engine::contacts() const {
+  Contacts c;
+  c.reserve(rows_.size());
+  const double inv_h = 1.0 / settings_.time_step;
+  for (const Row& r : rows_) {
+    const Vec2 n(r.nx, r.ny);
+    const Vec2& xi = predicted_[static_cast<std::size_t>(r.i)];
+    // Contact point: middle of the gap (or overlap) between the two surfaces, on the
+    // line of centres; for a wall, the foot of the centre on the wall.
+    const Vec2 p = r.j < 0 ? Vec2(xi - (r.ri + r.gap) * n) : Vec2(xi - (r.ri + 0.5 * r.gap) * n);
+    c.push_back(r.i, r.j, p, n, r.rn * inv_h, r.rt * inv_h, r.gap,
+                r.rn > 0.0 ? r.status : ContactStatus::open);
+  }
+  return c;
+}
+
+EngineState Engine::state() const {
+  EngineState s;
+  s.step = step_;
+  s.time = time_;
+  s.impulses.reserve(stored_keys_.size());
+  for (std::size_t k = 0; k < stored_keys_.size(); ++k) {
+    StoredImpulse imp;
+    imp.i = static_cast<std::int32_t>(stored_keys_[k] >> 32);
+    imp.j = static_cast<std::int32_t>(static_cast<std::uint32_t>(stored_keys_[k]) ^ 0x80000000u);
+    imp.rn = stored_rn_[k];
+    imp.rt = stored_rt_[k];
+    s.impulses.push_back(imp);
+  }
+  return s;
+}
+
+void Engine::set_state(const EngineState& s) {
+  step_ = s.step;
+  time_ = s.time;
+  stored_keys_.clear();
+  stored_rn_.clear();
+  stored_rt_.clear();
+  for (const StoredImpulse& imp : s.impulses) {
+    stored_keys_.push_back(pair_key(imp.i, imp.j));
+    stored_rn_.push_back(imp.rn);
+    stored_rt_.push_back(imp.rt);
+  }
+  for (std::size_t k = 1; k < stored_keys_.size(); ++k)
+    if (!(stored_keys_[k - 1] < stored_keys_[k]))
+      throw Error("engine: stored impulses are not sorted by pair");
+}
+
+}  // namespace cdpile::cd

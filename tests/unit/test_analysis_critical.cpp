@@ -1,0 +1,125 @@
+// Critical contacts and the pile state (eqs 1-2) on hand-built contact sets.
+#include "cdpile/analysis/critical.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace cdpile;
+using namespace cdpile::analysis;
+
+namespace {
+Contacts make(std::initializer_list<std::tuple<int, int, double, double, ContactStatus>> rows) {
+  Contacts c;
+  double x = 0.0;
+  for (auto [i, j, fn, ft, st] : rows) {
+    c.push_back(i, j, Vec2(x, 0.0), Vec2(0.0, 1.0), fn, ft, 0.0, st);
+    x += 1.0;
+  }
+  return c;
+}
+}  // namespace
+
+TEST(Critical, CoulombThresholdWithTolerance) {
+  EXPECT_TRUE(is_critical(1.0, 0.5, 0.5, 0.0));
+  EXPECT_TRUE(is_critical(1.0, -0.5, 0.5, 0.0));
+  EXPECT_FALSE(is_critical(1.0, 0.4999, 0.5, 0.0));
+  EXPECT_TRUE(is_critical(1.0, 0.4995, 0.5, 1e-3));   // (1 - 1e-3) * 0.5 = 0.4995
+  EXPECT_FALSE(is_critical(1.0, 0.4994, 0.5, 1e-3));
+  EXPECT_FALSE(is_critical(0.0, 0.0, 0.5, 0.0));      // not active
+  EXPECT_FALSE(is_critical(-1.0, 0.5, 0.5, 0.0));
+}
+
+TEST(Critical, SelectsActiveGrainContactsAndClassifies) {
+  using S = ContactStatus;
+  // grains 0..4 free, 5 glued to the floor
+  std::vector<Species> sp = {Species::free, Species::free, Species::free,
+                             Species::free, Species::free, Species::floor};
+  Contacts c = make({{0, 1, 2.0, 1.0, S::slide},    // critical (|ft| = mu fn)
+                     {1, 2, 2.0, 0.2, S::stick},    // not critical
+                     {2, 3, 0.0, 0.0, S::open},     // inactive
+                     {0, 2, 1.0, -0.5, S::stick},   // critical by force, solver says stick
+                     {3, wall_floor, 1.0, 0.3, S::slide},  // plane wall, mu_wall 0.3: critical
+                     {4, 5, 1.0, 0.5, S::slide}});  // glued grain, critical
+  Friction mu{0.5, 0.3};
+  ContactSet s = select_contacts(c, sp, mu, {});
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s.row, (std::vector<std::size_t>{0, 1, 3}));
+  EXPECT_EQ(s.critical, (std::vector<std::uint8_t>{1, 0, 1}));
+  EXPECT_EQ(s.sliding, (std::vector<std::uint8_t>{1, 0, 0}));
+  EXPECT_DOUBLE_EQ(s.mobilisation[1], 0.2);
+
+  CriticalRule with_walls;
+  with_walls.include_walls = true;
+  s = select_contacts(c, sp, mu, with_walls);
+  ASSERT_EQ(s.size(), 5u);
+  EXPECT_EQ(s.critical_count(), 4u);
+  EXPECT_EQ(s.sliding_count(), 3u);
+
+  CriticalRule glued_are_grains;
+  glued_are_grains.floor_grains_are_walls = false;
+  s = select_contacts(c, sp, mu, glued_are_grains);
+  EXPECT_EQ(s.size(), 4u);  // the glued-grain contact counts, the plane wall does not
+}
+
+TEST(Critical, PileStateByHand) {
+  using S = ContactStatus;
+  // 5 free grains; grain 4 has no contact and grain 3 one: two rattlers.
+  std::vector<Species> sp(5, Species::free);
+  Contacts c = make({{0, 1, 1.0, 0.5, S::slide},
+                     {1, 2, 1.0, 0.1, S::stick},
+                     {2, 3, 1.0, 0.1, S::stick},
+                     {0, 2, 1.0, 0.1, S::stick}});
+  ContactSet s = select_contacts(c, sp, Friction{0.5, 0.5}, {});
+  const double d = 0.002;
+  PileState p = pile_state(s, sp, 5, d, RattlerRule::exclude);
+  EXPECT_EQ(p.contacts, 4);
+  EXPECT_EQ(p.critical, 1);
+  EXPECT_EQ(p.sliding, 1);
+  EXPECT_EQ(p.loaded_grains, 3);
+  EXPECT_DOUBLE_EQ(*p.nu, 0.25);
+  EXPECT_DOUBLE_EQ(*p.z, 8.0 / 3.0);
+  EXPECT_DOUBLE_EQ(*p.z_all, 8.0 / 5.0);
+  EXPECT_NEAR(*p.lambda, std::sqrt(3.0) * d, 1e-15);  // sqrt(2 / (8/3 * 1/4)) D
+  PileState q = pile_state(s, sp, 5, d, RattlerRule::include);
+  EXPECT_DOUBLE_EQ(*q.z, 8.0 / 5.0);
+}
+
+TEST(Critical, EmptyAndNoCriticalGiveNoNaN) {
+  ContactSet empty;
+  PileState p = pile_state(empty, {}, 10, 1.0, RattlerRule::exclude);
+  EXPECT_EQ(p.contacts, 0);
+  EXPECT_FALSE(p.nu);
+  EXPECT_FALSE(p.lambda);
+  EXPECT_FALSE(p.z);          // no loaded grain
+  EXPECT_DOUBLE_EQ(*p.z_all, 0.0);
+
+  Contacts c = make({{0, 1, 1.0, 0.0, ContactStatus::stick}, {1, 2, 1.0, 0.0, ContactStatus::stick}});
+  ContactSet s = select_contacts(c, {}, Friction{}, {});
+  p = pile_state(s, {}, 3, 1.0, RattlerRule::exclude);
+  EXPECT_DOUBLE_EQ(*p.nu, 0.0);
+  EXPECT_FALSE(p.lambda);  // infinite: no critical contact
+}
+
+TEST(Critical, BadInputIsAnError) {
+  Contacts c = make({{0, 1, 1.0, 0.5, ContactStatus::stick}});
+  EXPECT_THROW(select_contacts(c, {}, Friction{0.0, 0.5}, {}), Error);
+  EXPECT_THROW(select_contacts(c, {}, Friction{-0.5, 0.5}, {}), Error);
+  EXPECT_THROW(select_contacts(c, {}, Friction{0.5, 0.0}, {}), Error);
+  CriticalRule bad;
+  bad.eps = 1.0;
+  EXPECT_THROW(select_contacts(c, {}, Friction{}, bad), Error);
+  c.fn[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(select_contacts(c, {}, Friction{}, {}), Error);
+}
+
+TEST(Critical, MeanDiameterOfFreeGrains) {
+  Grains g;
+  g.add_disk(0.5, 1.0, Vec2(0, 0));
+  g.add_disk(1.0, 1.0, Vec2(0, 0));
+  g.add_disk(5.0, 1.0, Vec2(0, 0), Species::floor);
+  EXPECT_DOUBLE_EQ(mean_diameter(g), 1.5);
+  EXPECT_EQ(free_grain_count(g), 2);
+}

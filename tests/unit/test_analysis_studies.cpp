@@ -1,0 +1,342 @@
+// The four analyses end to end on data built by hand: critical (events, ensemble,
+// envelope, theta_c), localnu (nu_bar and pdfs), correlate (pooling) and clusterfit
+// (recovery of A, alpha, r_c, beta and theta_c from synthetic nu_bar).
+#include "cdpile/analysis/fit.hpp"
+#include "cdpile/analysis/studies.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace cdpile;
+using namespace cdpile::analysis;
+
+namespace {
+PileState state(std::int64_t n, std::int64_t nc) {
+  PileState s;
+  s.contacts = n;
+  s.critical = nc;
+  s.grains = 10;
+  if (n > 0) s.nu = double(nc) / double(n);
+  s.z = s.z_all = 2.0 * double(n) / 10.0;
+  return s;
+}
+
+RunRecord small_run(const std::string& name, std::vector<std::int64_t> n, std::vector<std::int64_t> nc) {
+  RunRecord r;
+  r.name = name;
+  r.free_grains = 10;
+  r.diameter = 1.0;
+  r.mean_mass = 1.0;
+  r.gravity = 1.0;
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    r.steps.step.push_back(std::int64_t(k));
+    r.steps.theta.push_back(0.1 * double(k));
+    r.steps.contacts.push_back(n[k]);
+    r.steps.critical.push_back(nc[k]);
+    r.steps.kinetic_energy.push_back(0.0);
+  }
+  return r;
+}
+}  // namespace
+
+TEST(CriticalStudy, StepsEventsEnsembleByHand) {
+  // run a: N drops 10 -> 8 at step 2; run b: flat N
+  RunRecord a = small_run("a", {10, 10, 8, 8}, {1, 2, 0, 1});
+  RunRecord b = small_run("b", {10, 10, 10, 10}, {3, 4, 5, 6});
+  CriticalOptions o;
+  o.grid_step = 0.2;
+  o.envelope_window = 0.2;
+  Product p = critical_study({a, b}, o);
+  EXPECT_EQ(std::get<std::string>(p.parameters.at("series")), "steps");
+  const Table& ev = p.table("events");
+  ASSERT_EQ(ev.rows(), 1u);
+  EXPECT_EQ(*ev.column("peak_step").get(0), 1);
+  EXPECT_DOUBLE_EQ(*ev.column("loss").get(0), 0.2);
+  EXPECT_DOUBLE_EQ(*ev.column("nu_before").get(0), 0.2);  // step 1 of run a: 2/10
+  // ensemble bins [0, 0.2): steps 0, 1; [0.2, 0.4]: steps 2, 3 (0.3 in the last bin)
+  const Table& en = p.table("ensemble");
+  ASSERT_EQ(en.rows(), 2u);
+  // run a: (0.1 + 0.2)/2 = 0.15, run b: (0.3 + 0.4)/2 = 0.35 -> mean 0.25, se 0.1
+  EXPECT_NEAR(*en.column("nu").get(0), 0.25, 1e-12);
+  EXPECT_NEAR(*en.column("nu_se").get(0), 0.1, 1e-12);
+  // envelope: maxima 0.2 and 0.4 -> 0.3
+  EXPECT_NEAR(*p.table("envelope").column("envelope").get(0), 0.3, 1e-12);
+  EXPECT_FALSE(p.result("nu_c"));  // too few windows to fit: a note, not a NaN
+  const Table& st = p.table("steps");
+  EXPECT_EQ(st.rows(), 8u);
+  EXPECT_DOUBLE_EQ(*st.column("z_all").get(0), 2.0);
+  // lambda = sqrt(2/(z nu)) with z = 2, nu = 0.1 -> sqrt(10) D
+  EXPECT_NEAR(*st.column("lambda").get(0), std::sqrt(10.0), 1e-12);
+  EXPECT_FALSE(st.column("lambda").get(2));  // nu = 0: infinite, missing
+}
+
+TEST(CriticalStudy, FramesSourceAndAvalancheCut) {
+  RunRecord a = small_run("a", {10, 10, 10, 10, 10, 10}, {1, 1, 1, 1, 1, 1});
+  a.steps.critical.clear();  // no per-step critical count: frames are the source
+  a.steps.kinetic_energy = {0, 0, 0, 5e-3, 6e-3, 7e-3};  // per grain: /10 -> 5e-4.. with m g D = 1
+  for (auto& e : a.steps.kinetic_energy) e *= 10;          // -> 5e-3 per grain
+  a.frames = {{0, 0, 0.0, state(10, 1)}, {1, 2, 0.2, state(10, 2)}, {2, 4, 0.4, state(10, 9)}};
+  CriticalOptions o;
+  o.avalanche = {1e-3, 0.1};
+  Product p = critical_study({a}, o);
+  EXPECT_EQ(std::get<std::string>(p.parameters.at("series")), "frames");
+  EXPECT_NEAR(*p.table("runs").column("theta_c").get(0), 0.3, 1e-12);
+  EXPECT_NEAR(*p.result("theta_c_deg"), 0.3, 1e-12);
+  const Table& fr = p.table("frames");
+  EXPECT_EQ(*fr.column("loading").get(2), 0);  // theta 0.4 > theta_c
+  EXPECT_DOUBLE_EQ(*p.table("runs").column("nu_max").get(0), 0.2);  // the cut frame is left out
+  EXPECT_THROW(critical_study({a}, [] { CriticalOptions x; x.source = SeriesSource::steps; return x; }()),
+               Error);
+}
+
+TEST(CriticalStudy, EnvelopeFitRecoversNuC) {
+  // 15 runs whose nu fluctuates below an envelope nu_c - B exp(-theta/tau)
+  const double nu_c = 0.08, B = 0.07, tau = 4.0;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<RunRecord> runs;
+  for (int r = 0; r < 15; ++r) {
+    RunRecord run;
+    run.name = "r" + std::to_string(r);
+    run.free_grains = 4000;
+    run.diameter = 1;
+    for (int k = 0; k <= 20000; ++k) {
+      const double th = 0.001 * k;
+      run.steps.step.push_back(k);
+      run.steps.theta.push_back(th);
+      run.steps.contacts.push_back(7200);
+      const double env = nu_c - B * std::exp(-th / tau);
+      // nu = env * (1 - small random depth); maxima over a window approach env
+      const double nu = env * (1.0 - 0.2 * u(rng));
+      run.steps.critical.push_back(std::llround(nu * 7200));
+    }
+    runs.push_back(std::move(run));
+  }
+  CriticalOptions o;
+  o.step_table = false;
+  Product p = critical_study(runs, o);
+  ASSERT_TRUE(p.result("nu_c")) << (p.notes.empty() ? "" : p.notes.back());
+  ASSERT_TRUE(p.result("nu_c_se"));
+  // the maxima of ~500 steps per window sit within 0.1 % of the envelope
+  EXPECT_NEAR(*p.result("nu_c"), nu_c, 0.01 * nu_c);
+  EXPECT_LT(std::abs(*p.result("nu_c") - nu_c), 3 * *p.result("nu_c_se") + 0.002 * nu_c);
+  EXPECT_GT(*p.result("envelope_tau_deg"), 2.0);
+  EXPECT_LT(*p.result("envelope_tau_deg"), 6.0);
+}
+
+TEST(CriticalStudy, EmptyInputsGiveEmptyTables) {
+  Product p = critical_study({}, {});
+  EXPECT_EQ(p.table("ensemble").rows(), 0u);
+  RunRecord r;
+  r.name = "empty";
+  Product q = critical_study({r}, {});
+  EXPECT_EQ(q.table("frames").rows(), 0u);
+  EXPECT_EQ(q.table("runs").rows(), 1u);
+  EXPECT_FALSE(q.table("runs").column("theta_c").get(0));
+}
+
+namespace {
+// Five contacts on a line 1 apart, contacts 0 and 3 critical (as in test_analysis_local_state).
+ContactSet line_set() {
+  ContactSet s;
+  for (int k = 0; k < 5; ++k) {
+    s.row.push_back(k);
+    s.i.push_back(k);
+    s.j.push_back(k + 1);
+    s.point.emplace_back(k, 0);
+    s.critical.push_back(k == 0 || k == 3);
+    s.sliding.push_back(0);
+    s.mobilisation.push_back(k == 0 || k == 3 ? 1.0 : 0.5);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(LocalNuStudy, StatesAndPdfsByHand) {
+  LocalNuOptions o;
+  o.radii = {1.0, 2.5};
+  o.pdf_radius = 1.0;
+  o.pdf_bins = 4;
+  o.map_spacing = 2.0;
+  o.map_radius = 1.0;
+  o.per_contact = true;
+  LocalNuStudy s(o);
+  s.add_frame(0, "line", 7, 70, 1.5, 1.0, line_set(), true, true);
+  Product p = s.product();
+  const Table& st = p.table("states");
+  ASSERT_EQ(st.rows(), 2u);
+  EXPECT_EQ(*st.column("n").get(0), 2);
+  EXPECT_DOUBLE_EQ(*st.column("nu_bar").get(0), (0.5 + 1.0 / 3.0) / 2.0);
+  EXPECT_DOUBLE_EQ(*st.column("nu_bar").get(1), (1.0 / 3.0 + 0.25) / 2.0);
+  EXPECT_DOUBLE_EQ(*st.column("sum2").get(0), 0.25 + 1.0 / 9.0);
+  const Table& pdf = p.table("pdf");
+  EXPECT_EQ(*pdf.column("count_c").get(1), 1);
+  EXPECT_EQ(*pdf.column("count_c").get(2), 1);
+  EXPECT_EQ(*pdf.column("count_nc").get(1), 2);
+  EXPECT_DOUBLE_EQ(*pdf.column("P_c").get(1), 2.0);
+  const Table& map = p.table("map");
+  ASSERT_EQ(map.rows(), 3u);
+  EXPECT_DOUBLE_EQ(*map.column("nu").get(1), 1.0 / 3.0);
+  EXPECT_EQ(*map.column("above").get(1), 1);  // 1/3 >= 0.08
+  const Table& c = p.table("contacts");
+  EXPECT_DOUBLE_EQ(*c.column("nu_r2.5").get(2), 0.4);
+  EXPECT_EQ(*p.table("frames").column("Nc").get(0), 2);
+}
+
+TEST(LocalNuStudy, FrameWithoutCriticalContactsHasNoNuBar) {
+  LocalNuStudy s(default_localnu_options());
+  ContactSet set = line_set();
+  set.critical.assign(5, 0);
+  s.add_frame(0, "x", 0, 0, std::nullopt, 1.0, set, true, false);
+  s.add_frame(0, "x", 1, 1, std::nullopt, 1.0, ContactSet{}, true, false);  // empty frame
+  Product p = s.product();
+  const Table& st = p.table("states");
+  EXPECT_EQ(st.rows(), 40u);
+  for (std::size_t r = 0; r < st.rows(); ++r) EXPECT_FALSE(st.column("nu_bar").get(r));
+  EXPECT_FALSE(p.table("pdf").column("P_c").get(0));  // empty pdf: missing, not NaN
+  EXPECT_FALSE(p.table("frames").column("nu").get(1));
+}
+
+TEST(Correlate, PoolsFramesAndRunsByHand) {
+  LocalNuOptions o;
+  o.radii = {1.0};
+  LocalNuStudy s(o);
+  ContactSet a = line_set();  // nu_i(1) of critical contacts: 1/2, 1/3
+  ContactSet b = line_set();
+  b.critical = {1, 0, 0, 0, 0};  // nu_0(1) = 1/2 only
+  s.add_frame(0, "r0", 0, 0, 0.2, 1.0, a, true, false);
+  s.add_frame(0, "r0", 1, 1, 0.7, 1.0, b, true, false);
+  s.add_frame(1, "r1", 0, 0, 0.4, 1.0, b, true, false);
+  s.add_frame(1, "r1", 1, 1, 1.5, 1.0, a, true, false);
+  Product lp = s.product();
+  CorrelateOptions co;
+  co.window = 1.0;
+  Product c = correlate(lp, co);
+  const Table& w = c.table("windows");
+  ASSERT_EQ(w.rows(), 2u);
+  // window [0, 1): run 0 frames 0, 1 -> sums 5/6 (n 2) + 1/2 (n 1); run 1 frame 0 -> 1/2
+  // pooled mean = (5/6 + 1/2 + 1/2) / 4 = 11/24
+  EXPECT_NEAR(*w.column("nu_bar").get(0), 11.0 / 24.0, 1e-15);
+  EXPECT_EQ(*w.column("runs").get(0), 2);
+  EXPECT_EQ(*w.column("frames").get(0), 3);
+  EXPECT_EQ(*w.column("n").get(0), 4);
+  EXPECT_EQ(w.column("se_over").text[0], "runs");
+  // clusters: run 0: S = 4/3, N = 3; run 1: S = 1/2, N = 1; mean m = 11/24
+  const double m = 11.0 / 24.0;
+  const double d0 = 4.0 / 3.0 - 3 * m, d1 = 0.5 - m;
+  EXPECT_NEAR(*w.column("se").get(0), std::sqrt(2.0 * (d0 * d0 + d1 * d1)) / 4.0, 1e-15);
+  EXPECT_NEAR(*w.column("theta").get(0), (0.2 + 0.7 + 0.4) / 3.0, 1e-15);
+  // window [1, 2): one frame of one run -> se over contacts
+  EXPECT_NEAR(*w.column("nu_bar").get(1), 5.0 / 12.0, 1e-15);
+  EXPECT_EQ(w.column("se_over").text[1], "contacts");
+  EXPECT_EQ(c.table("frames").rows(), 4u);
+}
+
+namespace {
+// A correlate product whose nu_bar follows eq (4) exactly, with A(theta) and alpha(theta)
+// affine and nu_inf(theta) chosen so that r_c = C (theta_c - theta)^-beta (eq 5).
+Product synthetic_correlate(double nu_c, double theta_c, double beta, double c, double noise,
+                            unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Product p;
+  p.kind = "correlate";
+  Table& w = p.add_table("windows", "");
+  for (const char* n : {"theta", "theta_lo", "theta_hi", "r", "nu_bar", "se", "nu_pile", "nu_pile_se"})
+    w.add_column(n, "");
+  for (double th = 2.0; th <= 19.0 + 1e-9; th += 1.0) {
+    const double a = 1.0 + 0.05 * th, alpha = -1.8 + 0.02 * th;
+    const double rc = c * std::pow(theta_c - th, -beta);
+    const double q = a * std::pow(rc, alpha);  // nu_c/nu_inf - 1
+    const double nu_inf = nu_c / (1.0 + q);
+    for (double r = 1.0; r <= 20.0; r += 1.0) {
+      const double nb = r <= 10.0 ? nu_inf * (1.0 + a * std::pow(r, alpha)) : nu_inf;
+      const double se = noise * nb;
+      w.column("theta").add(th);
+      w.column("theta_lo").add(th - 0.5);
+      w.column("theta_hi").add(th + 0.5);
+      w.column("r").add(r);
+      w.column("nu_bar").add(nb + se * g(rng));
+      w.column("se").add(se);
+      w.column("nu_pile").add(nu_inf);
+      w.column("nu_pile_se").add(std::optional<double>());
+    }
+  }
+  return p;
+}
+}  // namespace
+
+TEST(ClusterFit, RecoversAAlphaAndTheDivergence) {
+  const double nu_c = 0.08, theta_c = 19.96, beta = 0.5, c = 6.0;
+  Product cor = synthetic_correlate(nu_c, theta_c, beta, c, 0.002, 3);
+  ClusterFitOptions o;
+  o.nu_c = nu_c;
+  o.power = {12.0, 100.0};
+  Product p = clusterfit(cor, nullptr, o);
+  const Table& f = p.table("fits");
+  ASSERT_EQ(f.rows(), 18u);
+  for (std::size_t k = 0; k < f.rows(); ++k) {
+    ASSERT_EQ(*f.column("converged").get(k), 1) << k;
+    const double th = *f.column("theta").get(k);
+    EXPECT_LT(std::abs(*f.column("A").get(k) - (1.0 + 0.05 * th)), 4 * *f.column("A_se").get(k)) << th;
+    EXPECT_LT(std::abs(*f.column("alpha").get(k) - (-1.8 + 0.02 * th)), 4 * *f.column("alpha_se").get(k)) << th;
+    const double rc = c * std::pow(theta_c - th, -beta);
+    ASSERT_TRUE(f.column("r_c").get(k));
+    EXPECT_LT(std::abs(*f.column("r_c").get(k) - rc), 4 * *f.column("r_c_se").get(k)) << th;
+  }
+  const Table& a = p.table("affine");
+  ASSERT_EQ(a.rows(), 2u);
+  EXPECT_LT(std::abs(*a.column("c1").get(0) - 0.05), 4 * *a.column("c1_se").get(0));
+  EXPECT_LT(std::abs(*a.column("c1").get(1) - 0.02), 4 * *a.column("c1_se").get(1));
+  ASSERT_TRUE(p.result("beta") && p.result("beta_se"));
+  EXPECT_LT(std::abs(*p.result("beta") - beta), 3 * *p.result("beta_se"));
+  EXPECT_LT(std::abs(*p.result("theta_c_deg") - theta_c), 3 * *p.result("theta_c_se_deg"));
+
+  // theta_c given: beta alone
+  o.theta_c = theta_c;
+  Product q = clusterfit(cor, nullptr, o);
+  EXPECT_LT(std::abs(*q.result("beta") - beta), 3 * *q.result("beta_se"));
+  EXPECT_EQ(std::get<std::int64_t>(q.results.at("theta_c_fitted")), 0);
+}
+
+TEST(ClusterFit, NuInfFromTheCriticalEnsemble) {
+  Product cor = synthetic_correlate(0.08, 19.96, 0.5, 6.0, 0.001, 4);
+  Product crit;
+  crit.kind = "critical";
+  crit.results["nu_c"] = 0.08;
+  Table& e = crit.add_table("ensemble", "");
+  for (const char* n : {"theta", "nu", "nu_se"}) e.add_column(n, "");
+  const Table& w = cor.table("windows");
+  for (std::size_t k = 0; k < w.rows(); k += 20) {  // one bin per window, at its centre
+    e.column("theta").add(*w.column("theta").get(k));
+    e.column("nu").add(*w.column("nu_pile").get(k));
+    e.column("nu_se").add(1e-4);
+  }
+  Product p = clusterfit(cor, &crit, {});
+  EXPECT_EQ(std::get<std::string>(p.parameters.at("nu_inf")), "ensemble");
+  const Table& f = p.table("fits");
+  EXPECT_NEAR(*f.column("nu_inf").get(0), *w.column("nu_pile").get(0), 1e-15);
+  EXPECT_NEAR(*f.column("nu_inf_se").get(0), 1e-4, 1e-15);
+  EXPECT_TRUE(p.result("beta"));
+}
+
+TEST(ClusterFit, NothingToFitIsADocumentedEmptyResult) {
+  Product cor;
+  cor.kind = "correlate";
+  Table& w = cor.add_table("windows", "");
+  for (const char* n : {"theta", "theta_lo", "theta_hi", "r", "nu_bar", "se"}) w.add_column(n, "");
+  Product p = clusterfit(cor, nullptr, {});
+  EXPECT_EQ(p.table("fits").rows(), 0u);
+  EXPECT_FALSE(p.result("beta"));
+  // a window whose pile has no critical contact (nu_inf = 0) is not fitted, not NaN
+  Product c2 = synthetic_correlate(0.08, 19.96, 0.5, 6.0, 0.001, 1);
+  for (auto& v : c2.tables[0].column("nu_pile").num) v = 0.0;
+  Product q = clusterfit(c2, nullptr, {});
+  EXPECT_EQ(*q.table("fits").column("converged").get(0), 0);
+  EXPECT_FALSE(q.table("fits").column("A").get(0));
+  EXPECT_THROW(clusterfit(c2, nullptr, [] { ClusterFitOptions x; x.nu_inf = NuInfSource::ensemble; return x; }()),
+               Error);
+}

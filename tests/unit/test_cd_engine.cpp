@@ -1,0 +1,289 @@
+// Physics validation of the CD engine on scenes with known answers (physics.md 3.1):
+// a block and a rolling disk on an incline, a column of disks, collisions with e = 0.
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/cd/local_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace cd = cdpile::cd;
+using cdpile::Box;
+using cdpile::ContactStatus;
+using cdpile::Grains;
+using cdpile::Vec2;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kR = 0.5e-3;     // disk radius [m] (D = 1 mm)
+constexpr double kRho = 2500.0;   // glass [kg/m^3]
+
+cd::Settings settings(double mu_wall = 0.5) {
+  cd::Settings s;
+  s.mu_wall = mu_wall;
+  s.tolerance = 1e-10;  // the analytic answers are exact per step: converge fully
+  return s;
+}
+
+/// One disk resting on the floor (gap 0), far from the side walls.
+Grains one_disk() {
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.05, kR));
+  return g;
+}
+
+}  // namespace
+
+// --- the local solver ------------------------------------------------------------
+
+TEST(LocalSolver, CasesOfTheDiagonalBlock) {
+  // open: approaching velocity is not needed, no impulse
+  auto open = cd::local_solve_diagonal(2.0, 6.0, 0.5, 0.1, -3.0);
+  EXPECT_EQ(open.status, ContactStatus::open);
+  EXPECT_EQ(open.rn, 0.0);
+  EXPECT_EQ(open.rt, 0.0);
+  // stick: R = -W^-1 b, inside the cone: u = W R + b = 0
+  auto stick = cd::local_solve_diagonal(2.0, 6.0, 0.5, -1.0, 1.2);
+  EXPECT_EQ(stick.status, ContactStatus::stick);
+  EXPECT_DOUBLE_EQ(stick.rn, 0.5);
+  EXPECT_DOUBLE_EQ(stick.rt, -0.2);
+  // slide: |b_t| / W_tt > mu b_n / W_nn; R_t on the cone, exactly, opposing b_t
+  auto slide = cd::local_solve_diagonal(2.0, 6.0, 0.5, -1.0, 3.0);
+  EXPECT_EQ(slide.status, ContactStatus::slide);
+  EXPECT_DOUBLE_EQ(slide.rn, 0.5);
+  EXPECT_EQ(std::abs(slide.rt), 0.5 * slide.rn);
+  EXPECT_LT(slide.rt, 0.0);
+}
+
+TEST(LocalSolver, FullBlockSatisfiesTheLaw) {
+  // With a coupled block the solution must still satisfy Signorini-Coulomb exactly.
+  const double w_nn = 2.0, w_nt = 0.4, w_tn = 0.4, w_tt = 5.0, mu = 0.3;
+  for (double bn : {-1.0, -0.3}) {
+    for (double bt : {-4.0, -1.0, -0.05, 0.0, 0.2, 1.0, 4.0}) {
+      auto r = cd::local_solve(w_nn, w_nt, w_tn, w_tt, mu, bn, bt);
+      const double un = w_nn * r.rn + w_nt * r.rt + bn;
+      const double ut = w_tn * r.rn + w_tt * r.rt + bt;
+      EXPECT_GT(r.rn, 0.0);
+      EXPECT_NEAR(un, 0.0, 1e-12);
+      EXPECT_LE(std::abs(r.rt), mu * r.rn * (1 + 1e-12));
+      if (r.status == ContactStatus::stick) {
+        EXPECT_NEAR(ut, 0.0, 1e-12);
+      } else {
+        EXPECT_LE(ut * r.rt, 1e-15);  // sliding: R_t opposes u_t
+      }
+    }
+  }
+}
+
+// --- a disk with locked rotation on a tilted floor (a block) ----------------------
+
+TEST(Incline, LockedDiskSticksWhileTanThetaAtMostMu) {
+  // tan(theta) <= mu = 0.5, i.e. theta <= 26.565 deg: the block stays at rest.
+  for (double deg : {5.0, 20.0, 26.0}) {
+    cd::Engine e(Box{0.1, 0.05}, one_disk(), settings());
+    e.lock_rotation(0);
+    cd::StepReport rep;
+    for (int k = 0; k < 200; ++k) rep = e.step(deg * kDeg);
+    EXPECT_LT(e.grains().velocity[0].norm(), 1e-12) << deg;
+    EXPECT_NEAR(e.grains().position[0].x(), 0.05, 1e-15) << deg;
+    // The floor carries the weight's normal component: f_n = m g cos(theta).
+    const auto c = e.contacts();
+    ASSERT_EQ(c.size(), 1u);
+    const double m = e.grains().mass[0];
+    EXPECT_NEAR(c.fn[0], m * 9.81 * std::cos(deg * kDeg), 1e-9 * m * 9.81);
+    EXPECT_NEAR(std::abs(c.ft[0]), m * 9.81 * std::sin(deg * kDeg), 1e-9 * m * 9.81);
+    EXPECT_EQ(c.status[0], ContactStatus::stick);
+  }
+}
+
+TEST(Incline, LockedDiskSlidesAboveWithCoulombAcceleration) {
+  // a = g (sin theta - mu cos theta): 0.0670 g at 30 deg (physics.md 3.1).
+  for (double deg : {30.0, 45.0}) {
+    cd::Engine e(Box{0.5, 0.05}, one_disk(), settings());
+    e.lock_rotation(0);
+    const int steps = 100;
+    for (int k = 0; k < steps; ++k) e.step(deg * kDeg);
+    const double t = steps * e.settings().time_step;
+    const double a = 9.81 * (std::sin(deg * kDeg) - 0.5 * std::cos(deg * kDeg));
+    EXPECT_NEAR(e.grains().velocity[0].x(), a * t, 1e-12) << deg;
+    EXPECT_NEAR(e.grains().velocity[0].y(), 0.0, 1e-15);
+    const auto c = e.contacts();
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_EQ(c.status[0], ContactStatus::slide);
+    EXPECT_EQ(std::abs(c.ft[0]), 0.5 * c.fn[0]);  // exactly on the cone
+  }
+  EXPECT_NEAR(9.81 * (std::sin(30 * kDeg) - 0.5 * std::cos(30 * kDeg)) / 9.81, 0.0670, 1e-4);
+}
+
+// --- a free disk rolls on a frictional incline ------------------------------------
+
+TEST(Incline, FreeDiskRollsWithoutSlipAtTwoThirdsGSinTheta) {
+  // Rolling holds while tan(theta) <= 3 mu (theta <= 56.31 deg): a = (2/3) g sin theta,
+  // and the contact point does not slip: v_x = -omega r.
+  for (double deg : {10.0, 30.0, 55.0}) {
+    cd::Engine e(Box{0.5, 0.05}, one_disk(), settings());
+    const int steps = 100;
+    for (int k = 0; k < steps; ++k) e.step(deg * kDeg);
+    const double t = steps * e.settings().time_step;
+    const double v = e.grains().velocity[0].x();
+    EXPECT_NEAR(v, 2.0 / 3.0 * 9.81 * std::sin(deg * kDeg) * t, 1e-12) << deg;
+    EXPECT_NEAR(v + e.grains().angular_velocity[0] * kR, 0.0, 1e-12) << deg;
+    EXPECT_EQ(e.contacts().status[0], ContactStatus::stick);
+  }
+}
+
+TEST(Incline, FreeDiskSlipsAboveThreeMu) {
+  // Above 56.31 deg: a = g (sin theta - mu cos theta), alpha = 2 mu g cos theta / r;
+  // a = 0.616 g at 60 deg (physics.md 3.1).
+  const double deg = 60.0;
+  cd::Engine e(Box{0.5, 0.05}, one_disk(), settings());
+  const int steps = 100;
+  for (int k = 0; k < steps; ++k) e.step(deg * kDeg);
+  const double t = steps * e.settings().time_step;
+  const double a = 9.81 * (std::sin(deg * kDeg) - 0.5 * std::cos(deg * kDeg));
+  EXPECT_NEAR(a / 9.81, 0.616, 1e-3);
+  EXPECT_NEAR(e.grains().velocity[0].x(), a * t, 1e-12);
+  EXPECT_NEAR(e.grains().angular_velocity[0], -2.0 * 0.5 * 9.81 * std::cos(deg * kDeg) / kR * t,
+              1e-9);
+  EXPECT_EQ(e.contacts().status[0], ContactStatus::slide);
+}
+
+// --- a column of k equal disks ---------------------------------------------------
+
+TEST(Column, ContactUnderTheNthDiskCarriesNmg) {
+  const int k = 10;
+  Grains g;
+  for (int n = 0; n < k; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  for (bool symmetric : {true, false}) {
+    cd::Settings s = settings();
+    s.symmetric_sweeps = symmetric;
+    cd::Engine e(Box{0.02, 0.02}, g, s);
+    cd::StepReport rep;
+    for (int step = 0; step < 20; ++step) rep = e.step(0.0);
+    EXPECT_TRUE(rep.converged);
+    const double mg = e.grains().mass[0] * 9.81;
+    const auto c = e.contacts();
+    ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+    for (std::size_t q = 0; q < c.size(); ++q) {
+      // Grain i = 0 is at the bottom: the floor carries k m g, the contact (i, i+1)
+      // carries the k - 1 - i disks above it.
+      const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+      EXPECT_NEAR(c.fn[q], carried * mg, 1e-9 * k * mg) << "contact " << q;
+      EXPECT_EQ(c.ft[q], 0.0);
+    }
+    EXPECT_LT(e.grains().velocity[k - 1].norm(), 1e-8 * 9.81 * e.settings().time_step);
+  }
+}
+
+// --- collisions with restitution 0 -----------------------------------------------
+
+TEST(Collision, HeadOnGivesACommonVelocity) {
+  cd::Settings s = settings();
+  s.gravity = 0.0;
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.01, 0.01));
+  // Initial gap 0.1 D, several steps of approach: the contact must close without overlap.
+  g.add_disk(1.5 * kR, kRho, Vec2(0.01 + 2.5 * kR + 1e-4, 0.01));
+  g.velocity[0] = Vec2(0.2, 0.0);
+  g.velocity[1] = Vec2(-0.05, 0.0);
+  const double m0 = g.mass[0], m1 = g.mass[1];
+  const double p = m0 * 0.2 - m1 * 0.05;
+  const double e0 = 0.5 * m0 * 0.04 + 0.5 * m1 * 0.0025;
+  cd::Engine e(Box{0.05, 0.05}, g, s);
+  for (int k = 0; k < 40; ++k) e.step(0.0);
+  const Vec2 v0 = e.grains().velocity[0], v1 = e.grains().velocity[1];
+  EXPECT_NEAR(v0.x(), p / (m0 + m1), 1e-12);
+  EXPECT_NEAR(v1.x(), p / (m0 + m1), 1e-12);
+  EXPECT_NEAR(m0 * v0.x() + m1 * v1.x(), p, 1e-12 * std::abs(p));
+  // The kinetic energy lost is that of the relative motion: mu_red (v0 - v1)^2 / 2.
+  const double lost = 0.5 * m0 * m1 / (m0 + m1) * 0.25 * 0.25;
+  const double e1 = 0.5 * m0 * v0.squaredNorm() + 0.5 * m1 * v1.squaredNorm();
+  EXPECT_NEAR(e0 - e1, lost, 1e-9 * e0);
+  // No overlap was created: contact became active before the surfaces met.
+  const double gap = (e.grains().position[1] - e.grains().position[0]).norm() - 2.5 * kR;
+  EXPECT_GT(gap, -1e-12);
+}
+
+TEST(Collision, EqualMassesLoseHalfTheEnergy) {
+  cd::Settings s = settings();
+  s.gravity = 0.0;
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.01, 0.01));
+  g.add_disk(kR, kRho, Vec2(0.01 + 2 * kR + 1e-5, 0.01));
+  g.velocity[0] = Vec2(0.3, 0.0);
+  cd::Engine e(Box{0.05, 0.05}, g, s);
+  for (int k = 0; k < 10; ++k) e.step(0.0);
+  const auto r = e.step(0.0);
+  const double e0 = 0.5 * g.mass[0] * 0.09;
+  EXPECT_NEAR(r.kinetic_energy, 0.5 * e0, 1e-9 * e0);
+  EXPECT_NEAR(e.grains().velocity[1].x(), 0.15, 1e-12);
+}
+
+namespace {
+/// Two equal touching disks (gap 0), disk 0 at the left, moving with (vn, vt) where vn
+/// is its velocity towards disk 1 and vt along +y; no gravity, no spin. theta = 1, so the
+/// predicted configuration is the initial one and the normal is exactly +x.
+cd::Engine oblique(double vn, double vt) {
+  cd::Settings s = settings();
+  s.gravity = 0.0;
+  s.theta = 1.0;
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.01, 0.01));
+  g.add_disk(kR, kRho, Vec2(0.01 + 2 * kR, 0.01));
+  g.velocity[0] = Vec2(vn, vt);
+  return cd::Engine(Box{0.05, 0.05}, g, s);
+}
+/// Relative velocity at the contact point, tangential component along +y.
+double slip_velocity(const cd::Engine& e) {
+  const auto& g = e.grains();
+  // point of disk 0: +r x, of disk 1: -r x; omega x (r e_x) = omega r e_y
+  return (g.velocity[0].y() + g.angular_velocity[0] * kR) -
+         (g.velocity[1].y() - g.angular_velocity[1] * kR);
+}
+}  // namespace
+
+TEST(Collision, ObliqueSticksWhenTangentialAtMostThreeMuNormal) {
+  // Equal uniform disks: W_tt = 3 W_nn, so the contact sticks iff |u_t| <= 3 mu |u_n|.
+  auto e = oblique(0.2, 0.25);  // 0.25 <= 1.5 * 0.2
+  auto r = e.step(0.0);
+  EXPECT_EQ(r.contacts, 1);
+  EXPECT_EQ(e.contacts().status[0], ContactStatus::stick);
+  EXPECT_NEAR(slip_velocity(e), 0.0, 1e-12);
+  EXPECT_NEAR(e.grains().velocity[0].x() - e.grains().velocity[1].x(), 0.0, 1e-12);
+}
+
+TEST(Collision, ObliqueSlidesAboveAsTheLocalSolutionSays) {
+  const double un = 0.2, ut = 0.5;  // 0.5 > 1.5 * 0.2: slide
+  auto e = oblique(un, ut);
+  e.step(0.0);
+  const auto c = e.contacts();
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c.status[0], ContactStatus::slide);
+  EXPECT_EQ(std::abs(c.ft[0]), 0.5 * c.fn[0]);
+  // Normal velocity cancelled; slip reduced by W_tt mu R_n = 3 mu u_n.
+  EXPECT_NEAR(e.grains().velocity[0].x() - e.grains().velocity[1].x(), 0.0, 1e-12);
+  EXPECT_NEAR(slip_velocity(e), ut - 3 * 0.5 * un, 1e-12);
+}
+
+// --- warm start and state ---------------------------------------------------------
+
+TEST(Engine, StateRoundTripContinuesBitForBit) {
+  Grains g;
+  for (int n = 0; n < 6; ++n) g.add_disk(kR * (1 + 0.1 * n), kRho, Vec2(0.003 + 0.0011 * n, kR * (1 + 0.1 * n) + 0.0005 * (n % 2)));
+  cd::Settings s;
+  cd::Engine a(Box{0.02, 0.02}, g, s);
+  for (int k = 0; k < 150; ++k) a.step(0.01 * k * kDeg);
+  cd::Engine b(Box{0.02, 0.02}, a.grains(), s);
+  b.set_state(a.state());
+  for (int k = 150; k < 300; ++k) {
+    a.step(0.01 * k * kDeg);
+    b.step(0.01 * k * kDeg);
+  }
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(a.grains().position[i], b.grains().position[i]);
+    EXPECT_EQ(a.grains().velocity[i], b.grains().velocity[i]);
+    EXPECT_EQ(a.grains().angular_velocity[i], b.grains().angular_velocity[i]);
+  }
+}

@@ -1,0 +1,113 @@
+// The plain-text table parser and the contact table reader (docs/contact-table.md).
+#include "cdpile/io/contact_table.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace cdpile;
+using namespace cdpile::io;
+
+namespace {
+std::string message_of(const std::string& text) {
+  try {
+    read_contact_table(text, "c.tsv");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(TextTable, TabCommaAndSpaceSeparated) {
+  for (const char* text : {"# a comment\nx\ty\n1\t2\n3\t4.5e-1\n", "x,y\n1,2\n3, 0.45\n",
+                           "x   y\n  1 2\n3 0.45\n"}) {
+    auto t = parse_text_tables(text, "t");
+    ASSERT_EQ(t.size(), 1u) << text;
+    ASSERT_EQ(t[0].columns, (std::vector<std::string>{"x", "y"}));
+    ASSERT_EQ(t[0].rows(), 2u);
+    EXPECT_DOUBLE_EQ(t[0].values[1][1], 0.45);
+  }
+}
+
+TEST(TextTable, SeveralNamedTablesAndMissingValues) {
+  const char* text =
+      "# tool: critical\n# table: frames\n# columns: a [-] b [deg]\na\tb\n1\tNA\n\n\n"
+      "# table: events\nc\tkind\n+2\truns\r\n";
+  TextTableOptions o;
+  o.allow_missing = true;
+  o.text_columns = {"kind"};
+  auto t = parse_text_tables(text, "t", o);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].name, "frames");
+  EXPECT_TRUE(std::isnan(t[0].values[1][0]));
+  EXPECT_EQ(t[1].name, "events");
+  EXPECT_DOUBLE_EQ(t[1].values[0][0], 2.0);
+  EXPECT_EQ(t[1].text[1][0], "runs");
+  EXPECT_EQ(t[1].line[0], 10u);
+}
+
+TEST(TextTable, BadCellsNameTheLineAndColumn) {
+  auto msg = [](const char* text) {
+    try {
+      parse_text_tables(text, "t.tsv");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(msg("x\ty\n1\tnan\n"), "t.tsv: line 2, column y: 'nan' is not a finite number");
+  EXPECT_EQ(msg("x\ty\n1\tinf\n"), "t.tsv: line 2, column y: 'inf' is not a finite number");
+  EXPECT_EQ(msg("x\ty\n1\t2\n1\n"), "t.tsv: line 3: 1 fields, the header has 2");
+  EXPECT_EQ(msg("x\ty\n1\tNA\n"),
+            "t.tsv: line 2, column y: missing value (NA) where a number is required");
+  EXPECT_EQ(msg("x\tx\n"), "t.tsv: line 1: column 'x' appears twice");
+  EXPECT_EQ(msg("x\ty\n1\t2e\n"), "t.tsv: line 2, column y: '2e' is not a finite number");
+}
+
+TEST(ContactTable, MinimalTableIsOneFrame) {
+  auto c = read_contact_table("x\ty\tfn\tft\n0\t0\t1\t0.5\n1\t0\t2\t-0.2\n", "c.tsv");
+  ASSERT_EQ(c.frames.size(), 1u);
+  const Contacts& k = c.frames[0].contacts;
+  ASSERT_EQ(k.size(), 2u);
+  EXPECT_DOUBLE_EQ(k.point[1].x(), 1.0);
+  EXPECT_DOUBLE_EQ(k.ft[1], -0.2);
+  EXPECT_EQ(k.j[0], 0);  // no wall information: grain-grain
+  EXPECT_FALSE(c.has_ids);
+  EXPECT_FALSE(c.frames[0].theta);
+}
+
+TEST(ContactTable, FramesIdsWallsThetaStatus) {
+  const char* text =
+      "frame,theta,i,j,x,y,fn,ft,wall,status,extra\n"
+      "20,1.5,1,2,0,0,1,0.5,0,2,9\n"
+      "10,0.5,3,4,0,0,1,0.1,1,1,9\n"
+      "20,1.5,5,6,1,1,1,0.1,0,1,9\n";
+  auto c = read_contact_table(text, "c.csv");
+  ASSERT_EQ(c.frames.size(), 2u);
+  EXPECT_EQ(c.frames[0].frame, 10);
+  EXPECT_DOUBLE_EQ(*c.frames[0].theta, 0.5);
+  EXPECT_EQ(c.frames[0].contacts.j[0], wall_floor);  // wall = 1
+  EXPECT_EQ(c.frames[1].contacts.size(), 2u);
+  EXPECT_EQ(c.frames[1].contacts.status[0], ContactStatus::slide);
+  EXPECT_EQ(c.frames[1].contacts.i[1], 5);
+  EXPECT_TRUE(c.has_ids && c.has_walls && c.has_theta && c.has_status);
+}
+
+TEST(ContactTable, BadInputGivesOneLineErrors) {
+  EXPECT_EQ(message_of("x\ty\tfn\n1\t2\t3\n"),
+            "c.tsv: line 1: missing column 'ft' (the header has: x y fn)");
+  EXPECT_EQ(message_of("x\ty\tfn\tft\n1\t2\t3\tNaN\n"),
+            "c.tsv: line 2, column ft: 'NaN' is not a finite number");
+  EXPECT_EQ(message_of("frame\ttheta\tx\ty\tfn\tft\n1\t2\t0\t0\t1\t0\n1\t3\t0\t0\t1\t0\n"),
+            "c.tsv: line 3, column theta: theta differs from the value on line 2 of the same frame");
+  EXPECT_EQ(message_of("frame\tx\ty\tfn\tft\n1.5\t0\t0\t1\t0\n"),
+            "c.tsv: line 2, column frame: frame must be an integer");
+  EXPECT_EQ(message_of("x\ty\tfn\tft\tstatus\n0\t0\t1\t0\t7\n"),
+            "c.tsv: line 2, column status: status must be 0, 1 or 2");
+  EXPECT_EQ(message_of(""), "c.tsv: no table (expected a header line: x y fn ft ...)");
+  EXPECT_EQ(message_of("# only a comment\n"), "c.tsv: no table (expected a header line: x y fn ft ...)");
+  // a header and no rows: no frames, not an error
+  EXPECT_TRUE(read_contact_table("x\ty\tfn\tft\n", "c.tsv").frames.empty());
+}

@@ -1,0 +1,104 @@
+// Analysis products written as TSV and HDF5 read back to the same tables, missing values
+// included (NA in TSV, a _defined flag in HDF5, never NaN in a file).
+#include "cdpile/io/products.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+using namespace cdpile;
+using namespace cdpile::io;
+using analysis::ColumnKind;
+using analysis::Product;
+
+namespace {
+Product sample() {
+  Product p;
+  p.kind = "correlate";
+  p.parameters = {{"window_deg", 1.0}, {"count", std::int64_t{3}}, {"mode", std::string("a b")}};
+  p.results = {{"nu_c", 0.0812}};
+  p.notes = {"a note"};
+  auto& t = p.add_table("windows", "rows are windows");
+  auto& th = t.add_column("theta", "deg");
+  auto& n = t.add_column("n", "", ColumnKind::integer);
+  auto& v = t.add_column("nu_bar", "");
+  auto& s = t.add_column("se_over", "", ColumnKind::text);
+  th.add(0.1); th.add(1.0 / 3.0); th.add(-2.5e-300);
+  n.add_int(4); n.add_int(0); n.add(std::optional<double>());
+  v.add(0.5); v.add(std::optional<double>()); v.add(1e22);
+  s.add_text("runs"); s.add_text("none"); s.add_text("frames");
+  p.add_table("empty", "no rows").add_column("x", "m");
+  return p;
+}
+
+void expect_same(const Product& a, const Product& b) {
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.tables.size(), b.tables.size());
+  EXPECT_DOUBLE_EQ(*b.result("nu_c"), 0.0812);
+  EXPECT_DOUBLE_EQ(*b.parameter("window_deg"), 1.0);
+  EXPECT_DOUBLE_EQ(*b.parameter("count"), 3.0);
+  EXPECT_EQ(std::get<std::string>(b.parameters.at("mode")), "a b");
+  EXPECT_EQ(b.notes, a.notes);
+  const auto& t = b.table("windows");
+  ASSERT_EQ(t.rows(), 3u);
+  EXPECT_EQ(t.column("theta").unit, "deg");
+  for (std::size_t r = 0; r < 3; ++r) {
+    for (const char* c : {"theta", "n", "nu_bar"}) {
+      const auto x = a.table("windows").column(c).get(r), y = t.column(c).get(r);
+      ASSERT_EQ(x.has_value(), y.has_value()) << c << r;
+      if (x) {
+        EXPECT_EQ(*x, *y) << c << r;  // exact: shortest round-trip text
+      }
+    }
+    EXPECT_EQ(t.column("se_over").text[r], a.table("windows").column("se_over").text[r]);
+  }
+  EXPECT_EQ(b.table("empty").rows(), 0u);
+}
+}  // namespace
+
+TEST(Products, TsvRoundTrip) {
+  Product p = sample();
+  std::ostringstream os;
+  write_tsv(os, p, {provenance_now("correlate", "correlate in.h5", "in.h5")});
+  const std::string text = os.str();
+  for (const char* bad : {"\tnan", "nan\t", "\tinf", "inf\t", "\t-nan"})
+    EXPECT_EQ(text.find(bad), std::string::npos) << text;
+  EXPECT_NE(text.find("# columns: theta [deg] n [-] nu_bar [-] se_over [text]"), std::string::npos);
+  EXPECT_NE(text.find("\t0\tNA\tnone\n"), std::string::npos) << text;
+  ProductFile back = read_product_tsv(text, "x.tsv");
+  expect_same(p, back.product);
+  ASSERT_EQ(back.provenance.size(), 1u);
+  EXPECT_EQ(back.provenance[0].command_line, "correlate in.h5");
+}
+
+TEST(Products, HdfRoundTrip) {
+  Product p = sample();
+  h5::File f = h5::create_in_memory("mem.h5");
+  write_hdf5(f, p, {provenance_now("correlate", "correlate in.h5", "in.h5")});
+  ProductFile back = read_product_hdf5(f);
+  expect_same(p, back.product);
+  EXPECT_TRUE(h5::exists(f, "/tables/windows/nu_bar_defined"));
+  auto raw = h5::read<double>(f, "/tables/windows/nu_bar", {3});
+  for (double x : raw) EXPECT_TRUE(std::isfinite(x));
+}
+
+TEST(Products, ShortestRoundTripNumbers) {
+  EXPECT_EQ(format_number(0.1), "0.1");
+  EXPECT_EQ(format_number(-0.0), "0");
+  EXPECT_EQ(format_number(1e22), "1e+22");
+  EXPECT_EQ(format_number(std::numeric_limits<double>::quiet_NaN()), "NA");
+  EXPECT_EQ(format_number(std::numeric_limits<double>::infinity()), "NA");
+}
+
+TEST(Products, OneTableAndMissingTable) {
+  Product p = sample();
+  std::ostringstream os;
+  write_tsv(os, p, {}, {"windows"});
+  EXPECT_EQ(os.str().find("# table: empty"), std::string::npos);
+  std::ostringstream os2;
+  EXPECT_THROW(write_tsv(os2, p, {}, {"nope"}), Error);
+  EXPECT_THROW(sample().table("nope"), Error);
+}

@@ -1,0 +1,183 @@
+// critical: the fraction nu of critical contacts in the pile as the pile tilts (eq 1),
+// z and lambda (eq 2), rearrangement events (Fig 2), the ensemble mean over runs (inset
+// of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
+#include "cdpile/analysis/studies.hpp"
+#include "cdpile/cli/command.hpp"
+#include "cdpile/io/products.hpp"
+
+#include <cmath>
+
+using namespace cdpile;
+
+static void usage(cli::Usage& u) {
+  u.synopsis = "nu = Nc/N, z, Ek, lambda per step and per frame; events; ensemble; envelope and nu_c";
+  u.description = {
+      "Reads one or more tilt runs (the ensemble is the list of files) and writes, per step "
+      "(from /observables) and per frame (from the contacts), the tilt angle theta, the number "
+      "N of active contacts, the number Nc of critical ones, nu = Nc/N (eq 1 of Staron, "
+      "Vilotte & Radjai 2002), the coordination z, the mean translational kinetic energy Ek "
+      "per grain and lambda = sqrt(2/(z nu)) D (eq 2, in units of D).",
+      "Critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n. The default eps = 1e-3 is ten times the "
+      "solver's relative tolerance (1e-4): a contact the solver leaves sliding is exactly on the "
+      "cone, a sticking one can sit inside it by about the tolerance. The solver's own sliding "
+      "status is reported alongside (nu_sliding). N counts active grain-grain contacts; a "
+      "contact with a wall or with a grain glued to the floor is a wall contact, counted only "
+      "with --walls. mu is the run's mu_grain (mu_wall for walls) unless --mu is given.",
+      "z = 2N/Np': Np' counts the free grains with at least 2 counted contacts (rattlers "
+      "excluded, --rattlers include for all free grains); z_all = 2N/Np is reported too and is "
+      "the one used per step.",
+      "Events (Fig 2): from a local maximum of the per-step contact count N to the next local "
+      "minimum; a turning point is confirmed once N has moved back by --event-hysteresis "
+      "contacts. loss = Delta N/N; nu_before is the series' nu at or just before the maximum.",
+      "Ensemble (inset of Fig 1a): per run the mean of nu in bins of --grid degrees, then the "
+      "mean and standard error over runs (NA with one run). Envelope (Fig 1c): per run the "
+      "maximum of nu in windows of --envelope-window degrees, averaged over runs and placed at "
+      "the mean theta of the maxima; fitted by nu_c - B exp(-theta/tau) (Levenberg-Marquardt, "
+      "weighted by the standard errors when every window has one; errors from the covariance "
+      "scaled by chi2/dof when above 1). nu_c is reported with its standard error.",
+      "The series behind the ensemble, envelope and events (--series): 'steps' uses a per-step "
+      "critical count recorded by the simulator (observable critical_grain), 'frames' the "
+      "frames' contacts with the eps rule, 'sliding' the per-step sliding count; 'auto' takes "
+      "steps when every run records them, else frames.",
+      "theta_c of a run: the first step where Ek/(m g D) (m the mean grain mass) reaches "
+      "--avalanche-ek and stays there for --avalanche-hold degrees or to the end of the run; "
+      "the ensemble theta_c is the mean over runs with its standard error. The simulator's own "
+      "avalanche_angle_deg is reported alongside (theta_c_recorded). By default each run "
+      "enters the ensemble and envelope only up to its theta_c (--no-cut keeps everything).",
+      "Output: TSV on standard output (tables runs, steps, frames, events, ensemble, envelope, "
+      "each a block with a '# table:' line, separated by two blank lines for gnuplot's index; "
+      "--table picks some), or an HDF5 product with -o FILE (-o - for a pipe; a name ending in "
+      ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
+      "from one run) are NA, never NaN. docs/tools/critical.md and docs/analysis.md say more."};
+  u.argument("runs", "tilt run files (HDF5; '-' for standard input)", true, true);
+  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
+  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
+  u.text_opt("table", "write only these tables to TSV (comma-separated: runs, steps, frames, events, ensemble, envelope)");
+  u.flag("no-steps", "leave the per-step table out");
+  u.group("Critical contacts");
+  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
+  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain)", "", 1e-12, 1e6);
+  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)", "", 1e-12, 1e6);
+  u.flag("walls", "count contacts with walls (and glued floor grains)");
+  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as", {"wall", "grain"});
+  u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
+  u.group("Series, ensemble and envelope");
+  u.text("series", "auto", "nu(theta) series of the ensemble, envelope and events", {"auto", "steps", "frames", "sliding"});
+  u.real("grid", 0.1, "bin width of the ensemble mean", "deg", 1e-6, 90);
+  u.real("envelope-window", 0.5, "window of the maxima of the envelope", "deg", 1e-6, 90);
+  u.real_opt("envelope-from", "fit the envelope from this angle (default: windows where every run contributes)", "deg");
+  u.real_opt("envelope-to", "fit the envelope up to this angle", "deg");
+  u.group("Events and avalanche");
+  u.integer("event-hysteresis", 1, "contacts by which N must move back to confirm a turning point", 1, 1000000);
+  u.integer("event-min-drop", 1, "keep events losing at least this many contacts", 1, 1000000000);
+  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300, 1e300);
+  u.real("avalanche-hold", 0.2, "Ek must stay above the threshold this long", "deg", 0, 90);
+  u.flag("no-cut", "keep data after each run's theta_c in the ensemble and envelope");
+  u.example("One run, the per-frame table for gnuplot", "critical run.h5 --table frames > frames.tsv",
+            "columns run, frame, step, theta, N, Nc, nu, ... with a commented header");
+  u.example("An ensemble of 15 runs as an HDF5 product", "critical runs/run*.h5 -o critical.h5",
+            "tables under /tables, nu_c and theta_c under /results");
+  u.example("nu_c and its error", "critical runs/run*.h5 --no-steps | grep '^# result nu_c'",
+            "the envelope's limit, with nu_c_se");
+}
+
+static void run(const cli::Args& a) {
+  analysis::CriticalOptions opt;
+  opt.rule.eps = a.real("eps");
+  opt.rule.include_walls = a.flag("walls");
+  opt.rule.floor_grains_are_walls = a.text("floor-grains") == "wall";
+  opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude : analysis::RattlerRule::include;
+  const std::string& series = a.text("series");
+  opt.source = series == "steps"    ? analysis::SeriesSource::steps
+               : series == "frames" ? analysis::SeriesSource::frames
+               : series == "sliding" ? analysis::SeriesSource::sliding
+                                     : analysis::SeriesSource::automatic;
+  opt.grid_step = a.real("grid");
+  opt.envelope_window = a.real("envelope-window");
+  if (a.given("envelope-from") || a.given("envelope-to")) {
+    analysis::ThetaRange r;
+    if (auto v = a.real_opt("envelope-from")) r.lo = *v;
+    if (auto v = a.real_opt("envelope-to")) r.hi = *v;
+    if (r.lo >= r.hi) throw UsageError("--envelope-from must be below --envelope-to");
+    opt.envelope_fit = r;
+  }
+  opt.events.hysteresis = a.integer("event-hysteresis");
+  opt.events.min_drop = a.integer("event-min-drop");
+  opt.avalanche.threshold = a.real("avalanche-ek");
+  opt.avalanche.hold = a.real("avalanche-hold");
+  opt.cut_at_avalanche = !a.flag("no-cut");
+  opt.step_table = !a.flag("no-steps");
+
+  std::vector<std::string> only;
+  if (!a.text("table").empty()) {
+    std::string t = a.text("table");
+    std::size_t k = 0;
+    while (k <= t.size()) {
+      const std::size_t e = t.find(',', k);
+      only.push_back(t.substr(k, e == std::string::npos ? std::string::npos : e - k));
+      if (e == std::string::npos) break;
+      k = e + 1;
+    }
+    if (!opt.step_table && std::find(only.begin(), only.end(), "steps") != only.end())
+      throw UsageError("--table steps with --no-steps");
+  }
+
+  std::vector<analysis::RunRecord> runs;
+  std::vector<io::Provenance> history;
+  std::string inputs;
+  int stdin_count = 0;
+  for (const std::string& path : a.arguments("runs")) {
+    if (path == "-" && ++stdin_count > 1) throw UsageError("'-' (standard input) given twice");
+    io::Input in(path);
+    io::RunReader rr(in.hdf5());
+    const io::RunHeader& h = rr.header();
+    if (history.empty()) history = h.provenance;
+    inputs += (inputs.empty() ? "" : " ") + in.name();
+    const Grains& g = rr.grain_properties();
+    analysis::Friction mu;
+    auto param = [&](const char* key) -> std::optional<double> {
+      auto it = h.parameters.find(key);
+      if (it == h.parameters.end()) return std::nullopt;
+      return io::as_real(h.parameters, key, in.name());
+    };
+    if (auto m = a.real_opt("mu")) mu.grain = *m;
+    else if (auto m2 = param("mu_grain")) mu.grain = *m2;
+    else throw Error(in.name(), "/parameters", "no mu_grain; give --mu");
+    if (auto m = a.real_opt("mu-wall")) mu.wall = *m;
+    else if (auto m2 = param("mu_wall"); m2 && !a.given("mu")) mu.wall = *m2;
+    else mu.wall = mu.grain;
+
+    analysis::RunRecord r;
+    r.name = in.name();
+    r.free_grains = analysis::free_grain_count(g);
+    r.diameter = analysis::mean_diameter(g);
+    r.mean_mass = analysis::mean_mass(g);
+    r.gravity = param("gravity_m_s2").value_or(0.0);
+    if (auto it = h.results.find("avalanche_angle_deg"); it != h.results.end())
+      r.recorded_avalanche = io::as_real(h.results, "avalanche_angle_deg", in.name());
+    r.steps = io::steps_from_series(rr.series(), opt.rule.include_walls, in.name());
+    for (std::size_t k = 0; k < rr.frame_count(); ++k) {
+      const Contacts c = rr.contacts(k);
+      analysis::ContactSet set;
+      try {
+        set = analysis::select_contacts(c, g.species, mu, opt.rule);
+      } catch (const Error& e) {
+        throw Error(in.name(), "/contacts", "frame " + std::to_string(k) + ": " + e.what());
+      }
+      analysis::FrameRecord f;
+      f.frame = static_cast<std::int64_t>(k);
+      f.step = rr.frame_steps()[k];
+      f.theta = rr.frame_tilt_angle(k) * 180.0 / M_PI;
+      f.state = analysis::pile_state(set, g.species, r.free_grains, r.diameter, opt.rattlers);
+      r.frames.push_back(std::move(f));
+    }
+    cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
+              std::to_string(r.frames.size()) + " frames");
+    runs.push_back(std::move(r));
+  }
+  analysis::Product p = analysis::critical_study(runs, opt);
+  history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
+  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), only);
+}
+
+CDPILE_TOOL(usage, run)
