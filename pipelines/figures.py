@@ -1,0 +1,284 @@
+#!/usr/bin/python3
+"""Draws the analogues of Figs 1-6 of Staron, Vilotte & Radjai (2002) from a study's
+analysis products (HDF5, docs/analysis.md "Formats"), as PNG and PDF.
+
+    pipelines/figures.py STUDY_DIR [-o FIG_DIR]
+
+STUDY_DIR holds critical.h5, localnu.h5, correlate.h5, clusterfit.h5 and the two map
+products map-05.h5 and map-16.h5 (pipelines/study.mk makes them). A figure whose product
+is missing is skipped with a message; each figure says how many runs it is made of.
+Needs python3-matplotlib, python3-h5py and python3-numpy (Debian).
+"""
+import argparse
+import os
+import sys
+
+import h5py
+import matplotlib
+
+matplotlib.use("Agg")  # files only, no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+class Product:
+    """One analysis product: tables of columns (NaN where a value is missing) and results."""
+
+    def __init__(self, path):
+        self.path = path
+        with h5py.File(path, "r") as f:
+            self.results = {k: _scalar(v) for k, v in f["results"].attrs.items()} if "results" in f else {}
+            self.parameters = {k: _scalar(v) for k, v in f["parameters"].attrs.items()} if "parameters" in f else {}
+            self.tables = {}
+            for name, group in f["tables"].items():
+                cols = {}
+                for col, ds in group.items():
+                    if col.endswith("_defined"):
+                        continue
+                    v = ds[()]
+                    if "labels" in ds.attrs:
+                        labels = [_text(s) for s in ds.attrs["labels"]]
+                        v = np.array([labels[c] for c in v], dtype=object)
+                    else:
+                        v = v.astype(float)
+                        if col + "_defined" in group:
+                            v[group[col + "_defined"][()] == 0] = np.nan
+                    cols[col] = v
+                self.tables[name] = cols
+
+    def table(self, name):
+        if name not in self.tables:
+            raise SystemExit(f"figures.py: {self.path}: no table '{name}'")
+        return self.tables[name]
+
+
+def _text(s):
+    return s.decode() if isinstance(s, bytes) else str(s)
+
+
+def _scalar(v):
+    if isinstance(v, bytes):
+        return v.decode()
+    if isinstance(v, np.ndarray) and v.size == 1:
+        return v.item()
+    return v
+
+
+def load(study, name):
+    path = os.path.join(study, name)
+    if not os.path.exists(path):
+        print(f"figures.py: {path}: missing, its figures are skipped", file=sys.stderr)
+        return None
+    return Product(path)
+
+
+def save(fig, out, name):
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=110 if ext == "png" else None)
+    plt.close(fig)
+    print(os.path.join(out, name + ".png"))
+
+
+def runs_label(n):
+    return f"{int(n)} run" + ("" if int(n) == 1 else "s")
+
+
+def fig1(crit, out):
+    """Fig 1a: nu(theta) of one run, inset: the ensemble mean; 1b: Ek(theta) of the same
+    run; 1c: the envelope of maxima of nu and its fitted approach to nu_c."""
+    steps = crit.tables.get("steps") or crit.table("frames")
+    run0 = steps["run"] == 0
+    n_runs = crit.results.get("runs", 1)
+    ens = crit.table("ensemble")
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(steps["theta"][run0], steps["nu"][run0], lw=0.6, color="k")
+    ax.set_xlabel(r"$\theta$ (deg)")
+    ax.set_ylabel(r"$\nu = N_c/N$")
+    ax.set_title("Fig 1a: critical contacts, run 0")
+    inset = ax.inset_axes([0.1, 0.55, 0.38, 0.38])
+    inset.errorbar(ens["theta"], ens["nu"], yerr=np.nan_to_num(ens["nu_se"]), fmt="-", lw=0.8, color="C0",
+                   elinewidth=0.4)
+    inset.set_title(f"mean of {runs_label(n_runs)}", fontsize=8)
+    inset.tick_params(labelsize=7)
+    save(fig, out, "fig1a_nu")
+
+    if "Ek" in steps:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.semilogy(steps["theta"][run0], np.where(steps["Ek"][run0] > 0, steps["Ek"][run0], np.nan), lw=0.6,
+                    color="k")
+        ax.set_xlabel(r"$\theta$ (deg)")
+        ax.set_ylabel(r"$E_k$ per grain (J m$^{-1}$)")
+        ax.set_title("Fig 1b: mean translational kinetic energy, run 0")
+        tc = crit.table("runs")["theta_c"][0]
+        if np.isfinite(tc):
+            ax.axvline(tc, ls=":", color="C3", label=rf"$\theta_c$ = {tc:.2f} deg")
+            ax.legend()
+        save(fig, out, "fig1b_ek")
+
+    env = crit.table("envelope")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.errorbar(env["theta"], env["envelope"], yerr=np.nan_to_num(env["envelope_se"]), fmt="o", ms=3,
+                color="k", label=f"envelope, {runs_label(n_runs)}")
+    fit = env["fit"]
+    if np.any(np.isfinite(fit)):
+        ax.plot(env["theta"], fit, color="C3",
+                label=r"$\nu_c - B e^{-\theta/\tau}$")
+    if "nu_c" in crit.results:
+        se = crit.results.get("nu_c_se", float("nan"))
+        ax.axhline(crit.results["nu_c"], ls="--", color="C3", lw=0.8,
+                   label=rf"$\nu_c$ = {crit.results['nu_c']:.4f} $\pm$ {se:.4f}")
+    ax.set_xlabel(r"$\theta$ (deg)")
+    ax.set_ylabel(r"max $\nu$ in windows")
+    ax.set_title("Fig 1c: envelope of the maxima of nu")
+    ax.legend(fontsize=8)
+    save(fig, out, "fig1c_envelope")
+
+
+def fig2(crit, out):
+    ev = crit.table("events")
+    keep = np.isfinite(ev["nu_before"]) & np.isfinite(ev["loss"])
+    if "after_avalanche" in ev:
+        keep &= ev["after_avalanche"] == 0
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.semilogy(ev["nu_before"][keep], ev["loss"][keep], "o", ms=2, color="k", alpha=0.6)
+    ax.set_xlabel(r"$\nu$ just before the event")
+    ax.set_ylabel(r"$\Delta N / N$")
+    ax.set_title(f"Fig 2: contacts lost in rearrangements ({runs_label(crit.results.get('runs', 1))}, "
+                 f"{int(keep.sum())} events)", fontsize=9)
+    save(fig, out, "fig2_events")
+
+
+def fig3(loc, out):
+    pdf = loc.table("pdf")
+    r = loc.parameters.get("pdf_radius_D", 6)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot(pdf["nu"], pdf["P_c"], "o-", ms=3, color="k", label="critical contacts")
+    ax.plot(pdf["nu"], pdf["P_nc"], "o-", ms=3, mfc="white", color="k", label="non-critical contacts")
+    ax.set_xlabel(rf"local state $\nu_i$(r = {r:g} D)")
+    ax.set_ylabel("pdf")
+    ax.set_title(f"Fig 3: pdfs of the local state ({int(loc.results.get('frames', 0))} frames)", fontsize=9)
+    ax.legend()
+    save(fig, out, "fig3_pdf")
+
+
+def _window_rows(w, theta):
+    """The rows of the theta window nearest to `theta`."""
+    centres = np.unique(w["theta"])
+    if centres.size == 0:
+        return None, None
+    c = centres[np.argmin(np.abs(centres - theta))]
+    return c, w["theta"] == c
+
+
+def fig4(cor, fit, out):
+    w = cor.table("windows")
+    runs = int(np.nanmax(w["runs"])) if w["runs"].size else 0
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for theta, ls in ((6, "-"), (8, "--"), (12, ":")):
+        c, rows = _window_rows(w, theta)
+        if rows is None:
+            continue
+        ax.errorbar(w["r"][rows], w["nu_bar"][rows], yerr=np.nan_to_num(w["se"][rows]), ls=ls, color="k",
+                    elinewidth=0.4, label=rf"$\theta$ = {c:g} deg")
+    ax.set_xlabel("r (D)")
+    ax.set_ylabel(r"$\bar\nu$")
+    ax.set_title(f"Fig 4a: mean local state around critical contacts ({runs_label(runs)})", fontsize=9)
+    ax.legend()
+    save(fig, out, "fig4a_nubar")
+
+    if fit is None:
+        return
+    m = fit.table("model")
+    fits = fit.table("fits")
+    c, rows = _window_rows(m, 6)
+    if rows is None:
+        return
+    k = np.argmin(np.abs(fits["theta"] - c))
+    nu_inf, alpha = fits["nu_inf"][k], fits["alpha"][k]
+    y = m["nu_bar"][rows] / nu_inf - 1
+    ym = m["model"][rows] / nu_inf - 1
+    pos = y > 0
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.loglog(m["r"][rows][pos], y[pos], "o", ms=3, color="k", label=rf"$\theta$ = {c:g} deg")
+    ax.loglog(m["r"][rows], np.where(ym > 0, ym, np.nan), "-.", color="C3",
+              label=rf"fit, $\alpha$ = {alpha:.2f} $\pm$ {fits['alpha_se'][k]:.2f}")
+    ax.set_xlabel("r (D)")
+    ax.set_ylabel(r"$\bar\nu/\nu_\infty - 1$")
+    ax.set_title(f"Fig 4b: eq (4) at 6 deg ({runs_label(runs)})", fontsize=9)
+    ax.legend()
+    save(fig, out, "fig4b_nubar_log")
+
+
+def fig5(maps, out):
+    have = [(name, p) for name, p in maps if p is not None]
+    if not have:
+        return
+    fig, axes = plt.subplots(len(have), 1, figsize=(7, 2.6 * len(have)), squeeze=False)
+    for ax, (name, p) in zip(axes[:, 0], have):
+        t = p.table("map")
+        nx, ny = int(p.results.get("map_nx", np.max(t["ix"]) + 1)), int(p.results.get("map_ny", np.max(t["iy"]) + 1))
+        nu = t["nu"].reshape(ny, nx)
+        nu_c = p.results.get("map_nu_c", p.parameters.get("map_nu_c", 0.08))
+        # Fig 5: nu >= nu_c in black, nu = 0 in white, grey levels in between.
+        shade = np.where(nu >= nu_c, 1.0, nu / nu_c * 0.6)
+        shade = np.ma.masked_invalid(shade)
+        extent = (t["x_D"].min(), t["x_D"].max(), t["y_D"].min(), t["y_D"].max())
+        ax.imshow(shade, origin="lower", cmap="Greys", vmin=0, vmax=1, extent=extent, interpolation="nearest")
+        theta = p.results.get("map_theta_deg", float("nan"))
+        ax.set_title(rf"$\theta$ = {theta:.2f} deg, r = {p.results.get('map_radius_D', 6):g} D, "
+                     rf"black: $\nu \geq \nu_c$ = {nu_c:.3f}", fontsize=9)
+        ax.set_xlabel("x (D)")
+        ax.set_ylabel("y (D)")
+    fig.suptitle("Fig 5: density of critical contacts (run 0)", fontsize=10)
+    fig.tight_layout()
+    save(fig, out, "fig5_maps")
+
+
+def fig6(fit, out):
+    f = fit.table("fits")
+    ok = np.isfinite(f["r_c"])
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.errorbar(f["theta"][ok], f["r_c"][ok], yerr=np.nan_to_num(f["r_c_se"][ok]), fmt="o", ms=3, color="k")
+    ax.set_xlabel(r"$\theta$ (deg)")
+    ax.set_ylabel(r"$r_c$ (D)")
+    ax.set_title("Fig 6: mean size of clusters of critical contacts", fontsize=9)
+    beta, tc = fit.results.get("beta"), fit.results.get("theta_c_deg")
+    if beta is not None and tc is not None:
+        inset = ax.inset_axes([0.15, 0.5, 0.4, 0.4])
+        sel = ok & (f["theta"] < tc)
+        inset.loglog(tc - f["theta"][sel], f["r_c"][sel], "o", ms=2, color="k")
+        x = np.geomspace(max(np.min(tc - f["theta"][sel]), 1e-3), np.max(tc - f["theta"][sel]), 20)
+        inset.loglog(x, np.exp(fit.results.get("log_c", 0)) * x ** (-beta), color="C3",
+                     label=rf"$\beta$ = {beta:.2f} $\pm$ {fit.results.get('beta_se', float('nan')):.2f}")
+        inset.set_xlabel(r"$\theta_c - \theta$ (deg)", fontsize=7)
+        inset.tick_params(labelsize=6)
+        inset.legend(fontsize=6)
+    save(fig, out, "fig6_rc")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("study", help="folder with the study's products")
+    ap.add_argument("-o", dest="out", help="figure folder (default: STUDY/figures)")
+    a = ap.parse_args()
+    out = a.out or os.path.join(a.study, "figures")
+    os.makedirs(out, exist_ok=True)
+    crit = load(a.study, "critical.h5")
+    loc = load(a.study, "localnu.h5")
+    cor = load(a.study, "correlate.h5")
+    fit = load(a.study, "clusterfit.h5")
+    if crit is not None:
+        fig1(crit, out)
+        fig2(crit, out)
+    if loc is not None:
+        fig3(loc, out)
+    if cor is not None:
+        fig4(cor, fit, out)
+    fig5([(n, load(a.study, n)) for n in ("map-05.h5", "map-16.h5")], out)
+    if fit is not None:
+        fig6(fit, out)
+
+
+if __name__ == "__main__":
+    main()
