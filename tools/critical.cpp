@@ -3,8 +3,10 @@
 // of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/command.hpp"
+#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 using namespace cdpile;
@@ -108,19 +110,9 @@ static void run(const cli::Args& a) {
   opt.cut_at_avalanche = !a.flag("no-cut");
   opt.step_table = !a.flag("no-steps");
 
-  std::vector<std::string> only;
-  if (!a.text("table").empty()) {
-    std::string t = a.text("table");
-    std::size_t k = 0;
-    while (k <= t.size()) {
-      const std::size_t e = t.find(',', k);
-      only.push_back(t.substr(k, e == std::string::npos ? std::string::npos : e - k));
-      if (e == std::string::npos) break;
-      k = e + 1;
-    }
-    if (!opt.step_table && std::find(only.begin(), only.end(), "steps") != only.end())
-      throw UsageError("--table steps with --no-steps");
-  }
+  const std::vector<std::string> only = cli::split_list(a.text("table"));
+  if (!opt.step_table && std::find(only.begin(), only.end(), "steps") != only.end())
+    throw UsageError("--table steps with --no-steps");
 
   std::vector<analysis::RunRecord> runs;
   std::vector<io::Provenance> history;
@@ -130,47 +122,11 @@ static void run(const cli::Args& a) {
     if (path == "-" && ++stdin_count > 1) throw UsageError("'-' (standard input) given twice");
     io::Input in(path);
     io::RunReader rr(in.hdf5());
-    const io::RunHeader& h = rr.header();
-    if (history.empty()) history = h.provenance;
+    if (history.empty()) history = rr.header().provenance;
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    const Grains& g = rr.grain_properties();
-    analysis::Friction mu;
-    auto param = [&](const char* key) -> std::optional<double> {
-      auto it = h.parameters.find(key);
-      if (it == h.parameters.end()) return std::nullopt;
-      return io::as_real(h.parameters, key, in.name());
-    };
-    if (auto m = a.real_opt("mu")) mu.grain = *m;
-    else if (auto m2 = param("mu_grain")) mu.grain = *m2;
-    else throw Error(in.name(), "/parameters", "no mu_grain; give --mu");
-    if (auto m = a.real_opt("mu-wall")) mu.wall = *m;
-    else if (auto m2 = param("mu_wall"); m2 && !a.given("mu")) mu.wall = *m2;
-    else mu.wall = mu.grain;
-
-    analysis::RunRecord r;
-    r.name = in.name();
-    r.free_grains = analysis::free_grain_count(g);
-    r.diameter = analysis::mean_diameter(g);
-    r.mean_mass = analysis::mean_mass(g);
-    r.gravity = param("gravity_m_s2").value_or(0.0);
-    if (auto it = h.results.find("avalanche_angle_deg"); it != h.results.end())
-      r.recorded_avalanche = io::as_real(h.results, "avalanche_angle_deg", in.name());
-    r.steps = io::steps_from_series(rr.series(), opt.rule.include_walls, in.name());
-    for (std::size_t k = 0; k < rr.frame_count(); ++k) {
-      const Contacts c = rr.contacts(k);
-      analysis::ContactSet set;
-      try {
-        set = analysis::select_contacts(c, g.species, mu, opt.rule);
-      } catch (const Error& e) {
-        throw Error(in.name(), "/contacts", "frame " + std::to_string(k) + ": " + e.what());
-      }
-      analysis::FrameRecord f;
-      f.frame = static_cast<std::int64_t>(k);
-      f.step = rr.frame_steps()[k];
-      f.theta = rr.frame_tilt_angle(k) * 180.0 / M_PI;
-      f.state = analysis::pile_state(set, g.species, r.free_grains, r.diameter, opt.rattlers);
-      r.frames.push_back(std::move(f));
-    }
+    const analysis::Friction mu =
+        io::choose_friction(&rr.header(), {a.real_opt("mu"), a.real_opt("mu-wall")}, in.name());
+    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
     runs.push_back(std::move(r));

@@ -584,4 +584,17 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
   }
 }
 
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  if (s.empty()) return out;
+  std::size_t k = 0;
+  while (true) {
+    const std::size_t e = s.find(',', k);
+    out.push_back(s.substr(k, e == std::string::npos ? std::string::npos : e - k));
+    if (e == std::string::npos) break;
+    k = e + 1;
+  }
+  return out;
+}
+
 }  // namespace cdpile::cli

@@ -139,6 +139,9 @@ std::string help_markdown(const Usage& usage);
 int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
              const std::function<void(const Args&)>& body);
 
+/// Splits a comma-separated option value ("frames,pdf") into its items; empty gives none.
+std::vector<std::string> split_list(const std::string& s);
+
 /// Messages on stderr, prefixed by the tool name; suppressed by --quiet except errors.
 void warn(const std::string& what);
 void info(const std::string& what);

@@ -1,0 +1,74 @@
+/// From files to the inputs of the analysis studies (analysis/studies.hpp): a tilt run
+/// (the schema of docs/schema.md) read into a RunRecord for `critical`, and a run or a
+/// plain contact table (io/contact_table.hpp) fed frame by frame into a LocalNuStudy for
+/// `localnu`. The tools only parse options and call these; every error names the file,
+/// the place in it, and the frame.
+#pragma once
+
+#include "cdpile/analysis/studies.hpp"
+#include "cdpile/io/files.hpp"
+#include "cdpile/io/schema.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace cdpile::io {
+
+/// Friction coefficients given on the command line; absent ones come from the run.
+struct FrictionChoice {
+  std::optional<double> grain, wall;
+};
+
+/// mu of a run: `grain` if given, else /parameters mu_grain (error if neither). mu_wall:
+/// `wall` if given, else the run's mu_wall unless `grain` was given, else mu_grain.
+/// A contact table has no parameters: `header` is null and `grain` is required.
+analysis::Friction choose_friction(const RunHeader* header, const FrictionChoice& c,
+                                   const std::string& file);
+
+/// The contacts that count in frame k of a run, classified by the rule (select_contacts).
+analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule, const std::string& file);
+
+/// A run as `critical` reads it: per-step observables (steps_from_series), the pile state
+/// of every frame (eqs 1-2), the mean diameter, mean mass, gravity and the simulator's
+/// own avalanche angle.
+analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
+                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
+                                    analysis::RattlerRule rattlers, bool include_steps = true);
+
+/// How `localnu` reads its inputs.
+struct LocalNuReading {
+  FrictionChoice mu;
+  analysis::CriticalRule rule;
+  /// Mean diameter D: required for a contact table (in the table's length unit); for a
+  /// run it overrides the mean diameter of the free grains.
+  std::optional<double> diameter;
+  /// The loading phase of a run is theta <= theta_c, theta_c by this rule (as `critical`),
+  /// else the simulator's recorded avalanche angle, else every frame.
+  analysis::AvalancheRule avalanche;
+  /// Given: the loading phase is theta <= theta_c for every input (frames without theta
+  /// count as loading).
+  std::optional<double> theta_c;
+  /// The frame to map (Fig 5), in input number `map_run` (0-based): the frame whose id is
+  /// `map_frame`, else the one nearest `map_theta`, else the last frame of the loading phase.
+  std::int64_t map_run = 0;
+  std::optional<std::int64_t> map_frame;
+  std::optional<double> map_theta;
+};
+
+/// What one input contributed.
+struct LocalNuInputInfo {
+  std::size_t frames = 0;
+  std::size_t loading_frames = 0;
+  std::optional<double> theta_c;   ///< [deg] the end of the loading phase used
+  std::string theta_c_from;        ///< "option", "rule", "recorded" or "none"
+  std::optional<std::int64_t> mapped_frame;
+  bool table = false;              ///< a contact table (not a run)
+};
+
+/// Adds every frame of input `in` (a run file or a contact table) as run number `run`.
+LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
+                                   const LocalNuReading& opt);
+
+}  // namespace cdpile::io

@@ -1,0 +1,188 @@
+#include "cdpile/io/analysis_input.hpp"
+
+#include "cdpile/error.hpp"
+#include "cdpile/io/contact_table.hpp"
+#include "cdpile/io/products.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace cdpile::io {
+
+namespace {
+std::optional<double> real_parameter(const Values& v, const char* key, const std::string& file) {
+  if (v.find(key) == v.end()) return std::nullopt;
+  return as_real(v, key, file);
+}
+
+// The index of the frame to map among `count` frames with ids `id(k)` and angles
+// `theta(k)`, or empty. `last_loading` is the fallback.
+template <class Id, class Theta>
+std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o, Id id, Theta theta,
+                                     std::optional<std::size_t> last_loading, const std::string& file) {
+  if (o.map_frame) {
+    for (std::size_t k = 0; k < count; ++k)
+      if (id(k) == *o.map_frame) return k;
+    throw Error(file, "", "no frame " + std::to_string(*o.map_frame) + " to map (--map-frame)");
+  }
+  if (o.map_theta) {
+    std::optional<std::size_t> best;
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < count; ++k)
+      if (auto t = theta(k); t && std::abs(*t - *o.map_theta) < d) {
+        d = std::abs(*t - *o.map_theta);
+        best = k;
+      }
+    if (!best) throw Error(file, "", "no frame has a tilt angle to compare with --map-theta");
+    return best;
+  }
+  if (last_loading) return last_loading;
+  return count ? std::optional<std::size_t>(count - 1) : std::nullopt;
+}
+}  // namespace
+
+analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, const std::string& file) {
+  analysis::Friction mu;
+  if (c.grain) {
+    mu.grain = *c.grain;
+  } else if (h) {
+    auto m = real_parameter(h->parameters, "mu_grain", file);
+    if (!m) throw Error(file, "/parameters", "no mu_grain; give --mu");
+    mu.grain = *m;
+  } else {
+    throw Error(file, "", "a contact table has no friction coefficient; give --mu");
+  }
+  if (c.wall) mu.wall = *c.wall;
+  else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt) mu.wall = *m;
+  else mu.wall = mu.grain;
+  // mu <= 0 makes every active contact critical: refuse it with the file's name (the
+  // command-line layer already refuses it on the command line).
+  if (!(mu.grain > 0.0) || !std::isfinite(mu.grain))
+    throw Error(file, h ? "/parameters" : "", "mu_grain must be > 0, got " + format_number(mu.grain));
+  if (!(mu.wall > 0.0) || !std::isfinite(mu.wall))
+    throw Error(file, h ? "/parameters" : "", "mu_wall must be > 0, got " + format_number(mu.wall));
+  return mu;
+}
+
+analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule, const std::string& file) {
+  const Contacts c = rr.contacts(k);
+  try {
+    return analysis::select_contacts(c, rr.grain_properties().species, mu, rule);
+  } catch (const Error& e) {
+    throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
+  }
+}
+
+analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
+                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
+                                    analysis::RattlerRule rattlers, bool include_steps) {
+  const RunHeader& h = rr.header();
+  const Grains& g = rr.grain_properties();
+  analysis::RunRecord r;
+  r.name = file;
+  r.free_grains = analysis::free_grain_count(g);
+  r.diameter = analysis::mean_diameter(g);
+  r.mean_mass = analysis::mean_mass(g);
+  r.gravity = real_parameter(h.parameters, "gravity_m_s2", file).value_or(0.0);
+  r.recorded_avalanche = real_parameter(h.results, "avalanche_angle_deg", file);
+  if (include_steps) r.steps = steps_from_series(rr.series(), rule.include_walls, file);
+  for (std::size_t k = 0; k < rr.frame_count(); ++k) {
+    const analysis::ContactSet set = frame_contact_set(rr, k, mu, rule, file);
+    analysis::FrameRecord f;
+    f.frame = static_cast<std::int64_t>(k);
+    f.step = rr.frame_steps()[k];
+    f.theta = rr.frame_tilt_angle(k) * 180.0 / M_PI;
+    f.state = analysis::pile_state(set, g.species, r.free_grains, r.diameter, rattlers);
+    r.frames.push_back(std::move(f));
+  }
+  return r;
+}
+
+LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
+                                   const LocalNuReading& o) {
+  LocalNuInputInfo info;
+  const std::string& file = in.name();
+  if (o.diameter && !(*o.diameter > 0.0 && std::isfinite(*o.diameter)))
+    throw Error(file, "", "the mean diameter must be > 0");
+  const bool map_here = run == o.map_run;
+  auto is_loading = [&](std::optional<double> theta) {
+    return !info.theta_c || !theta || *theta <= *info.theta_c;
+  };
+
+  if (!in.is_hdf5()) {
+    // A plain contact table: no grains, so D and mu come from the command line.
+    const ContactTable t = read_contact_table(in.text(), file);
+    info.table = true;
+    if (!o.diameter) throw Error(file, "", "a contact table needs the mean diameter (--diameter)");
+    const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
+    if (o.theta_c) { info.theta_c = o.theta_c; info.theta_c_from = "option"; }
+    else info.theta_c_from = "none";
+    std::optional<std::size_t> last_loading;
+    for (std::size_t k = 0; k < t.frames.size(); ++k)
+      if (is_loading(t.frames[k].theta)) last_loading = k;
+    std::optional<std::size_t> to_map;
+    if (map_here)
+      to_map = map_index(t.frames.size(), o, [&](std::size_t k) { return t.frames[k].frame; },
+                         [&](std::size_t k) { return t.frames[k].theta; }, last_loading, file);
+    for (std::size_t k = 0; k < t.frames.size(); ++k) {
+      const ContactTableFrame& f = t.frames[k];
+      analysis::ContactSet set;
+      try {
+        set = analysis::select_contacts(f.contacts, {}, mu, o.rule);
+      } catch (const Error& e) {
+        throw Error(file, "line " + std::to_string(f.first_line), std::string("frame ") +
+                                                                      std::to_string(f.frame) + ": " + e.what());
+      }
+      const bool loading = is_loading(f.theta);
+      study.add_frame(run, file, f.frame, f.frame, f.theta, *o.diameter, set, loading, to_map == k);
+      if (to_map == k) info.mapped_frame = f.frame;
+      ++info.frames;
+      info.loading_frames += loading;
+    }
+    return info;
+  }
+
+  const RunReader rr(in.hdf5());
+  const analysis::Friction mu = choose_friction(&rr.header(), o.mu, file);
+  const double diameter = o.diameter.value_or(analysis::mean_diameter(rr.grain_properties()));
+  if (o.theta_c) {
+    info.theta_c = o.theta_c;
+    info.theta_c_from = "option";
+  } else {
+    // The same avalanche angle as `critical`, so that both tools cut the loading phase
+    // at the same theta.
+    analysis::RunRecord rec = read_run_record(rr, file, mu, o.rule, analysis::RattlerRule::exclude, true);
+    rec.frames.clear();
+    if (auto t = analysis::avalanche_angle(rec, o.avalanche)) {
+      info.theta_c = t;
+      info.theta_c_from = "rule";
+    } else if (rec.recorded_avalanche) {
+      info.theta_c = rec.recorded_avalanche;
+      info.theta_c_from = "recorded";
+    } else {
+      info.theta_c_from = "none";
+    }
+  }
+  const std::size_t n = rr.frame_count();
+  auto theta_of = [&](std::size_t k) -> std::optional<double> { return rr.frame_tilt_angle(k) * 180.0 / M_PI; };
+  std::optional<std::size_t> last_loading;
+  for (std::size_t k = 0; k < n; ++k)
+    if (is_loading(theta_of(k))) last_loading = k;
+  std::optional<std::size_t> to_map;
+  if (map_here)
+    to_map = map_index(n, o, [](std::size_t k) { return static_cast<std::int64_t>(k); }, theta_of,
+                       last_loading, file);
+  for (std::size_t k = 0; k < n; ++k) {
+    const analysis::ContactSet set = frame_contact_set(rr, k, mu, o.rule, file);
+    const bool loading = is_loading(theta_of(k));
+    study.add_frame(run, file, static_cast<std::int64_t>(k), rr.frame_steps()[k], theta_of(k), diameter, set,
+                    loading, to_map == k);
+    if (to_map == k) info.mapped_frame = static_cast<std::int64_t>(k);
+    ++info.frames;
+    info.loading_frames += loading;
+  }
+  return info;
+}
+
+}  // namespace cdpile::io
