@@ -27,9 +27,31 @@ expect_fail() {
 expect_eq() {
   if [[ "$1" != "$2" ]]; then echo "expected '$1', got '$2' ${3:-}" >&2; return 1; fi
 }
+# expect_near WANT GOT TOL [WHAT]: |GOT - WANT| <= TOL; WANT may be an awk expression
+# (5/12), GOT must be a number (NA, NaN or empty fail).
+expect_near() {
+  if ! awk -v g="$2" -v t="$3" "BEGIN { w = $1; if (g !~ /^[-+0-9.eE]+\$/) exit 1; d = g - w; if (d < 0) d = -d; exit !(d <= t) }"; then
+    echo "expected $1 (to $3), got '$2' ${4:-}" >&2; return 1
+  fi
+}
+# tsv_value FILE TABLE COLUMN ROW: a cell of a product's TSV table (ROW 1 = first row).
+tsv_value() {
+  awk -F'\t' -v t="$2" -v c="$3" -v r="$4" '
+    /^# table: / { cur = substr($0, 10); hdr = 0; n = 0; k = 0; next }
+    /^#/ || NF == 0 { next }
+    cur == t && !hdr { for (i = 1; i <= NF; i++) if ($i == c) k = i; hdr = 1; next }
+    cur == t && hdr && k { if (++n == r) { print $k; exit } }' "$1"
+}
+# tsv_rows FILE TABLE: the number of rows of a table.
+tsv_rows() {
+  awk -F'\t' -v t="$2" '/^# table: / { cur = substr($0, 10); hdr = 0; next }
+    /^#/ || NF == 0 { next } cur == t { if (hdr) n++; hdr = 1 } END { print n + 0 }' "$1"
+}
+# tsv_result FILE NAME: the value of a '# result NAME = VALUE' line.
+tsv_result() { sed -n "s/^# result $2 = //p" "$1"; }
 # Debian's interpreter (it has python3-h5py and python3-matplotlib); another python3
 # earlier on PATH (pyenv, conda) may not see them.
 PY=/usr/bin/python3
-export -f expect_fail expect_eq
+export -f expect_fail expect_eq expect_near tsv_value tsv_rows tsv_result
 export PY
 bash -euo pipefail "$case_file"
