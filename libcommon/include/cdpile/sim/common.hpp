@@ -1,0 +1,67 @@
+/// What the deposition and tilt protocols share: a portable random source, the engine
+/// settings as file parameters, and the per-step observables (docs/schema.md,
+/// "Standard observables"; docs/method.md).
+#pragma once
+
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/io/schema.hpp"
+#include "cdpile/model.hpp"
+
+#include <cstdint>
+#include <random>
+
+namespace cdpile::sim {
+
+/// Uniform doubles from std::mt19937_64, whose output sequence the C++ standard fixes.
+/// std::uniform_real_distribution is not used: its algorithm differs between standard
+/// libraries, so the same seed would not give the same pile everywhere. Here a double
+/// is the top 53 bits of one 64-bit draw times 2^-53, exact and portable.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : engine_(seed) {}
+  /// In [0, 1).
+  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
+  /// In [a, b).
+  double uniform(double a, double b) { return a + (b - a) * uniform(); }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+/// The engine settings as parameters (names with unit suffixes, docs/schema.md).
+io::Values settings_parameters(const cd::Settings& s);
+
+/// Counts of critical contacts in one contact set (analysis::is_critical, tolerance
+/// eps): `all` over every active contact (walls and glued floor grains included, mu_wall
+/// for a wall plane, mu_grain otherwise), `grain` over active contacts between two free
+/// grains. These are the observables critical and critical_grain.
+struct CriticalCounts {
+  std::int64_t all = 0, grain = 0;
+};
+CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
+                              double mu_grain, double mu_wall, double eps);
+
+/// An empty series with every standard column and its unit.
+io::Series observables_series();
+/// Appends one step's row (tilt angle converted to degrees).
+void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCounts& c);
+
+/// Mean translational kinetic energy per free grain divided by m g D (m the mean mass of
+/// the free grains, D their mean diameter): the dimensionless agitation used by the rest
+/// criterion of deposit and the avalanche rule of tilt (docs/method.md).
+class Agitation {
+ public:
+  Agitation(const Grains& g, double gravity);
+  double operator()(double kinetic_energy) const { return kinetic_energy / scale_; }
+  std::int64_t free_grains() const { return free_; }
+  double diameter() const { return diameter_; }
+
+ private:
+  double scale_ = 1.0, diameter_ = 0.0;
+  std::int64_t free_ = 0;
+};
+
+/// The frame of the engine's current state (grains and the last step's contacts).
+Frame frame_of(const cd::Engine& e, double tilt_angle);
+
+}  // namespace cdpile::sim

@@ -1,0 +1,107 @@
+/// The tilt protocol (docs/method.md, "Tilt" and "Checkpoints"): gravity turns by a fixed
+/// angle per step from a static pile until the avalanche is detected plus a margin, or
+/// to a given angle; every step's observables and frames at an interval are recorded.
+///
+/// A run to a file is kept in OUTPUT.partial until it is complete. The partial is a valid
+/// run file (docs/schema.md) with one more group, /checkpoint, holding what the engine
+/// needs to continue bit for bit (grain state, warm-start impulses, clock, avalanche
+/// detector). Every checkpoint copies the partial to a temporary beside it, appends the
+/// steps and frames done since, rewrites /checkpoint, closes it and renames it over the
+/// partial: the partial on disk is always a complete, closed HDF5 file, whatever moment
+/// the process is killed at. The finished run is written from the partial to a
+/// temporary, renamed onto OUTPUT, and the partial is removed.
+#pragma once
+
+#include "cdpile/analysis/critical.hpp"
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/io/schema.hpp"
+#include "cdpile/model.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace cdpile::sim {
+
+struct TiltOptions {
+  cd::Settings settings;          ///< engine settings (alert distance in m)
+  double rate_deg = 0.001;        ///< tilt per step [deg]
+  double from_deg = 0.0;          ///< tilt of step 0 [deg]
+  std::optional<double> to_deg;   ///< run to this tilt whatever happens [deg]
+  double max_deg = 90.0;          ///< without to_deg: stop here if no avalanche [deg]
+  double margin_deg = 1.0;        ///< keep tilting this much after the avalanche is confirmed [deg]
+  double avalanche_energy = 1e-3; ///< threshold of Ek per grain / (m g D)
+  double avalanche_hold_deg = 0.2;///< the agitation must stay above it this long [deg]
+  std::int64_t frame_every = 500; ///< a full frame every this many steps (and the last step)
+  std::int64_t checkpoint_every = 2000;  ///< steps between checkpoints (file output)
+  double eps = analysis::default_eps;    ///< tolerance of the critical-contact test
+};
+
+/// Checks the options; throws cdpile::UsageError naming the bad one.
+void validate(const TiltOptions& o);
+/// The options as run parameters (unit suffixes; docs/tools/tilt-cd.md lists them).
+io::Values tilt_parameters(const TiltOptions& o);
+/// Steps of the avalanche hold and of the margin at the options' rate.
+std::int64_t hold_steps(const TiltOptions& o);
+
+/// A static pile to tilt: the last frame of a "pile" file.
+struct PileInput {
+  std::string name;
+  Box box;
+  Grains grains;
+  Contacts contacts;  ///< the pile's last contacts: they warm-start the first step
+  io::Values parameters;
+  std::vector<io::Provenance> provenance;
+};
+/// Reads a pile file; an Error naming the file if it is not a pile or has no frame.
+PileInput read_pile(const io::h5::File& f);
+
+/// The side file of a run to `output` while it is not complete.
+std::string partial_path(const std::string& output);
+/// The partial run of `output` as a pile input: box, grains in their checkpointed
+/// state, the run's parameters (the pile's and the tilt's) and provenance. Used to build
+/// the options of a resumed run the same way as for a fresh one.
+PileInput read_partial(const std::string& output);
+
+struct TiltProgress {
+  std::int64_t step = 0;
+  double angle_deg = 0.0;
+  double agitation = 0.0;        ///< Ek per grain / (m g D)
+  bool avalanche = false;        ///< confirmed
+  double avalanche_deg = 0.0;
+  std::int64_t last_step = -1;   ///< the step the run will end at, -1 if not known yet
+  std::int64_t cap_step = 0;     ///< the latest it can end at
+};
+
+struct TiltHooks {
+  /// Called after every step (may be empty). An exception thrown here ends the run
+  /// abruptly, as a crash would (the tests use it).
+  std::function<void(const TiltProgress&)> progress;
+  /// Polled after every step (may be empty): true writes a checkpoint of everything
+  /// done so far and returns (Ctrl-C).
+  std::function<bool()> stop;
+};
+
+struct TiltOutcome {
+  std::int64_t first_step = 0;   ///< step the run started (or resumed) from
+  std::int64_t steps = 0;        ///< last step done
+  double final_angle_deg = 0.0;
+  bool avalanche = false;
+  double avalanche_deg = 0.0;
+  bool interrupted = false;
+  std::string stop_reason;       ///< "avalanche", "to", "max_angle" or "interrupted"
+  std::int64_t unconverged_steps = 0;
+};
+
+/// Tilts `pile` and writes the run to `output` (a path, or "-" for standard output,
+/// which has no checkpoints). Refuses an existing output or partial unless `force`.
+TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output, bool force,
+                     const io::Provenance& prov, const TiltHooks& hooks = {});
+
+/// Continues the run of OUTPUT.partial. The options must give the same parameters as
+/// the partial run (an Error names the first that differs).
+TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force,
+                        const TiltHooks& hooks = {});
+
+}  // namespace cdpile::sim

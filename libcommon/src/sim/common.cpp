@@ -1,0 +1,96 @@
+#include "cdpile/sim/common.hpp"
+
+#include "cdpile/analysis/critical.hpp"
+
+#include <cmath>
+
+namespace cdpile::sim {
+
+io::Values settings_parameters(const cd::Settings& s) {
+  return {{"time_step_s", s.time_step},
+          {"theta", s.theta},
+          {"gravity_m_s2", s.gravity},
+          {"mu_grain", s.mu_grain},
+          {"mu_wall", s.mu_wall},
+          {"alert_distance_m", s.alert_distance},
+          {"tolerance", s.tolerance},
+          {"max_sweeps", std::int64_t{s.max_sweeps}},
+          {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}}};
+}
+
+CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
+                              double mu_grain, double mu_wall, double eps) {
+  CriticalCounts n;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!(c.fn[k] > 0.0)) continue;
+    const bool plane = c.j[k] < 0;
+    const double mu = plane ? mu_wall : mu_grain;
+    if (!analysis::is_critical(c.fn[k], c.ft[k], mu, eps)) continue;
+    ++n.all;
+    const bool glued = species[static_cast<std::size_t>(c.i[k])] == Species::floor ||
+                       (!plane && species[static_cast<std::size_t>(c.j[k])] == Species::floor);
+    if (!plane && !glued) ++n.grain;
+  }
+  return n;
+}
+
+io::Series observables_series() {
+  io::Series s;
+  for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "max_overlap"})
+    s.real[n] = {};
+  for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
+                        "critical_grain"})
+    s.integer[n] = {};
+  s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
+            {"residual", ""},     {"max_overlap", "m"},         {"contacts", ""},
+            {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},
+            {"converged", ""},    {"critical", ""},             {"critical_grain", ""}};
+  return s;
+}
+
+void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCounts& c) {
+  s.step.push_back(r.step);
+  s.time.push_back(r.time);
+  s.real["tilt_angle"].push_back(r.tilt_angle * 180.0 / M_PI);
+  s.real["kinetic_energy"].push_back(r.kinetic_energy);
+  s.real["rotational_energy"].push_back(r.rotational_energy);
+  s.real["residual"].push_back(r.residual);
+  s.real["max_overlap"].push_back(r.max_overlap);
+  s.integer["contacts"].push_back(r.contacts);
+  s.integer["contacts_grain"].push_back(r.contacts_grain);
+  s.integer["sliding"].push_back(r.sliding);
+  s.integer["sweeps"].push_back(r.sweeps);
+  s.integer["converged"].push_back(r.converged ? 1 : 0);
+  s.integer["critical"].push_back(c.all);
+  s.integer["critical_grain"].push_back(c.grain);
+}
+
+Agitation::Agitation(const Grains& g, double gravity) {
+  double mass = 0.0, diameter = 0.0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g.species[i] != Species::free) continue;
+    ++free_;
+    mass += g.mass[i];
+    diameter += 2.0 * g.radius[i];
+  }
+  if (free_ > 0) {
+    const double n = static_cast<double>(free_);
+    diameter_ = diameter / n;
+    // Mean Ek per grain / (m g D) = Ek / (N m g D) = Ek / (total mass g D).
+    scale_ = mass * gravity * diameter_;
+    if (!(scale_ > 0.0)) scale_ = 1.0;
+  }
+}
+
+Frame frame_of(const cd::Engine& e, double tilt_angle) {
+  Frame f;
+  const cd::EngineState s = e.state();
+  f.step = s.step;
+  f.time = s.time;
+  f.tilt_angle = tilt_angle;
+  f.grains = e.grains();
+  f.contacts = e.contacts();
+  return f;
+}
+
+}  // namespace cdpile::sim

@@ -1,0 +1,551 @@
+// The tilt protocol, its run recording and its checkpoints (tilt.hpp; docs/method.md).
+#include "cdpile/sim/tilt.hpp"
+
+#include "cdpile/error.hpp"
+#include "cdpile/io/files.hpp"
+#include "cdpile/sim/common.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+
+namespace cdpile::sim {
+namespace h5 = io::h5;
+
+namespace {
+
+constexpr const char* kCheckpoint = "/checkpoint";
+constexpr double kDeg = M_PI / 180.0;
+
+/// Steps to turn by `deg` at `rate` degrees per step, rounded up (a tiny tolerance keeps
+/// 2 / 0.001 at 2000 despite rounding).
+std::int64_t steps_for(double deg, double rate) {
+  return static_cast<std::int64_t>(std::ceil(deg / rate - 1e-9));
+}
+
+/// The avalanche rule (docs/method.md, "Avalanche"): the first step from which the
+/// agitation a = Ek per grain / (m g D) stays >= threshold for `hold` steps in a row.
+struct Detector {
+  double threshold = 0.0;
+  std::int64_t hold = 1;
+  std::int64_t since = -1;     ///< first step of the current run above the threshold
+  double since_deg = 0.0;
+  bool detected = false;
+  double angle_deg = 0.0;      ///< tilt at `since` when confirmed
+  std::int64_t start_step = -1, confirmed_step = -1;
+
+  void update(std::int64_t step, double angle, double a) {
+    if (detected) return;
+    if (!(a >= threshold)) {
+      since = -1;
+      return;
+    }
+    if (since < 0) {
+      since = step;
+      since_deg = angle;
+    }
+    if (step - since + 1 >= hold) {
+      detected = true;
+      angle_deg = since_deg;
+      start_step = since;
+      confirmed_step = step;
+    }
+  }
+};
+
+/// Everything besides the recorded data that the loop needs to continue.
+struct LoopState {
+  Detector detector;
+  std::int64_t unconverged = 0;
+  double max_overlap = 0.0;
+};
+
+// ---------------------------------------------------------------------------------------
+// Checkpoint group
+
+void write_checkpoint(const h5::File& f, const cd::Engine& e, const LoopState& s) {
+  if (h5::exists(f, kCheckpoint) && H5Ldelete(f.id(), kCheckpoint, H5P_DEFAULT) < 0)
+    throw Error(f.name(), kCheckpoint, "cannot replace the checkpoint");
+  h5::create_group(f, kCheckpoint);
+  const std::string c = kCheckpoint;
+  const Grains& g = e.grains();
+  const auto n = static_cast<hsize_t>(g.size());
+  h5::write(f, c + "/position", g.position.empty() ? nullptr : g.position[0].data(), {n, 2});
+  h5::write(f, c + "/velocity", g.velocity.empty() ? nullptr : g.velocity[0].data(), {n, 2});
+  h5::write(f, c + "/orientation", g.orientation);
+  h5::write(f, c + "/angular_velocity", g.angular_velocity);
+  const cd::EngineState st = e.state();
+  std::vector<std::int32_t> ii, jj;
+  std::vector<double> rn, rt;
+  for (const auto& imp : st.impulses) {
+    ii.push_back(imp.i);
+    jj.push_back(imp.j);
+    rn.push_back(imp.rn);
+    rt.push_back(imp.rt);
+  }
+  h5::write(f, c + "/impulse_i", ii);
+  h5::write(f, c + "/impulse_j", jj);
+  h5::write(f, c + "/impulse_rn", rn);
+  h5::write(f, c + "/impulse_rt", rt);
+  h5::set_attr(f, c, "step", st.step);
+  h5::set_attr(f, c, "time", st.time);
+  const Detector& d = s.detector;
+  h5::set_attr(f, c, "detector_since", d.since);
+  h5::set_attr(f, c, "detector_since_deg", d.since_deg);
+  h5::set_attr(f, c, "detector_detected", std::int64_t{d.detected ? 1 : 0});
+  h5::set_attr(f, c, "detector_angle_deg", d.angle_deg);
+  h5::set_attr(f, c, "detector_start_step", d.start_step);
+  h5::set_attr(f, c, "detector_confirmed_step", d.confirmed_step);
+  h5::set_attr(f, c, "unconverged_steps", s.unconverged);
+  h5::set_attr(f, c, "max_overlap", s.max_overlap);
+  h5::set_attr(f, c, "description", std::string(
+      "state to resume this partial run bit for bit: grain state, warm-start impulses [N s/m] "
+      "of the last step by pair (i, j), clock and avalanche detector; see docs/method.md"));
+}
+
+struct Restored {
+  Grains grains;
+  cd::EngineState engine;
+  LoopState loop;
+};
+
+Restored read_checkpoint(const h5::File& f, const Grains& properties) {
+  if (!h5::exists(f, kCheckpoint)) throw Error(f.name(), kCheckpoint, "missing: not a partial run");
+  const std::string c = kCheckpoint;
+  const auto n = static_cast<hsize_t>(properties.size());
+  Restored r;
+  r.grains = properties;
+  auto pos = h5::read<double>(f, c + "/position", {n, 2});
+  auto vel = h5::read<double>(f, c + "/velocity", {n, 2});
+  r.grains.orientation = h5::read<double>(f, c + "/orientation", {n});
+  r.grains.angular_velocity = h5::read<double>(f, c + "/angular_velocity", {n});
+  if (pos.size() != 2 * n || vel.size() != 2 * n || r.grains.orientation.size() != n ||
+      r.grains.angular_velocity.size() != n)
+    throw Error(f.name(), kCheckpoint, "grain state does not match the " + std::to_string(n) + " grains");
+  for (std::size_t k = 0; k < n; ++k) {
+    r.grains.position[k] = Vec2(pos[2 * k], pos[2 * k + 1]);
+    r.grains.velocity[k] = Vec2(vel[2 * k], vel[2 * k + 1]);
+  }
+  auto ii = h5::read<std::int32_t>(f, c + "/impulse_i", {0});
+  auto jj = h5::read<std::int32_t>(f, c + "/impulse_j", {ii.size()});
+  auto rn = h5::read<double>(f, c + "/impulse_rn", {ii.size()});
+  auto rt = h5::read<double>(f, c + "/impulse_rt", {ii.size()});
+  for (std::size_t k = 0; k < ii.size(); ++k) r.engine.impulses.push_back({ii[k], jj[k], rn[k], rt[k]});
+  r.engine.step = h5::attr_int(f, c, "step");
+  r.engine.time = h5::attr_double(f, c, "time");
+  Detector& d = r.loop.detector;
+  d.since = h5::attr_int(f, c, "detector_since");
+  d.since_deg = h5::attr_double(f, c, "detector_since_deg");
+  d.detected = h5::attr_int(f, c, "detector_detected") != 0;
+  d.angle_deg = h5::attr_double(f, c, "detector_angle_deg");
+  d.start_step = h5::attr_int(f, c, "detector_start_step");
+  d.confirmed_step = h5::attr_int(f, c, "detector_confirmed_step");
+  r.loop.unconverged = h5::attr_int(f, c, "unconverged_steps");
+  r.loop.max_overlap = h5::attr_double(f, c, "max_overlap");
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------
+// Where the recorded data goes
+
+/// Data done since the last commit.
+struct Pending {
+  io::Series rows = observables_series();
+  std::vector<Frame> frames;
+  void clear() {
+    rows.clear();
+    frames.clear();
+  }
+};
+
+class Recorder {
+ public:
+  virtual ~Recorder() = default;
+  /// A checkpoint: everything pending becomes durable, with the state to resume.
+  virtual void commit(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
+  /// The run is complete: write the final output with these results.
+  virtual void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) = 0;
+  /// Ctrl-C: leave a valid file up to the last completed step.
+  virtual void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
+};
+
+void append_pending(io::RunWriter& w, const Pending& p) {
+  for (const Frame& fr : p.frames) w.append_frame(fr);
+  if (p.rows.size() > 0) w.append_series(p.rows);
+}
+
+/// Removes temporaries left beside the partial by a process killed during a checkpoint.
+void remove_stale_temporaries(const std::string& partial) {
+  namespace fs = std::filesystem;
+  const fs::path p(partial);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  const std::string prefix = "." + p.filename().string() + ".tmp-";
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) fs::remove(entry.path(), ec);
+  }
+}
+
+/// A run to a file, through OUTPUT.partial (tilt.hpp).
+class FileRecorder : public Recorder {
+ public:
+  FileRecorder(std::string output, bool force) : output_(std::move(output)), partial_(partial_path(output_)), force_(force) {}
+
+  /// Starts the partial: header, grains, frame 0 and the checkpoint of step 0.
+  void start(const io::RunHeader& h, const Grains& g, Pending& p, const cd::Engine& e, const LoopState& s) {
+    remove_stale_temporaries(partial_);
+    const std::string tmp = io::make_temporary_beside(partial_);
+    {
+      h5::File f = h5::create(tmp, partial_);
+      io::RunWriter w(f, h, g);
+      append_pending(w, p);
+      write_checkpoint(f, e, s);
+      f.close();
+    }
+    io::rename_onto(tmp, partial_);
+    io::unregister_temporary(tmp);
+    p.clear();
+  }
+
+  void commit(Pending& p, const cd::Engine& e, const LoopState& s) override {
+    const std::string tmp = io::make_temporary_beside(partial_);
+    std::error_code ec;
+    std::filesystem::copy_file(partial_, tmp, std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec) throw Error(partial_, "", "cannot copy for a checkpoint: " + ec.message());
+    {
+      h5::File f = h5::open_write(tmp, partial_);
+      io::RunWriter w = io::RunWriter::reopen(f, std::numeric_limits<std::int64_t>::max());
+      append_pending(w, p);
+      write_checkpoint(f, e, s);
+      f.close();
+    }
+    io::rename_onto(tmp, partial_);
+    io::unregister_temporary(tmp);
+    p.clear();
+  }
+
+  void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) override {
+    commit(p, e, s);  // a kill from here on resumes at the last step and redoes only this
+    h5::File src = h5::open_read(partial_, partial_);
+    io::RunHeader h = io::read_header(src);
+    h.results = results;
+    io::Output out(output_, force_);
+    h5::File& dst = out.create_hdf5();
+    io::write_header(dst, h);
+    // H5Ocopy keeps chunking, filters and the hard links inside each copied group (the
+    // shared step and time of the observables); /checkpoint is left behind.
+    for (const char* g : {"/particles", "/contacts", "/observables"}) {
+      if (!h5::exists(src, g)) continue;
+      if (H5Ocopy(src.id(), g, dst.id(), g, H5P_DEFAULT, H5P_DEFAULT) < 0)
+        throw Error(output_, g, "cannot copy from the partial run");
+    }
+    src.close();
+    out.commit();
+    std::filesystem::remove(partial_);
+  }
+
+  void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override { commit(p, e, s); }
+
+ private:
+  std::string output_, partial_;
+  bool force_;
+};
+
+/// A run to standard output: an in-memory file written out at the end.
+class StreamRecorder : public Recorder {
+ public:
+  StreamRecorder(const io::RunHeader& h, const Grains& g) : out_("-", true) {
+    writer_ = std::make_unique<io::RunWriter>(out_.create_hdf5(), h, g);
+  }
+  void commit(Pending& p, const cd::Engine&, const LoopState&) override {
+    append_pending(*writer_, p);
+    p.clear();
+  }
+  void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) override {
+    commit(p, e, s);
+    for (const auto& [k, v] : results) writer_->set_result(k, v);
+    out_.commit();
+  }
+  void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override {
+    finish(p, e, s, {{"interrupted", std::int64_t{1}}, {"steps", e.state().step}});
+  }
+
+ private:
+  io::Output out_;
+  std::unique_ptr<io::RunWriter> writer_;
+};
+
+// ---------------------------------------------------------------------------------------
+// The loop
+
+double angle_deg(const TiltOptions& o, std::int64_t step) {
+  return o.from_deg + static_cast<double>(step) * o.rate_deg;
+}
+
+TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopState st, Pending& pending,
+                  const TiltHooks& hooks) {
+  const Agitation agitation(engine.grains(), o.settings.gravity);
+  const std::vector<Species> species = engine.grains().species;
+  const std::int64_t margin = steps_for(o.margin_deg, o.rate_deg);
+  const std::int64_t cap = o.to_deg ? steps_for(*o.to_deg - o.from_deg, o.rate_deg)
+                                    : steps_for(o.max_deg - o.from_deg, o.rate_deg);
+  auto last_step = [&] {
+    if (!o.to_deg && st.detector.detected) return std::min(cap, st.detector.confirmed_step + margin);
+    return cap;
+  };
+  TiltOutcome out;
+  std::int64_t step = engine.state().step;
+  out.first_step = step;
+  while (step < last_step()) {
+    const double deg = angle_deg(o, step + 1);
+    const cd::StepReport r = engine.step(deg * kDeg);
+    step = r.step;
+    Contacts c = engine.contacts();
+    append_observables(pending.rows, r, count_critical(c, species, o.settings.mu_grain, o.settings.mu_wall, o.eps));
+    if (!r.converged) ++st.unconverged;
+    st.max_overlap = std::max(st.max_overlap, r.max_overlap);
+    const double a = agitation(r.kinetic_energy);
+    st.detector.update(step, deg, a);
+    const std::int64_t last = last_step();
+    if (step % o.frame_every == 0 || step == last) {
+      Frame fr;
+      fr.step = r.step;
+      fr.time = r.time;
+      fr.tilt_angle = deg * kDeg;
+      fr.grains = engine.grains();
+      fr.contacts = std::move(c);
+      pending.frames.push_back(std::move(fr));
+    }
+    if (hooks.progress) {
+      TiltProgress p;
+      p.step = step;
+      p.angle_deg = deg;
+      p.agitation = a;
+      p.avalanche = st.detector.detected;
+      p.avalanche_deg = st.detector.angle_deg;
+      p.last_step = (o.to_deg || st.detector.detected) ? last : -1;
+      p.cap_step = cap;
+      hooks.progress(p);
+    }
+    if (step >= last) break;
+    if (hooks.stop && hooks.stop()) {
+      rec.interrupt(pending, engine, st);
+      out.steps = step;
+      out.final_angle_deg = deg;
+      out.avalanche = st.detector.detected;
+      out.avalanche_deg = st.detector.angle_deg;
+      out.interrupted = true;
+      out.stop_reason = "interrupted";
+      out.unconverged_steps = st.unconverged;
+      return out;
+    }
+    if (step % o.checkpoint_every == 0) rec.commit(pending, engine, st);
+  }
+  out.steps = step;
+  out.final_angle_deg = angle_deg(o, step);
+  out.avalanche = st.detector.detected;
+  out.avalanche_deg = st.detector.angle_deg;
+  out.unconverged_steps = st.unconverged;
+  out.stop_reason = o.to_deg ? "to"
+                   : (st.detector.detected && step == st.detector.confirmed_step + margin) ? "avalanche"
+                                                                                           : "max_angle";
+  io::Values results{
+      {"steps", step},
+      {"final_angle_deg", out.final_angle_deg},
+      {"avalanche_detected", std::int64_t{st.detector.detected ? 1 : 0}},
+      {"unconverged_steps", st.unconverged},
+      {"max_overlap_m", st.max_overlap},
+      {"stop_reason", out.stop_reason},
+  };
+  if (st.detector.detected) {
+    results["avalanche_angle_deg"] = st.detector.angle_deg;
+    results["avalanche_step"] = st.detector.start_step;
+    results["avalanche_confirmed_step"] = st.detector.confirmed_step;
+  }
+  rec.finish(pending, engine, st, results);
+  return out;
+}
+
+LoopState fresh_state(const TiltOptions& o) {
+  LoopState s;
+  s.detector.threshold = o.avalanche_energy;
+  s.detector.hold = hold_steps(o);
+  return s;
+}
+
+bool same_value(const io::Value& a, const io::Value& b) { return a == b; }
+
+std::string value_text(const io::Value& v) {
+  if (auto* d = std::get_if<double>(&v)) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", *d);
+    return buf;
+  }
+  if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
+  return std::get<std::string>(v);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+
+void validate(const TiltOptions& o) {
+  auto bad = [](const std::string& what) { throw UsageError(what); };
+  if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad("--rate must be > 0");
+  if (!std::isfinite(o.from_deg)) bad("--from must be finite");
+  if (o.to_deg && !(*o.to_deg >= o.from_deg)) bad("--to must be >= --from");
+  if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= --from");
+  if (!(o.margin_deg >= 0.0)) bad("--margin must be >= 0");
+  if (!(o.avalanche_energy > 0.0)) bad("--avalanche-energy must be > 0");
+  if (!(o.avalanche_hold_deg >= 0.0)) bad("--avalanche-hold must be >= 0");
+  if (o.frame_every < 1) bad("the frame interval must be >= 1 step");
+  if (o.checkpoint_every < 1) bad("--checkpoint-every must be >= 1");
+  if (!(o.eps >= 0.0 && o.eps < 1.0)) bad("--eps must be in [0, 1)");
+  cd::validate(o.settings);
+}
+
+std::int64_t hold_steps(const TiltOptions& o) {
+  return std::max<std::int64_t>(1, steps_for(o.avalanche_hold_deg, o.rate_deg));
+}
+
+io::Values tilt_parameters(const TiltOptions& o) {
+  io::Values v = settings_parameters(o.settings);
+  v.insert({{"tilt_rate_deg_per_step", o.rate_deg},
+            {"tilt_from_deg", o.from_deg},
+            {"tilt_to_deg", o.to_deg ? *o.to_deg : -1.0},
+            {"tilt_max_deg", o.max_deg},
+            {"avalanche_margin_deg", o.margin_deg},
+            {"avalanche_energy", o.avalanche_energy},
+            {"avalanche_hold_deg", o.avalanche_hold_deg},
+            {"frame_every_steps", o.frame_every},
+            {"critical_eps", o.eps}});
+  return v;
+}
+
+PileInput read_pile(const io::h5::File& f) {
+  io::RunReader r(f);
+  if (r.header().kind != "pile")
+    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file, expected a pile (made by deposit)");
+  if (r.frame_count() == 0) throw Error(f.name(), "/particles/grains/position", "the pile has no frame");
+  if (r.grain_count() == 0) throw Error(f.name(), "/particles/grains", "the pile has no grain");
+  PileInput p;
+  p.name = f.name();
+  p.box = r.header().box;
+  const Frame fr = r.frame(r.frame_count() - 1);
+  p.grains = fr.grains;
+  p.contacts = fr.contacts;
+  p.parameters = r.header().parameters;
+  p.provenance = r.header().provenance;
+  return p;
+}
+
+std::string partial_path(const std::string& output) { return output + ".partial"; }
+
+PileInput read_partial(const std::string& output) {
+  const std::string partial = partial_path(output);
+  h5::File f = h5::open_read(partial, partial);
+  io::RunReader r(f);
+  PileInput p;
+  p.name = partial;
+  p.box = r.header().box;
+  p.parameters = r.header().parameters;
+  p.provenance = r.header().provenance;
+  p.grains = read_checkpoint(f, r.grain_properties()).grains;
+  return p;
+}
+
+TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output, bool force,
+                     const io::Provenance& prov, const TiltHooks& hooks) {
+  validate(o);
+  const bool to_stdout = output == "-";
+  if (!to_stdout) {
+    std::error_code ec;
+    io::Output check(output, force);  // refuses an existing output, a missing folder
+    if (std::filesystem::exists(partial_path(output), ec)) {
+      if (!force)
+        throw Error(partial_path(output), "",
+                    "an interrupted run exists; use --resume to continue it or --force to start over");
+      std::filesystem::remove(partial_path(output), ec);
+    }
+  }
+  io::RunHeader h;
+  h.kind = "run";
+  h.box = pile.box;
+  h.parameters = pile.parameters;  // the pile's own, then the tilt's over them
+  for (const auto& [k, v] : tilt_parameters(o)) h.parameters[k] = v;
+  h.provenance = pile.provenance;
+  h.provenance.push_back(prov);
+
+  cd::Engine engine(pile.box, pile.grains, o.settings);
+  // Warm start from the pile's last contact forces (impulse = force x h): the first
+  // tilt step starts from the equilibrium the pile was left in.
+  cd::EngineState es;
+  for (std::size_t k = 0; k < pile.contacts.size(); ++k) {
+    if (pile.contacts.fn[k] == 0.0 && pile.contacts.ft[k] == 0.0) continue;
+    es.impulses.push_back({pile.contacts.i[k], pile.contacts.j[k], pile.contacts.fn[k] * o.settings.time_step,
+                           pile.contacts.ft[k] * o.settings.time_step});
+  }
+  std::sort(es.impulses.begin(), es.impulses.end(), [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
+    return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
+  });
+  engine.set_state(es);
+
+  Pending pending;
+  Frame f0;
+  f0.step = 0;
+  f0.time = 0.0;
+  f0.tilt_angle = o.from_deg * kDeg;
+  f0.grains = pile.grains;
+  f0.contacts = pile.contacts;
+  pending.frames.push_back(std::move(f0));
+  LoopState st = fresh_state(o);
+  if (to_stdout) {
+    StreamRecorder rec(h, pile.grains);
+    return drive(engine, rec, o, st, pending, hooks);
+  }
+  FileRecorder rec(output, force);
+  rec.start(h, pile.grains, pending, engine, st);
+  return drive(engine, rec, o, st, pending, hooks);
+}
+
+TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force, const TiltHooks& hooks) {
+  validate(o);
+  if (output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
+  const std::string partial = partial_path(output);
+  std::error_code ec;
+  if (!std::filesystem::exists(partial, ec)) throw Error(partial, "", "no partial run to resume");
+  remove_stale_temporaries(partial);
+  Restored rs;
+  Box box;
+  {
+    h5::File f = h5::open_read(partial, partial);
+    io::RunReader r(f);
+    if (r.header().kind != "run") throw Error(partial, "/", "is not a partial tilt run");
+    const io::Values& stored = r.header().parameters;
+    for (const auto& [k, v] : tilt_parameters(o)) {
+      auto it = stored.find(k);
+      if (it == stored.end()) throw Error(partial, "/parameters", "missing parameter '" + k + "'");
+      if (!same_value(it->second, v))
+        throw Error(partial, "/parameters", k + " is " + value_text(v) + " here but " + value_text(it->second) +
+                                                " in the interrupted run; resume with the same options");
+    }
+    rs = read_checkpoint(f, r.grain_properties());
+    box = r.header().box;
+  }
+  cd::Engine engine(box, rs.grains, o.settings);
+  engine.set_state(rs.engine);
+  LoopState st = rs.loop;
+  st.detector.threshold = o.avalanche_energy;
+  st.detector.hold = hold_steps(o);
+  Pending pending;
+  FileRecorder rec(output, force);
+  return drive(engine, rec, o, st, pending, hooks);
+}
+
+}  // namespace cdpile::sim

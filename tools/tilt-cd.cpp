@@ -1,0 +1,180 @@
+// tilt-cd: tilts a static pile until it avalanches, with the Contact Dynamics engine;
+// records every step's observables and full frames; checkpoints and resumes
+// (docs/method.md, "Tilt" and "Checkpoints").
+#include "cdpile/analysis/critical.hpp"
+#include "cdpile/cli/command.hpp"
+#include "cdpile/io/files.hpp"
+#include "cdpile/sim/tilt.hpp"
+#include "solver_options.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+using namespace cdpile;
+
+static void usage(cli::Usage& u) {
+  u.synopsis = "tilt a pile until it avalanches (Contact Dynamics); observables per step, frames, checkpoints";
+  u.description = {
+      "Reads a pile made by deposit ('-' for standard input) and turns gravity in the box frame, "
+      "g(theta) = g (sin theta, -cos theta), by --rate degrees per step from --from. Without --to it "
+      "stops --margin degrees after the avalanche is confirmed (or at --max-angle); with --to it runs "
+      "to that angle whatever happens. The first step is warm-started from the pile's contact forces.",
+      "Every step records the observables of docs/schema.md: tilt_angle, kinetic_energy, "
+      "rotational_energy, contacts, contacts_grain, sliding, sweeps, residual, converged, max_overlap, "
+      "and the critical-contact counts critical (all active contacts) and critical_grain (between two "
+      "free grains), critical meaning |f_t| >= (1 - --eps) mu f_n. Full frames (grains and contacts "
+      "with forces and solver status) are written at step 0, every --frame-every steps (or "
+      "--frame-every-deg degrees) and at the last step.",
+      "Avalanche: the agitation a = Ek / (Np m g D) (translational kinetic energy per free grain over "
+      "m g D, m the mean mass and D the mean diameter of the free grains) reaches --avalanche-energy "
+      "and stays at or above it for --avalanche-hold degrees of tilt; the avalanche angle "
+      "results/avalanche_angle_deg is the tilt where that sustained interval began.",
+      "Checkpoints: a run to a file is kept in OUTPUT.partial, a valid run file with a /checkpoint "
+      "group, rewritten every --checkpoint-every steps by an atomic rename, so a kill at any moment "
+      "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
+      "file, bit for bit in every dataset, as a run never interrupted (the pile argument is then not "
+      "read again). Ctrl-C writes a checkpoint of every completed step and exits with 130. The "
+      "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
+      "does nothing. Writing to standard output (-o -) has no checkpoints.",
+      "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
+      "tilt_max_deg, avalanche_margin_deg, avalanche_energy, avalanche_hold_deg, frame_every_steps, "
+      "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
+      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps). Results: steps, final_angle_deg, "
+      "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
+      "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle)."};
+  u.argument("pile", "pile file made by deposit ('-' for standard input)");
+  u.output("output run file ('-' for standard output, without checkpoints)");
+  u.group("Tilt");
+  u.real("rate", 0.001, "tilt per time step", "deg", 1e-12, 90.0);
+  u.real("from", 0.0, "tilt at the start", "deg", -90.0, 90.0);
+  u.real_opt("to", "run to this tilt, avalanche or not (default: the avalanche plus --margin)", "deg", -90.0, 90.0);
+  u.real("max-angle", 90.0, "without --to, stop here if no avalanche is detected", "deg", -90.0, 90.0);
+  u.real("margin", 1.0, "keep tilting this much after the avalanche is confirmed", "deg", 0.0, 180.0);
+  u.group("Avalanche");
+  u.real("avalanche-energy", 1e-3, "threshold of the agitation Ek / (Np m g D)", "", 1e-300, 1e300);
+  u.real("avalanche-hold", 0.2, "the agitation must stay above the threshold this long", "deg", 0.0, 90.0);
+  u.real("eps", analysis::default_eps, "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
+  u.group("Recording");
+  u.integer_opt("frame-every", "a full frame every this many steps (instead of --frame-every-deg)", 1, 1000000000000, "steps");
+  u.real("frame-every-deg", 0.5, "a full frame every this much tilt", "deg", 1e-12, 180.0);
+  u.integer("checkpoint-every", 2000, "steps between checkpoints of OUTPUT.partial", 1, 1000000000000, "steps");
+  u.flag("resume", "continue the interrupted run of OUTPUT from OUTPUT.partial");
+  u.group("Friction");
+  u.real_opt("mu-grain", "grain-grain friction coefficient (default: the pile's mu_grain)", "", 0.0, 1e3);
+  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the pile's mu_wall)", "", 0.0, 1e3);
+  tools::declare_solver_options(u);
+  u.example("The paper's run", "tilt-cd pile.h5 -o run.h5",
+            "0.001 degree per step until the avalanche plus 1 degree; prints the avalanche angle");
+  u.example("Through a pipe, to a fixed angle", "deposit --grains 200 -o - | tilt-cd - --to 2 -o run.h5",
+            "the small pile is tilted to 2 degrees");
+  u.example("After a crash or Ctrl-C", "tilt-cd pile.h5 -o run.h5 --resume",
+            "continues from run.h5.partial; the same options as the first invocation");
+}
+
+// The options of the run, with the pile's values as defaults (friction, gravity, D).
+static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) {
+  auto param = [&](const char* key, double fallback) {
+    return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
+  };
+  const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
+  sim::TiltOptions o;
+  o.settings = tools::solver_settings(a, diameter);
+  o.settings.gravity = param("gravity_m_s2", o.settings.gravity);
+  o.settings.mu_grain = a.real_opt("mu-grain").value_or(param("mu_grain", o.settings.mu_grain));
+  o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
+  o.rate_deg = a.real("rate");
+  o.from_deg = a.real("from");
+  o.to_deg = a.real_opt("to");
+  o.max_deg = a.real("max-angle");
+  o.margin_deg = a.real("margin");
+  o.avalanche_energy = a.real("avalanche-energy");
+  o.avalanche_hold_deg = a.real("avalanche-hold");
+  o.eps = a.real("eps");
+  if (a.given("frame-every") && a.given("frame-every-deg"))
+    throw UsageError("give --frame-every or --frame-every-deg, not both");
+  o.frame_every = a.integer_opt("frame-every")
+                      .value_or(std::max<std::int64_t>(1, std::llround(a.real("frame-every-deg") / o.rate_deg)));
+  o.checkpoint_every = a.integer("checkpoint-every");
+  sim::validate(o);
+  return o;
+}
+
+static void run(const cli::Args& a) {
+  const std::string output = a.output();
+  if (output.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
+  const bool resume = a.flag("resume");
+  if (resume && output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
+  std::error_code ec;
+  const bool has_partial = output != "-" && std::filesystem::exists(sim::partial_path(output), ec);
+  if (resume && std::filesystem::exists(output, ec)) {
+    if (has_partial) std::filesystem::remove(sim::partial_path(output), ec);  // left by a kill after the rename
+    cli::info(output + ": already complete; nothing to resume");
+    return;
+  }
+
+  cli::defer_interrupts();
+  const bool show = tools::progress_wanted(a);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto last_print = t0;
+  std::int64_t first = -1, last_step_seen = 0;
+  double rate_deg = 0.0;
+  sim::TiltHooks hooks;
+  hooks.stop = [] { return cli::interrupted(); };
+  hooks.progress = [&](const sim::TiltProgress& p) {
+    if (first < 0) first = p.step - 1;
+    last_step_seen = p.step;
+    if (!show) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_print).count() < 0.5) return;
+    last_print = now;
+    const double secs = std::chrono::duration<double>(now - t0).count();
+    const double sps = static_cast<double>(p.step - first) / std::max(secs, 1e-9);
+    char left[64];
+    if (p.last_step >= 0) std::snprintf(left, sizeof left, "%.0f s left", static_cast<double>(p.last_step - p.step) / sps);
+    else std::snprintf(left, sizeof left, "until the avalanche (at most %.0f s)", static_cast<double>(p.cap_step - p.step) / sps);
+    std::fprintf(stderr, "\r%s: %.3f deg  step %lld  %.0f steps/s  Ek/(Np m g D) %.1e  %s%s   ",
+                 cli::tool_name().c_str(), p.angle_deg, static_cast<long long>(p.step), sps, p.agitation,
+                 p.avalanche ? "avalanche confirmed, " : "", left);
+    (void)rate_deg;
+  };
+
+  sim::TiltOutcome outcome;
+  if (resume && has_partial) {
+    const sim::PileInput partial = sim::read_partial(output);
+    const sim::TiltOptions o = options(a, partial);
+    outcome = sim::resume_tilt(o, output, a.force(), hooks);
+  } else {
+    if (resume) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
+    const io::Input in(a.argument("pile"));
+    const sim::PileInput pile = sim::read_pile(in.hdf5());
+    const sim::TiltOptions o = options(a, pile);
+    outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
+  }
+  if (show) std::fprintf(stderr, "\n");
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double sps = static_cast<double>(outcome.steps - outcome.first_step) / std::max(secs, 1e-9);
+  if (outcome.interrupted) {
+    cli::info("interrupted at step " + std::to_string(outcome.steps) + " (" + std::to_string(outcome.final_angle_deg) +
+              " deg); " + (output == "-" ? std::string("the run so far was written") :
+                           sim::partial_path(output) + " holds it; run again with --resume to continue"));
+    std::cout.flush();
+    std::exit(130);
+  }
+  char line[400];
+  if (outcome.avalanche)
+    std::snprintf(line, sizeof line, "avalanche at %.3f deg; stopped at %.3f deg (step %lld, %s)",
+                  outcome.avalanche_deg, outcome.final_angle_deg, static_cast<long long>(outcome.steps),
+                  outcome.stop_reason.c_str());
+  else
+    std::snprintf(line, sizeof line, "no avalanche detected; stopped at %.3f deg (step %lld, %s)",
+                  outcome.final_angle_deg, static_cast<long long>(outcome.steps), outcome.stop_reason.c_str());
+  cli::info(std::string(line) + "; " + std::to_string(outcome.unconverged_steps) + " unconverged steps; " +
+            std::to_string(static_cast<long long>(secs)) + " s wall, " + std::to_string(static_cast<long long>(sps)) +
+            " steps/s");
+}
+
+CDPILE_TOOL(usage, run)
