@@ -27,10 +27,10 @@ expect_fail() {
 expect_eq() {
   if [[ "$1" != "$2" ]]; then echo "expected '$1', got '$2' ${3:-}" >&2; return 1; fi
 }
-# expect_near WANT GOT TOL [WHAT]: |GOT - WANT| <= TOL; WANT may be an awk expression
-# (5/12), GOT must be a number (NA, NaN or empty fail).
+# expect_near WANT GOT TOL [WHAT]: |GOT - WANT| <= TOL; WANT and TOL may be awk expressions
+# (5/12, 3*0.01), GOT must be a number (NA, NaN or empty fail).
 expect_near() {
-  if ! awk -v g="$2" -v t="$3" "BEGIN { w = $1; if (g !~ /^[-+0-9.eE]+\$/) exit 1; d = g - w; if (d < 0) d = -d; exit !(d <= t) }"; then
+  if ! awk -v g="$2" "BEGIN { w = $1; t = $3; if (g !~ /^[-+0-9.eE]+\$/) exit 1; d = g - w; if (d < 0) d = -d; exit !(d <= t) }"; then
     echo "expected $1 (to $3), got '$2' ${4:-}" >&2; return 1
   fi
 }

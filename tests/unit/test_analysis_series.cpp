@@ -64,6 +64,17 @@ TEST(Grid, BinsAndUpperEnd) {
   EXPECT_THROW(make_grid(0, 1, 0), Error);
 }
 
+TEST(Grid, LowerEndAllowsRoundOff) {
+  // 5.5 deg written in radians and read back is 5.499999999999999: it belongs to the
+  // first bin of a grid that starts at 5.5, while a clearly lower angle does not.
+  const double back = 5.5 * M_PI / 180.0 * 180.0 / M_PI;
+  ASSERT_LT(back, 5.5);
+  Grid g = make_grid(5.5, 6.5, 0.1);
+  ASSERT_TRUE(g.bin(back));
+  EXPECT_EQ(*g.bin(back), 0u);
+  EXPECT_FALSE(g.bin(5.49));
+}
+
 TEST(Ensemble, MeanAndStandardErrorAcrossRuns) {
   std::vector<std::vector<std::optional<double>>> runs = {{1.0, std::nullopt}, {3.0, 5.0}};
   auto s = across_runs(runs, 2);

@@ -54,7 +54,12 @@ std::vector<Event> rearrangements(std::span<const std::int64_t> n, const EventRu
 std::optional<std::size_t> Grid::bin(double x) const {
   if (count == 0 || !std::isfinite(x)) return std::nullopt;
   const double u = (x - start) / step;
-  if (u < 0.0) return std::nullopt;
+  if (u < 0.0) {
+    // the lower end allows round-off too: a grid started at a rounded first angle
+    // (5.5 deg) must hold that angle read back from radians (5.499999999999999)
+    if (x >= start - 1e-12 * std::max(1.0, std::abs(x))) return 0;
+    return std::nullopt;
+  }
   auto k = static_cast<std::size_t>(std::floor(u));
   if (k >= count) {
     // the upper end belongs to the last bin (allow round-off)
