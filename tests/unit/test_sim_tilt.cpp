@@ -1,0 +1,243 @@
+// The tilt protocol: the avalanche rule on a small pile, and checkpoints: a run killed
+// at any step and resumed, or stopped by Ctrl-C and resumed, equals an uninterrupted run
+// in every dataset, bit for bit.
+#include "cdpile/error.hpp"
+#include "cdpile/io/files.hpp"
+#include "cdpile/sim/common.hpp"
+#include "cdpile/sim/deposit.hpp"
+#include "cdpile/sim/tilt.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <unistd.h>
+
+namespace sim = cdpile::sim;
+namespace io = cdpile::io;
+namespace fs = std::filesystem;
+using cdpile::Frame;
+using cdpile::Vec2;
+
+namespace {
+
+/// A pile of 100 grains in a box 12 D wide, written as a file and read back as tilt-cd does.
+const sim::PileInput& pile() {
+  static const sim::PileInput p = [] {
+    sim::DepositOptions o;
+    o.grains = 100;
+    o.width = 12.0;
+    o.seed = 4;
+    const sim::Pile pl = sim::deposit(o);
+    io::h5::File f = io::h5::create_in_memory("pile");
+    sim::write_pile(f, pl, io::provenance_now("test", "", ""));
+    return sim::read_pile(f);
+  }();
+  return p;
+}
+
+/// A scratch folder, removed at the end.
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("cdpile-tilt-" + std::to_string(::getpid()) + "-" +
+                                       std::to_string(counter()++));
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string operator/(const std::string& name) const { return (dir / name).string(); }
+  static int& counter() { static int c = 0; return c; }
+};
+
+/// 0.002 degree per step to 0.3 degree: 150 steps, a frame every 20, a checkpoint every 25.
+sim::TiltOptions short_run() {
+  sim::TiltOptions o;
+  o.rate_deg = 0.002;
+  o.to_deg = 0.3;
+  o.frame_every = 20;
+  o.checkpoint_every = 25;
+  return o;
+}
+
+struct Crash {};
+
+/// Every dataset and attribute that matters, compared exactly.
+void expect_same_run(const std::string& a_path, const std::string& b_path) {
+  io::h5::File fa = io::h5::open_read(a_path, "a"), fb = io::h5::open_read(b_path, "b");
+  io::RunReader a(fa), b(fb);
+  EXPECT_FALSE(io::h5::exists(fb, "/checkpoint"));
+  EXPECT_EQ(a.header().parameters, b.header().parameters);
+  EXPECT_EQ(a.header().results, b.header().results);
+  ASSERT_EQ(a.frame_count(), b.frame_count());
+  EXPECT_EQ(a.frame_steps(), b.frame_steps());
+  for (std::size_t k = 0; k < a.frame_count(); ++k) {
+    const Frame x = a.frame(k), y = b.frame(k);
+    const std::size_t n = x.grains.size();
+    EXPECT_EQ(0, std::memcmp(x.grains.position.data(), y.grains.position.data(), n * sizeof(Vec2))) << k;
+    EXPECT_EQ(0, std::memcmp(x.grains.velocity.data(), y.grains.velocity.data(), n * sizeof(Vec2))) << k;
+    EXPECT_EQ(x.grains.orientation, y.grains.orientation);
+    EXPECT_EQ(x.grains.angular_velocity, y.grains.angular_velocity);
+    EXPECT_EQ(x.contacts.i, y.contacts.i);
+    EXPECT_EQ(x.contacts.j, y.contacts.j);
+    EXPECT_EQ(x.contacts.fn, y.contacts.fn);
+    EXPECT_EQ(x.contacts.ft, y.contacts.ft);
+    EXPECT_EQ(x.contacts.gap, y.contacts.gap);
+    EXPECT_EQ(x.contacts.status, y.contacts.status);
+  }
+  const io::Series sa = a.series(), sb = b.series();
+  EXPECT_EQ(sa.step, sb.step);
+  EXPECT_EQ(sa.time, sb.time);
+  EXPECT_EQ(sa.real, sb.real);
+  EXPECT_EQ(sa.integer, sb.integer);
+}
+
+}  // namespace
+
+TEST(Tilt, UninterruptedRunHasEveryStepAndFrame) {
+  Scratch s;
+  const auto out = sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
+  EXPECT_EQ(out.steps, 150);
+  EXPECT_EQ(out.stop_reason, "to");
+  EXPECT_FALSE(fs::exists(sim::partial_path(s / "run.h5")));
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run");
+  io::RunReader r(f);
+  EXPECT_EQ(r.header().kind, "run");
+  EXPECT_EQ(r.frame_steps(), (std::vector<std::int64_t>{0, 20, 40, 60, 80, 100, 120, 140, 150}));
+  const io::Series se = r.series();
+  ASSERT_EQ(se.size(), 150u);
+  for (std::size_t k = 0; k < se.size(); ++k) {
+    EXPECT_EQ(se.step[k], static_cast<std::int64_t>(k + 1));
+    EXPECT_NEAR(se.real.at("tilt_angle")[k], 0.002 * static_cast<double>(k + 1), 1e-12);
+    // Critical contacts are among the active ones; grain-grain among all.
+    EXPECT_LE(se.integer.at("critical")[k], se.integer.at("contacts")[k]);
+    EXPECT_LE(se.integer.at("critical_grain")[k], se.integer.at("critical")[k]);
+  }
+  // At 0.3 degree the pile is static: the agitation stays far below the avalanche threshold.
+  EXPECT_EQ(io::as_int(r.header().results, "avalanche_detected", "run"), 0);
+  EXPECT_EQ(r.header().parameters.at("tilt_rate_deg_per_step"), io::Value(0.002));
+}
+
+// kill -9 at any moment: modelled by an exception thrown after step k, which skips every
+// write since the last checkpoint, exactly as a killed process would.
+TEST(Tilt, ResumeAfterACrashAtAnyStepIsBitForBit) {
+  Scratch s;
+  const auto prov = io::provenance_now("test", "", "");
+  sim::run_tilt(pile(), short_run(), s / "ref.h5", false, prov);
+  for (std::int64_t crash : {1, 24, 25, 26, 99, 149}) {
+    const std::string out = s / ("run" + std::to_string(crash) + ".h5");
+    sim::TiltHooks hooks;
+    hooks.progress = [crash](const sim::TiltProgress& p) {
+      if (p.step == crash) throw Crash{};
+    };
+    EXPECT_THROW(sim::run_tilt(pile(), short_run(), out, false, prov, hooks), Crash);
+    EXPECT_FALSE(fs::exists(out));
+    ASSERT_TRUE(fs::exists(sim::partial_path(out))) << crash;
+    // Fresh start refused while the partial exists.
+    EXPECT_THROW(sim::run_tilt(pile(), short_run(), out, false, prov), cdpile::Error);
+    const auto o = sim::resume_tilt(short_run(), out, false);
+    // From the last checkpoint before the crash (step k's checkpoint follows its progress call).
+    EXPECT_EQ(o.first_step, ((crash - 1) / 25) * 25) << crash;
+    EXPECT_EQ(o.steps, 150);
+    EXPECT_FALSE(fs::exists(sim::partial_path(out)));
+    expect_same_run(s / "ref.h5", out);
+  }
+}
+
+// Ctrl-C: the stop hook makes a checkpoint of every completed step; the partial is a
+// valid run up to that step; resuming finishes the same run.
+TEST(Tilt, InterruptLeavesAValidRunAndResumes) {
+  Scratch s;
+  const auto prov = io::provenance_now("test", "", "");
+  sim::run_tilt(pile(), short_run(), s / "ref.h5", false, prov);
+  sim::TiltHooks hooks;
+  std::int64_t step = 0;
+  hooks.progress = [&](const sim::TiltProgress& p) { step = p.step; };
+  hooks.stop = [&] { return step == 63; };
+  const auto o = sim::run_tilt(pile(), short_run(), s / "run.h5", false, prov, hooks);
+  EXPECT_TRUE(o.interrupted);
+  EXPECT_EQ(o.steps, 63);
+  {
+    io::h5::File f = io::h5::open_read(sim::partial_path(s / "run.h5"), "partial");
+    io::RunReader r(f);
+    const io::Series se = r.series();
+    ASSERT_EQ(se.size(), 63u);
+    EXPECT_EQ(se.step.back(), 63);
+    EXPECT_EQ(r.frame_steps(), (std::vector<std::int64_t>{0, 20, 40, 60}));
+  }
+  // Different options are refused, naming the parameter.
+  auto other = short_run();
+  other.rate_deg = 0.001;
+  try {
+    sim::resume_tilt(other, s / "run.h5", false);
+    ADD_FAILURE() << "resumed with another rate";
+  } catch (const cdpile::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tilt_rate_deg_per_step"), std::string::npos) << e.what();
+  }
+  sim::resume_tilt(short_run(), s / "run.h5", false);
+  expect_same_run(s / "ref.h5", s / "run.h5");
+}
+
+// The avalanche rule on a small pile tilted at 0.01 degree per step: the pile is static
+// at small tilt, the avalanche is detected at a finite angle, and the agitation obeys
+// the rule there: below the threshold just before, above it for the whole hold.
+TEST(Tilt, AvalancheOfASmallPileIsDetected) {
+  Scratch s;
+  sim::DepositOptions d;
+  d.grains = 150;
+  d.width = 15.0;
+  d.seed = 2;
+  const sim::Pile pl = sim::deposit(d);
+  io::h5::File mem = io::h5::create_in_memory("pile");
+  sim::write_pile(mem, pl, io::provenance_now("test", "", ""));
+  sim::TiltOptions o;
+  o.rate_deg = 0.01;
+  o.margin_deg = 0.5;
+  o.frame_every = 1000;
+  const auto out = sim::run_tilt(sim::read_pile(mem), o, s / "run.h5", false, io::provenance_now("test", "", ""));
+  ASSERT_TRUE(out.avalanche);
+  EXPECT_EQ(out.stop_reason, "avalanche");
+  EXPECT_GT(out.avalanche_deg, 2.0);
+  EXPECT_LT(out.avalanche_deg, 60.0);
+  std::printf("avalanche of 150 grains at %.3f deg\n", out.avalanche_deg);
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run");
+  io::RunReader r(f);
+  const auto& res = r.header().results;
+  EXPECT_EQ(res.at("avalanche_angle_deg"), io::Value(out.avalanche_deg));
+  const std::int64_t start = io::as_int(res, "avalanche_step", "run");
+  const std::int64_t confirmed = io::as_int(res, "avalanche_confirmed_step", "run");
+  EXPECT_EQ(confirmed - start + 1, sim::hold_steps(o));
+  EXPECT_EQ(out.steps, confirmed + 50);  // margin 0.5 degree = 50 steps
+  const io::Series se = r.series();
+  const sim::Agitation agit(sim::read_pile(mem).grains, o.settings.gravity);
+  const auto& ek = se.real.at("kinetic_energy");
+  for (std::int64_t k = start; k <= confirmed; ++k) EXPECT_GE(agit(ek[static_cast<std::size_t>(k - 1)]), o.avalanche_energy);
+  EXPECT_LT(agit(ek[static_cast<std::size_t>(start - 2)]), o.avalanche_energy);
+  // Static at small tilt: over the first 2 degrees the agitation stays 100 times below it.
+  for (std::size_t k = 0; k < 200; ++k) EXPECT_LT(agit(ek[k]), 1e-2 * o.avalanche_energy) << k;
+}
+
+TEST(Tilt, NotAPileAndBadOptionsAreRefused) {
+  Scratch s;
+  sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run.h5");
+  try {
+    sim::read_pile(f);
+    ADD_FAILURE() << "a run was accepted as a pile";
+  } catch (const cdpile::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "run.h5: /: is a 'run' file, expected a pile (made by deposit)");
+  }
+  // An existing output is kept.
+  EXPECT_THROW(sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", "")),
+               cdpile::Error);
+  auto bad = [](auto change) {
+    auto o = short_run();
+    change(o);
+    EXPECT_THROW(sim::validate(o), cdpile::UsageError);
+  };
+  bad([](sim::TiltOptions& o) { o.rate_deg = -0.001; });
+  bad([](sim::TiltOptions& o) { o.to_deg = -1.0; });
+  bad([](sim::TiltOptions& o) { o.frame_every = 0; });
+  bad([](sim::TiltOptions& o) { o.settings.tolerance = 0.0; });
+  EXPECT_FALSE(fs::exists(s / "other.h5"));
+}
