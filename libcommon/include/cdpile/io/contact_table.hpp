@@ -1,5 +1,5 @@
 /// Plain-text tables, and the contact table that brings other codes' data into the
-/// analysis tools (docs/contact-table.md).
+/// analysis tools (docs/analysis.md, "The contact table").
 ///
 /// A text table is: comment lines starting with '#', one header line naming the columns,
 /// then one row per line. Columns are separated by tabs, or by commas when the header has
