@@ -75,59 +75,96 @@ DelassusProblem read_siconos_fc2d(const std::string& path) {
     lines.fail("only sparse storage (code 2) is supported");
   const long rows = lines.integer(lines.get("the row count"), "the row count");
   const long cols = lines.integer(lines.get("the column count"), "the column count");
-  if (rows != 2 * m || cols != 2 * m) lines.fail("the matrix is not 2m x 2m");
+  if (rows != 2 * m || cols != 2 * m)
+    lines.fail("the matrix is " + std::to_string(rows) + " x " + std::to_string(cols) +
+               ", expected 2m x 2m = " + std::to_string(2 * m) + " x " + std::to_string(2 * m));
   lines.get("the sparse origin code");
   std::string line = lines.get("the CSparse banner");
   if (line.find("CSparse") == std::string::npos) lines.fail("expected a CSparse listing");
+  // "R-by-C, nzmax: Z nnz: N, 1-norm: X": the entry count N is checked against the listing.
   line = lines.get("the CSparse size line");
-  if (line.find("-by-") == std::string::npos) lines.fail("expected 'N-by-N, nzmax: ...'");
-
-  std::vector<Eigen::Triplet<double>> entries;
-  long col = -1, expected = 0;
-  while (lines.next(line)) {
-    std::istringstream s(line);
-    std::string first;
-    s >> first;
-    if (first == "col") {
-      if (expected != 0) lines.fail("column " + std::to_string(col) + " has too few entries");
-      long a = 0, b = 0;
-      char colon = 0;
-      std::string word, to;
-      if (!(s >> col >> colon >> word >> a >> to >> b) || colon != ':' || col < 0 ||
-          col >= cols || b < a - 1)
-        lines.fail("bad column header '" + line + "'");
-      expected = b - a + 1;
-      continue;
-    }
-    if (expected == 0) break;  // the first line of q
-    long row = 0;
-    char colon = 0;
-    std::string value;
-    std::istringstream e(line);
-    if (!(e >> row >> colon >> value) || colon != ':' || row < 0 || row >= rows)
-      lines.fail("bad matrix entry '" + line + "'");
-    entries.emplace_back(static_cast<int>(row), static_cast<int>(col), parse_real(value, lines));
-    --expected;
+  long size_r = 0, size_c = 0, nnz = -1;
+  {
+    const auto by = line.find("-by-");
+    const auto at = line.find("nnz:");
+    if (by == std::string::npos || at == std::string::npos)
+      lines.fail("expected 'R-by-C, nzmax: Z nnz: N, ...', got '" + line + "'");
+    std::istringstream r(line.substr(0, by)), c(line.substr(by + 4)), n(line.substr(at + 4));
+    if (!(r >> size_r) || !(c >> size_c) || !(n >> nnz) || size_r != rows || size_c != cols ||
+        nnz < 0)
+      lines.fail("the CSparse size line '" + line + "' does not match the matrix");
   }
-  if (expected != 0) lines.fail("the matrix listing is truncated");
 
+  // cs_print lists every column in order, "col j : locations a to b" (b = a - 1 when the
+  // column is empty) followed by its b - a + 1 entries "row : value"; locations run on
+  // from one column to the next.
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(nnz));
+  long location = 0;
+  std::vector<long> seen_in(static_cast<std::size_t>(rows), -1);  // last column with the row
+  for (long col = 0; col < cols; ++col) {
+    line = lines.get("the header of column " + std::to_string(col));
+    std::istringstream s(line);
+    std::string word_col, word_loc, word_to;
+    long j = -1, a = -1, b = -1;
+    char colon = 0;
+    if (!(s >> word_col >> j >> colon >> word_loc >> a >> word_to >> b) || word_col != "col" ||
+        colon != ':' || word_loc != "locations" || word_to != "to")
+      lines.fail("expected the header of column " + std::to_string(col) + ", got '" + line +
+                 "'");
+    if (j != col || a != location || b < a - 1)
+      lines.fail("column header '" + line + "' out of sequence (expected column " +
+                 std::to_string(col) + " from location " + std::to_string(location) + ")");
+    for (long k = a; k <= b; ++k) {
+      line = lines.get("entry " + std::to_string(k - a + 1) + " of column " + std::to_string(col));
+      std::istringstream e(line);
+      long row = -1;
+      char c = 0;
+      std::string value, rest;
+      if (!(e >> row >> c >> value) || c != ':' || (e >> rest))
+        lines.fail("expected a matrix entry 'row : value' in column " + std::to_string(col) +
+                   ", got '" + line + "'");
+      if (row < 0 || row >= rows) lines.fail("row index out of range in '" + line + "'");
+      if (seen_in[static_cast<std::size_t>(row)] == col)
+        lines.fail("duplicate entry for row " + std::to_string(row) + " in column " +
+                   std::to_string(col));
+      seen_in[static_cast<std::size_t>(row)] = col;
+      entries.emplace_back(static_cast<int>(row), static_cast<int>(col), parse_real(value, lines));
+    }
+    location = b + 1;
+  }
+  if (location != nnz)
+    lines.fail("the listing holds " + std::to_string(location) + " entries, the size line says " +
+               std::to_string(nnz));
+
+  // q (2m values), then mu (m values); Siconos writes one line each, but only the order
+  // of the values matters here.
   std::vector<double> numbers;
-  do {
+  numbers.reserve(static_cast<std::size_t>(3 * m));
+  const auto expect = static_cast<std::size_t>(3 * m);
+  while (numbers.size() < expect) {
+    const bool in_q = numbers.size() < static_cast<std::size_t>(2 * m);
+    line = lines.get(in_q ? "q (" + std::to_string(2 * m) + " values, " +
+                                std::to_string(numbers.size()) + " read)"
+                          : "mu (" + std::to_string(m) + " values, " +
+                                std::to_string(numbers.size() - 2 * m) + " read)");
     std::istringstream s(line);
     std::string token;
-    while (s >> token) numbers.push_back(parse_real(token, lines));
-  } while (lines.next(line));
-  if (numbers.size() != static_cast<std::size_t>(3 * m))
-    lines.fail("expected " + std::to_string(3 * m) + " values for q and mu, found " +
-               std::to_string(numbers.size()));
+    while (s >> token) {
+      if (numbers.size() == expect) lines.fail("more values than the 3m = " +
+                                               std::to_string(expect) + " of q and mu");
+      numbers.push_back(parse_real(token, lines));
+      if (numbers.size() > static_cast<std::size_t>(2 * m) && numbers.back() < 0.0)
+        lines.fail("negative friction coefficient '" + token + "'");
+    }
+  }
+  if (lines.next(line)) lines.fail("unexpected content after mu: '" + line + "'");
 
   DelassusProblem p;
   p.W.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
   p.W.setFromTriplets(entries.begin(), entries.end());
   p.q = Eigen::Map<Eigen::VectorXd>(numbers.data(), 2 * m);
   p.mu = Eigen::Map<Eigen::VectorXd>(numbers.data() + 2 * m, m);
-  for (Eigen::Index a = 0; a < m; ++a)
-    if (!(p.mu[a] >= 0.0)) throw Error(path, "mu", "negative friction coefficient");
   return p;
 }
 

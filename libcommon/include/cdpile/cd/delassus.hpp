@@ -24,7 +24,10 @@ struct DelassusProblem {
 /// Reads a problem in the text format of Siconos' `frictionContact_printInFile` (2D):
 /// dimension, number of contacts, the matrix (storage code 2 = sparse, a CSparse
 /// `cs_print` listing in compressed columns), q, mu. Throws cdpile::Error naming the
-/// file and the line on any malformed or inconsistent content.
+/// file and the line on any malformed or inconsistent content: a truncated file, counts
+/// that disagree (matrix size against 2m, entries against the listed locations and nnz,
+/// 3m values for q and mu), a column out of sequence, a duplicate entry, a token that is
+/// not a finite number, a negative mu, or anything after mu.
 DelassusProblem read_siconos_fc2d(const std::string& path);
 
 /// Siconos' natural-map residual (fc2d_compute_error, physics.md 2.2):
