@@ -30,11 +30,6 @@ sim::DepositOptions small(std::uint64_t seed = 3, std::int64_t grains = 200) {
   return o;
 }
 
-const sim::Pile& settled_pile() {
-  static const sim::Pile p = sim::deposit(small());
-  return p;
-}
-
 /// Net force and torque on every grain from the contacts (force on i is +F, on j -F;
 /// the torque of F = f_n n + f_t t at the contact is -r f_t on both bodies, engine.cpp).
 struct Balance {
@@ -61,10 +56,7 @@ Balance balance(const Grains& g, const Contacts& c, double gravity) {
   return b;
 }
 
-}  // namespace
-
-TEST(Deposit, SettlesWithinTheStepCap) {
-  const sim::Pile& p = settled_pile();
+void settles_within_the_step_cap(const sim::Pile& p) {
   EXPECT_TRUE(p.settled);
   EXPECT_LT(p.steps, small().max_steps);
   // The rest criterion held at the end: the last rest_steps steps are all quiet.
@@ -80,8 +72,7 @@ TEST(Deposit, SettlesWithinTheStepCap) {
 // balance its weight. The imbalance is m dv / h, the velocity change of the last step;
 // at rest (Ek < 1e-6 N m g D) it is a small fraction of the weight. Stated tolerance:
 // 2 % of the grain's weight m g for the force, 2 % of m g r for the torque.
-TEST(Deposit, SettledGrainsBalanceForceAndTorque) {
-  const sim::Pile& p = settled_pile();
+void balances_force_and_torque(const sim::Pile& p) {
   const double g = small().settings.gravity;
   const Balance b = balance(p.grains, p.contacts, g);
   double worst_f = 0.0, worst_t = 0.0;
@@ -91,8 +82,6 @@ TEST(Deposit, SettledGrainsBalanceForceAndTorque) {
     worst_f = std::max(worst_f, b.force[i].norm() / w);
     worst_t = std::max(worst_t, std::abs(b.torque[i]) / (w * p.grains.radius[i]));
   }
-  RecordProperty("worst_force_imbalance", std::to_string(worst_f));
-  RecordProperty("worst_torque_imbalance", std::to_string(worst_t));
   std::printf("worst force imbalance %.3e m g, torque %.3e m g r\n", worst_f, worst_t);
   EXPECT_LT(worst_f, 0.02);
   EXPECT_LT(worst_t, 0.02);
@@ -100,8 +89,7 @@ TEST(Deposit, SettledGrainsBalanceForceAndTorque) {
 
 // The contact laws at the end of the settling: f_n >= 0, |f_t| <= mu f_n (to round-off:
 // the local solver puts a sliding contact on the cone exactly), overlaps below 1e-3 D.
-TEST(Deposit, ContactsObeyCoulombAndOverlapsAreSmall) {
-  const sim::Pile& p = settled_pile();
+void obeys_coulomb_with_small_overlaps(const sim::Pile& p) {
   const double D = small().diameter;
   const cd::Settings s = small().settings;
   double worst_overlap = 0.0;
@@ -127,8 +115,7 @@ TEST(Deposit, ContactsObeyCoulombAndOverlapsAreSmall) {
 // = 4.9e-5 m g D, and about 7 times the jitter the solver tolerance allows: velocity
 // errors of tol x the mean W_nn R_n (about 15 layers x g h here) move grains by h times
 // that, 1.5e-7 D per step. Restitution 0 and the gap treatment inject nothing else.
-TEST(Deposit, NoEnergyGainAtRest) {
-  const sim::Pile& p = settled_pile();
+void gains_no_energy_at_rest(const sim::Pile& p) {
   const cd::Settings s = small().settings;
   cd::Engine e(p.box, p.grains, s);
   // Warm start from the pile's last impulses, as tilt-cd does: the continuation is the
@@ -155,6 +142,30 @@ TEST(Deposit, NoEnergyGainAtRest) {
   std::printf("largest energy gain per step %.3e N m g D\n", worst_gain);
   EXPECT_LT(worst_gain, 1e-6);
   EXPECT_LE(previous, first);
+}
+
+}  // namespace
+
+// One settled pile of 200 grains (about 15 layers in a box 15 D wide), checked four ways;
+// one test, so the pile is settled once per test process.
+TEST(Deposit, SettledPileIsStaticAndObeysTheContactLaws) {
+  const sim::Pile p = sim::deposit(small());
+  {
+    SCOPED_TRACE("rest criterion");
+    settles_within_the_step_cap(p);
+  }
+  {
+    SCOPED_TRACE("force and torque balance");
+    balances_force_and_torque(p);
+  }
+  {
+    SCOPED_TRACE("Coulomb and overlaps");
+    obeys_coulomb_with_small_overlaps(p);
+  }
+  {
+    SCOPED_TRACE("energy at rest");
+    gains_no_energy_at_rest(p);
+  }
 }
 
 TEST(Deposit, PlacementHasNoOverlapAndStaysInTheBox) {
