@@ -36,7 +36,9 @@ static void usage(cli::Usage& u) {
       "maximum of nu in windows of --envelope-window degrees, averaged over runs and placed at "
       "the mean theta of the maxima; fitted by nu_c - B exp(-theta/tau) (Levenberg-Marquardt, "
       "weighted by the standard errors when every window has one; errors from the covariance "
-      "scaled by chi2/dof when above 1). nu_c is reported with its standard error.",
+      "scaled by chi2/dof when above 1). nu_c is reported with its standard error, and only "
+      "when the envelope saturates: tau shorter than the fitted range and 0 < nu_c <= 1 "
+      "(result envelope_saturates; otherwise a note says why there is no nu_c).",
       "The series behind the ensemble, envelope and events (--series): 'steps' uses a per-step "
       "critical count recorded by the simulator (observable critical_grain), 'frames' the "
       "frames' contacts with the eps rule, 'sliding' the per-step sliding count; 'auto' takes "

@@ -125,6 +125,37 @@ TEST(CriticalStudy, EnvelopeFitRecoversNuC) {
   EXPECT_LT(std::abs(*p.result("nu_c") - nu_c), 3 * *p.result("nu_c_se") + 0.002 * nu_c);
   EXPECT_GT(*p.result("envelope_tau_deg"), 2.0);
   EXPECT_LT(*p.result("envelope_tau_deg"), 6.0);
+  EXPECT_EQ(*p.result("envelope_saturates"), 1.0);
+}
+
+TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
+  // nu rising linearly to the end (a small pile tilted fast): an exponential fits it with
+  // tau far beyond the data, so the "limit" would be an extrapolation, not nu_c.
+  std::vector<RunRecord> runs;
+  for (int r = 0; r < 3; ++r) {
+    RunRecord run;
+    run.name = "r" + std::to_string(r);
+    run.free_grains = 300;
+    run.diameter = 1;
+    for (int k = 0; k <= 1500; ++k) {
+      const double th = 0.01 * k;
+      run.steps.step.push_back(k);
+      run.steps.theta.push_back(th);
+      run.steps.contacts.push_back(1000);
+      run.steps.critical.push_back(std::llround(1000 * 0.012 * th * (1.0 - 0.05 * ((k + r) % 7) / 7.0)));
+    }
+    runs.push_back(std::move(run));
+  }
+  CriticalOptions o;
+  o.step_table = false;
+  Product p = critical_study(runs, o);
+  EXPECT_FALSE(p.result("nu_c"));
+  EXPECT_FALSE(p.result("lambda_c_D"));
+  ASSERT_TRUE(p.result("envelope_saturates"));
+  EXPECT_EQ(*p.result("envelope_saturates"), 0.0);
+  ASSERT_FALSE(p.notes.empty());
+  EXPECT_NE(p.notes.back().find("envelope does not saturate in the fitted range"), std::string::npos)
+      << p.notes.back();
 }
 
 TEST(CriticalStudy, EmptyInputsGiveEmptyTables) {

@@ -7,6 +7,8 @@
 #include "cdpile/error.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 #include <cmath>
 #include <limits>
 
@@ -25,6 +27,13 @@ namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 constexpr double inf = std::numeric_limits<double>::infinity();
+
+/// Four significant digits, for notes read by people.
+std::string format_short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
 
 std::optional<double> ratio(std::int64_t a, std::int64_t b) {
   if (b <= 0) return std::nullopt;
@@ -371,7 +380,22 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     if (ft.size() >= 4) {
       try {
         EnvelopeFit ef = fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
-        if (ef.fit.converged) {
+        // The limit nu_c is determined only when the envelope bends over inside the fitted
+        // range: at least one relaxation length tau within it, and a limit that is a
+        // fraction. A near-linear envelope (a small or fast-tilted pile) fits with a huge
+        // tau and B, whose "limit" is an extrapolation far outside the data.
+        const double span = ft.back() - ft.front();
+        const bool saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span &&
+                               ef.nu_c() > 0.0 && ef.nu_c() <= 1.0;
+        if (ef.fit.converged) p.results["envelope_saturates"] = std::int64_t{saturates};
+        if (ef.fit.converged && !saturates) {
+          p.notes.push_back("envelope does not saturate in the fitted range [" +
+                            format_short(ft.front()) + ", " + format_short(ft.back()) +
+                            "] deg (tau = " + format_short(ef.tau()) +
+                            " deg, limit = " + format_short(ef.nu_c()) +
+                            "): nu_c is not determined");
+        }
+        if (saturates) {
           p.results["nu_c"] = ef.nu_c();
           if (auto e = ef.fit.se(0)) p.results["nu_c_se"] = *e;
           p.results["envelope_b"] = ef.b();
@@ -390,7 +414,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
           if (z_n > 0 && ef.nu_c() > 0)
             if (auto l = critical_spacing(z_sum / static_cast<double>(z_n), ef.nu_c(), 1.0))
               p.results["lambda_c_D"] = *l;
-        } else {
+        } else if (!ef.fit.converged) {
           p.notes.push_back("envelope fit did not converge: " + ef.fit.status);
         }
       } catch (const Error& e) {
