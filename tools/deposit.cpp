@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 using namespace cdpile;
@@ -98,7 +99,10 @@ static void run(const cli::Args& a) {
   };
   const sim::Pile pile = sim::deposit(o, progress, [] { return cli::interrupted(); });
   if (show) std::fprintf(stderr, "\n");
-  if (cli::interrupted()) throw Error("interrupted at step " + std::to_string(pile.steps) + "; no pile written");
+  if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130
+    std::cerr << cli::tool_name() << ": interrupted at step " << pile.steps << "; no pile written" << std::endl;
+    std::exit(130);
+  }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!pile.settled)
     cli::warn("not at rest after " + std::to_string(pile.steps) + " steps (--max-steps); written with settled = 0");

@@ -121,7 +121,6 @@ static void run(const cli::Args& a) {
   const auto t0 = std::chrono::steady_clock::now();
   auto last_print = t0;
   std::int64_t first = -1, last_step_seen = 0;
-  double rate_deg = 0.0;
   sim::TiltHooks hooks;
   hooks.stop = [] { return cli::interrupted(); };
   hooks.progress = [&](const sim::TiltProgress& p) {
@@ -139,7 +138,6 @@ static void run(const cli::Args& a) {
     std::fprintf(stderr, "\r%s: %.3f deg  step %lld  %.0f steps/s  Ek/(Np m g D) %.1e  %s%s   ",
                  cli::tool_name().c_str(), p.angle_deg, static_cast<long long>(p.step), sps, p.agitation,
                  p.avalanche ? "avalanche confirmed, " : "", left);
-    (void)rate_deg;
   };
 
   sim::TiltOutcome outcome;
