@@ -179,16 +179,18 @@ void append_pending(io::RunWriter& w, const Pending& p) {
   if (p.rows.size() > 0) w.append_series(p.rows);
 }
 
-/// Removes temporaries left beside the partial by a process killed during a checkpoint.
-void remove_stale_temporaries(const std::string& partial) {
+/// Removes temporaries left by a process killed while writing a checkpoint
+/// (.OUTPUT.partial.tmp-*) or the final file (.OUTPUT.tmp-*).
+void remove_stale_temporaries(const std::string& output) {
   namespace fs = std::filesystem;
-  const fs::path p(partial);
+  const fs::path p(output);
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  const std::string prefix = "." + p.filename().string() + ".tmp-";
+  const std::string a = "." + p.filename().string() + ".tmp-";
+  const std::string b = "." + p.filename().string() + ".partial.tmp-";
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) == 0) fs::remove(entry.path(), ec);
+    if (name.rfind(a, 0) == 0 || name.rfind(b, 0) == 0) fs::remove(entry.path(), ec);
   }
 }
 
@@ -199,7 +201,7 @@ class FileRecorder : public Recorder {
 
   /// Starts the partial: header, grains, frame 0 and the checkpoint of step 0.
   void start(const io::RunHeader& h, const Grains& g, Pending& p, const cd::Engine& e, const LoopState& s) {
-    remove_stale_temporaries(partial_);
+    remove_stale_temporaries(output_);
     const std::string tmp = io::make_temporary_beside(partial_);
     {
       h5::File f = h5::create(tmp, partial_);
@@ -520,7 +522,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
   const std::string partial = partial_path(output);
   std::error_code ec;
   if (!std::filesystem::exists(partial, ec)) throw Error(partial, "", "no partial run to resume");
-  remove_stale_temporaries(partial);
+  remove_stale_temporaries(output);
   Restored rs;
   Box box;
   {
