@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Deposits the settled piles bench_engine tilts: N = 500, 1000, 4000 and 16000 free
+# grains in boxes 15, 30, 120 and 480 mean diameters wide (seed 1, every other option at
+# the deposit tool's default). All have the depth of the paper's pile (4000 grains,
+# 120 D: about 34 D); only the width grows with N. Existing piles are kept.
+#
+# Usage: benchmarks/make_piles.sh [DIR]   (DIR: default ./bench-piles)
+# The deposit tool is taken from $CDPILE_BIN (default: build/bin beside this script).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+bin=${CDPILE_BIN:-$here/../build/bin}
+dir=${1:-bench-piles}
+[[ -x $bin/deposit ]] || { echo "make_piles.sh: no $bin/deposit (set CDPILE_BIN)" >&2; exit 1; }
+mkdir -p "$dir"
+for spec in 500:15 1000:30 4000:120 16000:480; do
+  n=${spec%:*} width=${spec#*:}
+  out=$dir/pile_$n.h5
+  if [[ -e $out ]]; then echo "$out: exists, kept"; continue; fi
+  start=$(date +%s.%N)
+  "$bin/deposit" --grains "$n" --width "$width" --seed 1 --quiet -o "$out"
+  end=$(date +%s.%N)
+  printf '%s: %s grains, width %s D, deposited in %.1f s\n' "$out" "$n" "$width" \
+    "$(echo "$end - $start" | bc)"
+done
