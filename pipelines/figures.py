@@ -4,12 +4,13 @@ analysis products (HDF5, docs/analysis.md "Formats"), as PNG and PDF.
 
     pipelines/figures.py STUDY_DIR [-o FIG_DIR]
 
-STUDY_DIR holds critical.h5, localnu.h5, correlate.h5, clusterfit.h5 and the two map
-products map-05.h5 and map-16.h5 (pipelines/study.mk makes them). A figure whose product
+STUDY_DIR holds critical.h5, localnu.h5, correlate.h5, clusterfit.h5 and the map
+products map-*.h5 (pipelines/Makefile makes them; the paper shows 5 and 16 degrees). A figure whose product
 is missing is skipped with a message; each figure says how many runs it is made of.
 Needs python3-matplotlib, python3-h5py and python3-numpy (Debian).
 """
 import argparse
+import glob
 import os
 import sys
 
@@ -275,7 +276,10 @@ def main():
         fig3(loc, out)
     if cor is not None:
         fig4(cor, fit, out)
-    fig5([(n, load(a.study, n)) for n in ("map-05.h5", "map-16.h5")], out)
+    maps = sorted(glob.glob(os.path.join(a.study, "map-*.h5")))
+    if not maps:
+        print(f"figures.py: {a.study}: no map-*.h5, Fig 5 is skipped", file=sys.stderr)
+    fig5([(os.path.basename(m), Product(m)) for m in maps], out)
     if fit is not None:
         fig6(fit, out)
 
