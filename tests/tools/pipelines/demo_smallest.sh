@@ -9,6 +9,7 @@ done
 for fig in fig1a_nu fig1b_ek fig1c_envelope fig2_events fig3_pdf fig4a_nubar fig5_maps fig6_rc; do
   for ext in png pdf; do [[ -s $study/figures/$fig.$ext ]] || { echo "missing $fig.$ext" >&2; exit 1; }; done
 done
+grep -q '^| theta_c (deg) | about 20 (19.96) | ' "$study/report.md"
 "$PY" - "$study" <<'PY'
 import h5py, sys
 s = sys.argv[1]
