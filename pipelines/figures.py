@@ -30,6 +30,8 @@ class Product:
         with h5py.File(path, "r") as f:
             self.results = {k: _scalar(v) for k, v in f["results"].attrs.items()} if "results" in f else {}
             self.parameters = {k: _scalar(v) for k, v in f["parameters"].attrs.items()} if "parameters" in f else {}
+            notes = f["tables"].attrs.get("notes", []) if "tables" in f else []
+            self.notes = [_text(n) for n in np.atleast_1d(notes)]
             self.tables = {}
             for name, group in f["tables"].items():
                 cols = {}
@@ -74,6 +76,7 @@ def load(study, name):
 
 
 def save(fig, out, name):
+    fig.tight_layout()
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=110 if ext == "png" else None)
     plt.close(fig)
@@ -125,6 +128,9 @@ def fig1(crit, out):
     if np.any(np.isfinite(fit)):
         ax.plot(env["theta"], fit, color="C3",
                 label=r"$\nu_c - B e^{-\theta/\tau}$")
+    if "nu_c" not in crit.results and any("does not saturate" in n for n in crit.notes):
+        ax.text(0.97, 0.03, "the envelope does not saturate: no $\\nu_c$", transform=ax.transAxes, ha="right",
+                fontsize=8)
     if "nu_c" in crit.results:
         se = crit.results.get("nu_c_se", float("nan"))
         ax.axhline(crit.results["nu_c"], ls="--", color="C3", lw=0.8,
@@ -240,6 +246,11 @@ def fig6(fit, out):
     f = fit.table("fits")
     ok = np.isfinite(f["r_c"])
     fig, ax = plt.subplots(figsize=(5, 4))
+    if not ok.any():
+        # r_c needs nu_c (eq 5); say why the figure is empty rather than draw blank axes
+        why = "no nu_c: the envelope of Fig 1c does not saturate" if "nu_c" not in fit.results else \
+            "r_c undefined in every window (nu_inf >= nu_c)"
+        ax.text(0.5, 0.5, why, ha="center", va="center", transform=ax.transAxes, fontsize=9, wrap=True)
     ax.errorbar(f["theta"][ok], f["r_c"][ok], yerr=np.nan_to_num(f["r_c_se"][ok]), fmt="o", ms=3, color="k")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$r_c$ (D)")
