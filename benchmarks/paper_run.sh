@@ -42,7 +42,7 @@ read -r _ tilt_wall tilt_cpu tilt_rss < "$work/tilt.time"
 echo
 echo "deposit: $(attr "$pile" settle_steps) steps, wall $dep_wall s, CPU $dep_cpu s, peak RSS $dep_rss kB"
 echo "tilt-cd: $(attr "$run" steps) steps to $(attr "$run" final_angle_deg) deg," \
-     "avalanche at $(attr "$run" avalanche_angle_deg) deg ($(attr "$run" stop_reason))," \
+     "avalanche angle (deg): $(attr "$run" avalanche_angle_deg), stop: $(attr "$run" stop_reason)," \
      "$(attr "$run" unconverged_steps) unconverged steps"
 echo "tilt-cd: wall $tilt_wall s, CPU $tilt_cpu s, peak RSS $tilt_rss kB"
 echo "total wall: $(echo "$dep_wall + $tilt_wall" | bc) s"
