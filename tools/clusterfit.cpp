@@ -38,7 +38,8 @@ static void usage(cli::Usage& u) {
       "[--power-from, --power-to] (default from 15 deg, the paper's range), weighted by "
       "se(r_c)/r_c. theta_c is fitted, kept above the largest theta (as theta_max + exp(s)), unless "
       "--theta-c gives it; beta and theta_c get standard errors from the covariance (the delta "
-      "method for theta_c). It needs 4 windows (3 with --theta-c).",
+      "method for theta_c). It needs 4 windows (3 with --theta-c). A fitted theta_c that runs onto "
+      "the last angle is a boundary solution: no beta, result power_degenerate = 1 and a note.",
       "Output: TSV on standard output by default (tables fits, model, affine; beta, theta_c_deg "
       "and their se as '# result' lines), or an HDF5 product with -o. A window that cannot be "
       "fitted has converged = 0 and NA values; with nothing to fit the tables are empty and a "

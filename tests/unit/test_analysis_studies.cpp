@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 using namespace cdpile;
@@ -269,8 +270,15 @@ TEST(Correlate, PoolsFramesAndRunsByHand) {
 namespace {
 // A correlate product whose nu_bar follows eq (4) exactly, with A(theta) and alpha(theta)
 // affine and nu_inf(theta) chosen so that r_c = C (theta_c - theta)^-beta (eq 5).
+Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of, double noise,
+                               unsigned seed);
 Product synthetic_correlate(double nu_c, double theta_c, double beta, double c, double noise,
                             unsigned seed) {
+  return synthetic_correlate_rc(nu_c, [=](double th) { return c * std::pow(theta_c - th, -beta); }, noise,
+                                seed);
+}
+Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of, double noise,
+                               unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   Product p;
@@ -280,7 +288,7 @@ Product synthetic_correlate(double nu_c, double theta_c, double beta, double c, 
     w.add_column(n, "");
   for (double th = 2.0; th <= 19.0 + 1e-9; th += 1.0) {
     const double a = 1.0 + 0.05 * th, alpha = -1.8 + 0.02 * th;
-    const double rc = c * std::pow(theta_c - th, -beta);
+    const double rc = rc_of(th);
     const double q = a * std::pow(rc, alpha);  // nu_c/nu_inf - 1
     const double nu_inf = nu_c / (1.0 + q);
     for (double r = 1.0; r <= 20.0; r += 1.0) {
@@ -331,6 +339,26 @@ TEST(ClusterFit, RecoversAAlphaAndTheDivergence) {
   Product q = clusterfit(cor, nullptr, o);
   EXPECT_LT(std::abs(*q.result("beta") - beta), 3 * *q.result("beta_se"));
   EXPECT_EQ(std::get<std::int64_t>(q.results.at("theta_c_fitted")), 0);
+}
+
+TEST(ClusterFit, ThetaCOnTheLastAngleIsDegenerateNotABeta) {
+  // r_c that fluctuates without growing over the power range (as in one noisy run): the
+  // fit drives theta_c onto the last window, where any beta "fits"; no beta is reported.
+  const double rcs[] = {3.377, 2.345, 4.243, 2.385};
+  auto rc_of = [&](double th) { return th < 15.0 ? 2.0 : rcs[static_cast<int>(th) - 15]; };
+  Product cor = synthetic_correlate_rc(0.08, rc_of, 0.0, 1);
+  ClusterFitOptions o;
+  o.nu_c = 0.08;
+  o.power = {15.0, 18.5};
+  Product p = clusterfit(cor, nullptr, o);
+  EXPECT_FALSE(p.result("beta"));
+  ASSERT_TRUE(p.result("power_degenerate"));
+  EXPECT_EQ(*p.result("power_degenerate"), 1.0);
+  // the same windows with theta_c given: an ordinary fit of beta
+  o.theta_c = 20.0;
+  Product q = clusterfit(cor, nullptr, o);
+  EXPECT_TRUE(q.result("beta"));
+  EXPECT_FALSE(q.result("power_degenerate"));
 }
 
 TEST(ClusterFit, NuInfFromTheCriticalEnsemble) {

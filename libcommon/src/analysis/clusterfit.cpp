@@ -344,7 +344,19 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
     try {
       DivergenceFit d = fit_divergence(pth, prc, p_w ? std::span<const double>(pse) : std::span<const double>(),
                                        opt.theta_c);
-      if (d.fit.converged) {
+      // A fitted theta_c that runs onto the last angle of the range is a boundary solution,
+      // not a divergence: r_c does not grow toward any theta_c in the data, and the fit
+      // sends (theta_c - theta_max) to zero, with a meaningless beta and a vanishing error.
+      const double theta_max = *std::max_element(pth.begin(), pth.end());
+      const double theta_min = *std::min_element(pth.begin(), pth.end());
+      const bool degenerate = d.fit.converged && d.theta_c_fitted &&
+                              d.theta_c - theta_max <= 1e-6 * (theta_max - theta_min);
+      if (degenerate) {
+        p.results["power_degenerate"] = std::int64_t{1};
+        p.notes.push_back("power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
+                          "power range (r_c does not grow toward a theta_c in these windows); no beta. "
+                          "Give --theta-c, or more runs or a wider --power-from range");
+      } else if (d.fit.converged) {
         p.results["beta"] = d.beta;
         if (d.se_beta) p.results["beta_se"] = *d.se_beta;
         p.results["theta_c_deg"] = d.theta_c;
@@ -360,7 +372,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
           fits.column("in_power").num[prow[k]] = 1.0;
           fits.column("r_c_fit").num[prow[k]] = std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
         }
-      } else {
+      } else if (!d.fit.converged) {
         p.notes.push_back("power-law fit did not converge: " + d.fit.status);
       }
     } catch (const Error& e) {
