@@ -2,6 +2,7 @@
 // fits of A(theta) and alpha(theta), the cluster size r_c(theta) of eq (5) and its
 // power-law divergence r_c ~ (theta_c - theta)^-beta (Fig 6).
 #include "cdpile/analysis/studies.hpp"
+#include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/products.hpp"
 
@@ -45,9 +46,7 @@ static void usage(cli::Usage& u) {
       "fitted has converged = 0 and NA values; with nothing to fit the tables are empty and a "
       "note says why: a documented empty result, never NaN."};
   u.argument("correlate", "correlate product (TSV or HDF5; '-' for standard input)");
-  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
-  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_opt("table", "write only these tables to TSV (comma-separated: fits, model, affine)");
+  cli::declare_product_output(u, "fits, model, affine");
   u.group("Cluster law (eq 4)");
   u.text_opt("nu", "critical product (TSV or HDF5): ensemble nu(theta) for nu_inf, and nu_c");
   u.text("nu-inf", "auto", "nu_inf(theta) of eq (4)", {"auto", "ensemble", "pile", "fit"});
@@ -122,7 +121,7 @@ static void run(const cli::Args& a) {
     throw Error(in.name(), "", what);
   }
   cor.provenance.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
-  io::emit(p, cor.provenance, a.output(), a.force(), io::parse_format(a.text("format")), cli::split_list(a.text("table")));
+  cli::emit_product(a, p, cor.provenance);
 }
 
 CDPILE_TOOL(usage, run)

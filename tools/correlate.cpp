@@ -2,6 +2,7 @@
 // Staron, Vilotte & Radjai 2002), per frame and pooled in theta windows over frames and
 // runs (Fig 4a, 4b).
 #include "cdpile/analysis/studies.hpp"
+#include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/products.hpp"
 
@@ -34,9 +35,7 @@ static void usage(cli::Usage& u) {
       "Output: TSV on standard output by default (for gnuplot and awk), an HDF5 product with -o "
       "FILE (-o - for a pipe into clusterfit)."};
   u.argument("localnu", "localnu product (TSV or HDF5; '-' for standard input)");
-  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
-  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_opt("table", "write only these tables to TSV (comma-separated: frames, windows)");
+  cli::declare_product_output(u, "frames, windows");
   u.flag("no-frames", "leave the per-frame table out");
   u.group("Windows");
   u.real("window", 1.0, "width w of the theta windows", "deg", 1e-9, 360);
@@ -72,7 +71,7 @@ static void run(const cli::Args& a) {
     throw Error(in.name(), "", e.what());
   }
   f.provenance.push_back(io::provenance_now(a.tool(), a.command_line(), in.name()));
-  io::emit(p, f.provenance, a.output(), a.force(), io::parse_format(a.text("format")), only);
+  cli::emit_product(a, p, f.provenance);
 }
 
 CDPILE_TOOL(usage, run)

@@ -2,6 +2,7 @@
 // z and lambda (eq 2), rearrangement events (Fig 2), the ensemble mean over runs (inset
 // of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
 #include "cdpile/analysis/studies.hpp"
+#include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
@@ -54,16 +55,9 @@ static void usage(cli::Usage& u) {
       ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
       "from one run) are NA, never NaN. docs/tools/critical.md and docs/analysis.md say more."};
   u.argument("runs", "tilt run files (HDF5; '-' for standard input)", true, true);
-  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
-  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_opt("table", "write only these tables to TSV (comma-separated: runs, steps, frames, events, ensemble, envelope)");
+  cli::declare_product_output(u, "runs, steps, frames, events, ensemble, envelope");
   u.flag("no-steps", "leave the per-step table out");
-  u.group("Critical contacts");
-  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
-  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain)", "", 1e-12, 1e6);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)", "", 1e-12, 1e6);
-  u.flag("walls", "count contacts with walls (and glued floor grains)");
-  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as", {"wall", "grain"});
+  cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
   u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
   u.group("Series, ensemble and envelope");
   u.text("series", "auto", "nu(theta) series of the ensemble, envelope and events", {"auto", "steps", "frames", "sliding"});
@@ -87,9 +81,7 @@ static void usage(cli::Usage& u) {
 
 static void run(const cli::Args& a) {
   analysis::CriticalOptions opt;
-  opt.rule.eps = a.real("eps");
-  opt.rule.include_walls = a.flag("walls");
-  opt.rule.floor_grains_are_walls = a.text("floor-grains") == "wall";
+  opt.rule = cli::critical_rule(a);
   opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude : analysis::RattlerRule::include;
   const std::string& series = a.text("series");
   opt.source = series == "steps"    ? analysis::SeriesSource::steps
@@ -127,7 +119,7 @@ static void run(const cli::Args& a) {
     if (history.empty()) history = rr.header().provenance;
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu =
-        io::choose_friction(&rr.header(), {a.real_opt("mu"), a.real_opt("mu-wall")}, in.name());
+        io::choose_friction(&rr.header(), cli::friction_choice(a), in.name());
     analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
@@ -135,7 +127,7 @@ static void run(const cli::Args& a) {
   }
   analysis::Product p = analysis::critical_study(runs, opt);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
-  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), only);
+  cli::emit_product(a, p, history);
 }
 
 CDPILE_TOOL(usage, run)

@@ -2,6 +2,7 @@
 // 2002 on a disk of radius r), its sums over critical contacts per frame (for eq 3), the
 // pdfs P_c and P_nc of nu_i(6D) (Fig 3) and the nu field on a grid (Fig 5).
 #include "cdpile/analysis/studies.hpp"
+#include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
@@ -51,15 +52,8 @@ static void usage(cli::Usage& u) {
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "
       "without critical contacts give NA, never NaN."};
   u.argument("inputs", "tilt runs (HDF5) or contact tables (TSV/CSV); '-' for standard input", true, true);
-  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
-  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_opt("table", "write only these tables to TSV (comma-separated: frames, states, pdf, map, contacts)");
-  u.group("Critical contacts");
-  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
-  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain; required for a table)", "", 1e-12, 1e6);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)", "", 1e-12, 1e6);
-  u.flag("walls", "count contacts with walls (and glued floor grains)");
-  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as", {"wall", "grain"});
+  cli::declare_product_output(u, "frames, states, pdf, map, contacts");
+  cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain; required for a table)");
   u.group("Local state");
   u.real_list("radii", "1:1:20", "radii r of the neighbourhoods (a list, or FIRST:STEP:LAST)", "D", 1e-6, 1e6);
   u.flag("exclude-self", "leave contact i out of its own neighbourhood");
@@ -114,10 +108,8 @@ static void run(const cli::Args& a) {
   if (a.given("nu") && a.given("nu-c")) throw UsageError("--nu and --nu-c exclude each other");
 
   io::LocalNuReading rd;
-  rd.mu = {a.real_opt("mu"), a.real_opt("mu-wall")};
-  rd.rule.eps = a.real("eps");
-  rd.rule.include_walls = a.flag("walls");
-  rd.rule.floor_grains_are_walls = a.text("floor-grains") == "wall";
+  rd.mu = cli::friction_choice(a);
+  rd.rule = cli::critical_rule(a);
   rd.diameter = a.real_opt("diameter");
   rd.avalanche.threshold = a.real("avalanche-ek");
   rd.avalanche.hold = a.real("avalanche-hold");
@@ -166,7 +158,7 @@ static void run(const cli::Args& a) {
   if (rd.diameter) p.parameters["diameter"] = *rd.diameter;
   for (auto& [key, v] : per_input) p.results[key] = v;
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
-  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), cli::split_list(a.text("table")));
+  cli::emit_product(a, p, history);
 }
 
 CDPILE_TOOL(usage, run)

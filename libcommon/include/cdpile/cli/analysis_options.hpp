@@ -1,0 +1,33 @@
+/// Options shared by the analysis tools, declared and read in one place so that critical,
+/// localnu, correlate and clusterfit spell and document them the same way.
+#pragma once
+
+#include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/table.hpp"
+#include "cdpile/cli/command.hpp"
+#include "cdpile/io/analysis_input.hpp"
+#include "cdpile/io/schema.hpp"
+
+#include <string>
+#include <vector>
+
+namespace cdpile::cli {
+
+/// -o, --format and --table of a product: TSV on standard output by default, HDF5 with
+/// -o FILE (TSV if FILE ends in .tsv). `tables` lists the product's tables, for --help.
+void declare_product_output(Usage& u, const std::string& tables);
+
+/// Writes the product where the options of declare_product_output say (io::emit).
+void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history);
+
+/// The "Critical contacts" group: --eps, --mu, --mu-wall, --walls, --floor-grains.
+/// `mu_help` is --mu's help (what the default is for this tool's inputs).
+void declare_critical_rule(Usage& u, const std::string& mu_help);
+
+/// The rule of declare_critical_rule's options.
+analysis::CriticalRule critical_rule(const Args& a);
+
+/// --mu and --mu-wall as given (empty when not given), for io::choose_friction.
+io::FrictionChoice friction_choice(const Args& a);
+
+}  // namespace cdpile::cli

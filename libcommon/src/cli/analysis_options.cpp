@@ -1,0 +1,36 @@
+#include "cdpile/cli/analysis_options.hpp"
+
+#include "cdpile/io/products.hpp"
+
+namespace cdpile::cli {
+
+void declare_product_output(Usage& u, const std::string& tables) {
+  u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
+  u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
+  u.text_opt("table", "write only these tables to TSV (comma-separated: " + tables + ")");
+}
+
+void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history) {
+  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), split_list(a.text("table")));
+}
+
+void declare_critical_rule(Usage& u, const std::string& mu_help) {
+  u.group("Critical contacts");
+  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
+  u.real_opt("mu", mu_help, "", 1e-12, 1e6);
+  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)", "", 1e-12, 1e6);
+  u.flag("walls", "count contacts with walls (and glued floor grains)");
+  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as", {"wall", "grain"});
+}
+
+analysis::CriticalRule critical_rule(const Args& a) {
+  analysis::CriticalRule r;
+  r.eps = a.real("eps");
+  r.include_walls = a.flag("walls");
+  r.floor_grains_are_walls = a.text("floor-grains") == "wall";
+  return r;
+}
+
+io::FrictionChoice friction_choice(const Args& a) { return {a.real_opt("mu"), a.real_opt("mu-wall")}; }
+
+}  // namespace cdpile::cli
