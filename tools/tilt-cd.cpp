@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 using namespace cdpile;
 
@@ -123,12 +124,10 @@ static void run(const cli::Args& a) {
   std::int64_t first = -1, last_step_seen = 0;
   sim::TiltHooks hooks;
   hooks.stop = [] { return cli::interrupted(); };
-  hooks.progress = [&](const sim::TiltProgress& p) {
-    if (first < 0) first = p.step - 1;
-    last_step_seen = p.step;
-    if (!show) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_print).count() < 0.5) return;
+  // The progress line is rewritten at most twice a second, and once more at the end, so
+  // even a run shorter than that shows where it stopped.
+  std::optional<sim::TiltProgress> latest;
+  auto print = [&](const sim::TiltProgress& p, std::chrono::steady_clock::time_point now) {
     last_print = now;
     const double secs = std::chrono::duration<double>(now - t0).count();
     const double sps = static_cast<double>(p.step - first) / std::max(secs, 1e-9);
@@ -138,6 +137,15 @@ static void run(const cli::Args& a) {
     std::fprintf(stderr, "\r%s: %.3f deg  step %lld  %.0f steps/s  Ek/(Np m g D) %.1e  %s%s   ",
                  cli::tool_name().c_str(), p.angle_deg, static_cast<long long>(p.step), sps, p.agitation,
                  p.avalanche ? "avalanche confirmed, " : "", left);
+  };
+  hooks.progress = [&](const sim::TiltProgress& p) {
+    if (first < 0) first = p.step - 1;
+    last_step_seen = p.step;
+    if (!show) return;
+    latest = p;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_print).count() < 0.5) return;
+    print(p, now);
   };
 
   sim::TiltOutcome outcome;
@@ -152,6 +160,7 @@ static void run(const cli::Args& a) {
     const sim::TiltOptions o = options(a, pile);
     outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
   }
+  if (show && latest) print(*latest, std::chrono::steady_clock::now());
   if (show) std::fprintf(stderr, "\n");
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double sps = static_cast<double>(outcome.steps - outcome.first_step) / std::max(secs, 1e-9);
