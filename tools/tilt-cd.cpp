@@ -34,6 +34,12 @@ static void usage(cli::Usage& u) {
       "m g D, m the mean mass and D the mean diameter of the free grains) reaches --avalanche-energy "
       "and stays at or above it for --avalanche-hold degrees of tilt; the avalanche angle "
       "results/avalanche_angle_deg is the tilt where that sustained interval began.",
+      "Branches: with --branch-at the input is a run made by tilt-cd, and the new run starts from "
+      "the state of its last frame at or below that tilt (positions, velocities, rotations, contact "
+      "forces as the warm start), tilting on from the frame's tilt with this invocation's options: "
+      "another solver tolerance, frames every step over an interesting window, another rate. With the "
+      "run's own options a branch repeats the run's next steps up to the rounding of impulse = force x h. "
+      "The branch records branch_step and branch_tilt_deg in /parameters.",
       "Checkpoints: a run to a file is kept in OUTPUT.partial, a valid run file with a /checkpoint "
       "group, rewritten every --checkpoint-every steps by an atomic rename, so a kill at any moment "
       "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
@@ -47,11 +53,12 @@ static void usage(cli::Usage& u) {
       "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps). Results: steps, final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
       "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle)."};
-  u.argument("pile", "pile file made by deposit ('-' for standard input)");
+  u.argument("pile", "pile file made by deposit, or with --branch-at a run made by tilt-cd ('-' for standard input)");
   u.output("output run file ('-' for standard output, without checkpoints)");
   u.group("Tilt");
   u.real("rate", 0.001, "tilt per time step", "deg", 1e-12, 90.0);
   u.real("from", 0.0, "tilt at the start", "deg", -90.0, 90.0);
+  u.real_opt("branch-at", "the input is a run: start from its last frame at or below this tilt (--from is that frame's tilt)", "deg", -90.0, 90.0);
   u.real_opt("to", "run to this tilt, avalanche or not (default: the avalanche plus --margin)", "deg", -90.0, 90.0);
   u.real("max-angle", 90.0, "without --to, stop here if no avalanche is detected", "deg", -90.0, 90.0);
   u.real("margin", 1.0, "keep tilting this much after the avalanche is confirmed", "deg", 0.0, 180.0);
@@ -72,6 +79,8 @@ static void usage(cli::Usage& u) {
             "0.001 degree per step until the avalanche plus 1 degree; prints the avalanche angle");
   u.example("Through a pipe, to a fixed angle", "deposit --grains 200 -o - | tilt-cd - --to 2 -o run.h5",
             "the small pile is tilted to 2 degrees");
+  u.example("A branch with a tighter solver", "tilt-cd run.h5 --branch-at 6 --to 7 --tolerance 1e-6 --frame-every 10 -o tight.h5",
+            "restarts from the run's frame at 6 degrees and tilts to 7 degrees, a frame every 10 steps");
   u.example("After a crash or Ctrl-C", "tilt-cd pile.h5 -o run.h5 --resume",
             "continues from run.h5.partial; the same options as the first invocation");
 }
@@ -88,7 +97,7 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   o.settings.mu_grain = a.real_opt("mu-grain").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
   o.rate_deg = a.real("rate");
-  o.from_deg = a.real("from");
+  o.from_deg = pile.branch ? pile.branch->tilt_deg : a.real("from");
   o.to_deg = a.real_opt("to");
   o.max_deg = a.real("max-angle");
   o.margin_deg = a.real("margin");
@@ -107,6 +116,8 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
 static void run(const cli::Args& a) {
   const std::string output = a.output();
   if (output.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
+  if (a.given("branch-at") && a.given("from"))
+    throw UsageError("give --from or --branch-at, not both (a branch starts at its frame's tilt)");
   const bool resume = a.flag("resume");
   if (resume && output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
   std::error_code ec;
@@ -150,13 +161,22 @@ static void run(const cli::Args& a) {
 
   sim::TiltOutcome outcome;
   if (resume && has_partial) {
-    const sim::PileInput partial = sim::read_partial(output);
+    sim::PileInput partial = sim::read_partial(output);
+    if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
+      partial.branch = sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
     const sim::TiltOptions o = options(a, partial);
     outcome = sim::resume_tilt(o, output, a.force(), hooks);
   } else {
     if (resume) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
     const io::Input in(a.argument("pile"));
-    const sim::PileInput pile = sim::read_pile(in.hdf5());
+    const auto branch_at = a.real_opt("branch-at");
+    const sim::PileInput pile = branch_at ? sim::read_branch(in.hdf5(), *branch_at) : sim::read_pile(in.hdf5());
+    if (pile.branch) {
+      char what[160];
+      std::snprintf(what, sizeof what, ": branching from the frame of step %lld at %.6g deg",
+                    static_cast<long long>(pile.branch->step), pile.branch->tilt_deg);
+      cli::info(in.name() + what);
+    }
     const sim::TiltOptions o = options(a, pile);
     outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
   }

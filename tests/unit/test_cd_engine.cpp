@@ -177,6 +177,28 @@ TEST(Column, ContactUnderTheNthDiskCarriesNmg) {
   }
 }
 
+// Hitting the sweep cap is reported, never silent: a column of 10 disks starting from
+// rest without a warm start needs its weight carried down 10 contacts, which 3 sweeps
+// cannot do; the report says so (converged false, the cap's sweeps, the residual above
+// the tolerance), and with the cap lifted the same step converges.
+TEST(Column, HittingTheSweepCapIsReported) {
+  Grains g;
+  for (int n = 0; n < 10; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  cd::Settings s = settings();
+  s.max_sweeps = 3;
+  cd::Engine capped(Box{0.02, 0.02}, g, s);
+  const cd::StepReport rep = capped.step(0.0);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(rep.sweeps, 3);
+  EXPECT_GT(rep.residual, s.tolerance);
+  s.max_sweeps = 2000;
+  cd::Engine free(Box{0.02, 0.02}, g, s);
+  const cd::StepReport ok = free.step(0.0);
+  EXPECT_TRUE(ok.converged);
+  EXPECT_GT(ok.sweeps, 3);
+  EXPECT_LE(ok.residual, s.tolerance);
+}
+
 // --- collisions with restitution 0 -----------------------------------------------
 
 TEST(Collision, HeadOnGivesACommonVelocity) {

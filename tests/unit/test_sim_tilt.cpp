@@ -241,3 +241,82 @@ TEST(Tilt, NotAPileAndBadOptionsAreRefused) {
   bad([](sim::TiltOptions& o) { o.settings.tolerance = 0.0; });
   EXPECT_FALSE(fs::exists(s / "other.h5"));
 }
+
+// A branch from a frame of a run, with the run's own options, repeats the run's next
+// steps: the same contacts, critical counts and sweeps, and kinetic energies equal up to
+// the rounding of impulse = force x h in the warm start.
+TEST(Tilt, BranchFromAFrameRepeatsTheRun) {
+  Scratch s;
+  const auto prov = io::provenance_now("test", "", "");
+  sim::run_tilt(pile(), short_run(), s / "run.h5", false, prov);
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run.h5");
+  // 0.1 degree lies between the frames of steps 40 (0.08 deg) and 60 (0.12 deg).
+  const sim::PileInput b = sim::read_branch(f, 0.1);
+  ASSERT_TRUE(b.branch);
+  EXPECT_EQ(b.branch->step, 40);
+  EXPECT_NEAR(b.branch->tilt_deg, 0.08, 1e-12);
+  EXPECT_EQ(sim::read_branch(f, 0.12).branch->step, 60);  // a frame exactly at the angle
+  auto o = short_run();
+  o.from_deg = b.branch->tilt_deg;
+  sim::run_tilt(b, o, s / "branch.h5", false, prov);
+
+  io::h5::File fa = io::h5::open_read(s / "run.h5", "run"), fb = io::h5::open_read(s / "branch.h5", "branch");
+  io::RunReader ra(fa), rb(fb);
+  EXPECT_EQ(io::as_int(rb.header().parameters, "branch_step", "branch"), 40);
+  const io::Series sa = ra.series(), sb = rb.series();
+  ASSERT_EQ(sb.size(), 110u);  // 0.08 to 0.3 degree at 0.002 per step
+  for (std::size_t k = 0; k < sb.size(); ++k) {
+    const std::size_t ka = k + 40;
+    EXPECT_NEAR(sb.real.at("tilt_angle")[k], sa.real.at("tilt_angle")[ka], 1e-12);
+    for (const char* key : {"contacts", "contacts_grain", "critical", "critical_grain", "sliding", "sweeps"})
+      EXPECT_EQ(sb.integer.at(key)[k], sa.integer.at(key)[ka]) << key << " at branch step " << k;
+    const double ea = sa.real.at("kinetic_energy")[ka], eb = sb.real.at("kinetic_energy")[k];
+    EXPECT_NEAR(eb, ea, 1e-6 * ea + 1e-300) << k;
+  }
+  // A pile is not a run to branch from, and a branch needs a frame at or below the angle.
+  io::h5::File pf = io::h5::create_in_memory("pile.h5");
+  sim::write_pile(pf, [] {
+    sim::DepositOptions d;
+    d.grains = 20;
+    d.width = 6.0;
+    return sim::deposit(d);
+  }(), prov);
+  try {
+    sim::read_branch(pf, 1.0);
+    ADD_FAILURE() << "branched from a pile";
+  } catch (const cdpile::Error& e) {
+    EXPECT_EQ(std::string(e.what()), "pile.h5: /: is a 'pile' file; a branch starts from a run (made by tilt-cd)");
+  }
+  try {
+    sim::read_branch(f, -1.0);
+    ADD_FAILURE() << "branched below the first frame";
+  } catch (const cdpile::Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "run.h5: /particles/grains/position: has no frame at or below -1 deg (the first is at 0 deg)");
+  }
+}
+
+// Steps that hit the sweep cap are flagged step by step (observable converged = 0) and
+// counted in the run's results (unconverged_steps) and outcome.
+TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
+  Scratch s;
+  auto o = short_run();
+  o.settings.max_sweeps = 2;
+  o.settings.tolerance = 1e-9;
+  const auto out = sim::run_tilt(pile(), o, s / "run.h5", false, io::provenance_now("test", "", ""));
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run");
+  io::RunReader r(f);
+  const io::Series se = r.series();
+  std::int64_t flagged = 0;
+  for (std::size_t k = 0; k < se.size(); ++k) {
+    const bool converged = se.integer.at("converged")[k] != 0;
+    if (!converged) {
+      ++flagged;
+      EXPECT_EQ(se.integer.at("sweeps")[k], 2);
+      EXPECT_GT(se.real.at("residual")[k], 1e-9);
+    }
+  }
+  EXPECT_GT(flagged, 100);  // 150 steps of a 100-grain pile cannot converge to 1e-9 in 2 sweeps
+  EXPECT_EQ(out.unconverged_steps, flagged);
+  EXPECT_EQ(io::as_int(r.header().results, "unconverged_steps", "run"), flagged);
+}

@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace cdpile::sim {
@@ -430,20 +432,55 @@ io::Values tilt_parameters(const TiltOptions& o) {
   return v;
 }
 
-PileInput read_pile(const io::h5::File& f) {
-  io::RunReader r(f);
-  if (r.header().kind != "pile")
-    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file, expected a pile (made by deposit)");
-  if (r.frame_count() == 0) throw Error(f.name(), "/particles/grains/position", "the pile has no frame");
-  if (r.grain_count() == 0) throw Error(f.name(), "/particles/grains", "the pile has no grain");
+namespace {
+
+/// Frame k of a pile or run as the start of a tilt.
+PileInput start_from_frame(const io::h5::File& f, const io::RunReader& r, std::size_t k) {
   PileInput p;
   p.name = f.name();
   p.box = r.header().box;
-  const Frame fr = r.frame(r.frame_count() - 1);
+  const Frame fr = r.frame(k);
   p.grains = fr.grains;
   p.contacts = fr.contacts;
   p.parameters = r.header().parameters;
   p.provenance = r.header().provenance;
+  return p;
+}
+
+void check_grains(const io::h5::File& f, const io::RunReader& r, const std::string& what) {
+  if (r.frame_count() == 0) throw Error(f.name(), "/particles/grains/position", "the " + what + " has no frame");
+  if (r.grain_count() == 0) throw Error(f.name(), "/particles/grains", "the " + what + " has no grain");
+}
+
+}  // namespace
+
+PileInput read_pile(const io::h5::File& f) {
+  io::RunReader r(f);
+  if (r.header().kind != "pile")
+    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file, expected a pile (made by deposit)");
+  check_grains(f, r, "pile");
+  return start_from_frame(f, r, r.frame_count() - 1);
+}
+
+PileInput read_branch(const io::h5::File& f, double at_deg) {
+  io::RunReader r(f);
+  if (r.header().kind != "run")
+    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file; a branch starts from a run (made by tilt-cd)");
+  check_grains(f, r, "run");
+  // The last frame at or below the requested tilt (frames are in step order, and the
+  // tilt grows with the step). Angles are compared in degrees to 1e-9 so that a frame
+  // written at "5 degrees" is found by --branch-at 5.
+  std::optional<std::size_t> pick;
+  for (std::size_t k = 0; k < r.frame_count(); ++k)
+    if (r.frame_tilt_angle(k) / kDeg <= at_deg + 1e-9) pick = k;
+  if (!pick) {
+    char what[160];
+    std::snprintf(what, sizeof what, "has no frame at or below %g deg (the first is at %g deg)", at_deg,
+                  r.frame_tilt_angle(0) / kDeg);
+    throw Error(f.name(), "/particles/grains/position", what);
+  }
+  PileInput p = start_from_frame(f, r, *pick);
+  p.branch = PileInput::Branch{r.frame_steps()[*pick], r.frame_tilt_angle(*pick) / kDeg};
   return p;
 }
 
@@ -481,6 +518,10 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
   h.box = pile.box;
   h.parameters = pile.parameters;  // the pile's own, then the tilt's over them
   for (const auto& [k, v] : tilt_parameters(o)) h.parameters[k] = v;
+  if (pile.branch) {  // where in the input run this one branched off
+    h.parameters["branch_step"] = pile.branch->step;
+    h.parameters["branch_tilt_deg"] = pile.branch->tilt_deg;
+  }
   h.provenance = pile.provenance;
   h.provenance.push_back(prov);
 

@@ -12,3 +12,11 @@ expect_fail 2 "tilt-cd: --resume needs an output file (-o FILE), not standard ou
 expect_fail 1 "tilt-cd: run.h5: exists; not overwritten (use --force to replace it)" tilt-cd pile.h5 -o run.h5
 test ! -e out.h5
 expect_eq "" "$(ls -A | grep -E 'tmp|partial' || true)" "(temporary files left)"
+# Branches start from a run, at or above its first frame, and take their tilt from it.
+expect_fail 1 "tilt-cd: pile.h5: /: is a 'pile' file; a branch starts from a run (made by tilt-cd)" \
+  tilt-cd pile.h5 --branch-at 1 -o out.h5
+expect_fail 1 "tilt-cd: run.h5: /particles/grains/position: has no frame at or below -1 deg (the first is at 0 deg)" \
+  tilt-cd run.h5 --branch-at -1 -o out.h5
+expect_fail 2 "tilt-cd: give --from or --branch-at, not both (a branch starts at its frame's tilt) (see 'tilt-cd --help')" \
+  tilt-cd run.h5 --branch-at 0 --from 0 -o out.h5
+test ! -e out.h5

@@ -45,17 +45,32 @@ io::Values tilt_parameters(const TiltOptions& o);
 /// Steps of the avalanche hold and of the margin at the options' rate.
 std::int64_t hold_steps(const TiltOptions& o);
 
-/// A static pile to tilt: the last frame of a "pile" file.
+/// A static pile to tilt: the last frame of a "pile" file, or a frame of a run to branch
+/// from (read_branch).
 struct PileInput {
   std::string name;
   Box box;
   Grains grains;
-  Contacts contacts;  ///< the pile's last contacts: they warm-start the first step
+  Contacts contacts;  ///< the frame's contacts: their forces warm-start the first step
   io::Values parameters;
   std::vector<io::Provenance> provenance;
+  /// Set when the start is a frame of a run: the run's step and tilt at that frame.
+  struct Branch {
+    std::int64_t step = 0;
+    double tilt_deg = 0.0;
+  };
+  std::optional<Branch> branch;
 };
 /// Reads a pile file; an Error naming the file if it is not a pile or has no frame.
 PileInput read_pile(const io::h5::File& f);
+/// A branch of a tilt run: the last of its frames at or below `at_deg` degrees, with its
+/// grains (positions, velocities, rotations) and contact forces, to tilt again from there
+/// with other options (a tighter solver, frames every step, another rate). The forces
+/// warm-start the first step as a pile's do; a frame's force is its step's impulse over
+/// h, so a branch with the run's own options repeats the run's next steps up to the
+/// rounding of impulse = force x h. An Error names the file if it is not a run or has no
+/// such frame.
+PileInput read_branch(const io::h5::File& f, double at_deg);
 
 /// The side file of a run to `output` while it is not complete.
 std::string partial_path(const std::string& output);
