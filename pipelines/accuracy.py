@@ -1,0 +1,208 @@
+#!/usr/bin/python3
+"""The speed-accuracy chart from the branches of pipelines/accuracy.sh.
+
+    pipelines/accuracy.py DIR [-o FIGURES_DIR]
+
+For every branch, against the reference branch that starts from the same frame:
+  - cpu_s: CPU time of the branch (times.tsv);
+  - sweeps: mean NSGS sweeps per step; unconverged: fraction of steps at the cap;
+  - nu, nu_ref: mean of nu = Nc/N over the window (grain-grain contacts, per step, the
+    run's critical_eps); nu_err: mean over the window of |nu - nu_ref| at the same tilt;
+  - misclassified: at every frame both branches have (same tilt), the grain-grain
+    contacts critical in one and not the other (absent counts as not critical), over the
+    reference's active grain-grain contacts; the mean over frames;
+  - imbalance_p99, imbalance_max: the force balance of the free grains at the last frame,
+    |sum of contact forces + m g(theta)| / (m g), 99th percentile and largest; torque_p99
+    the same for |sum (p - x) x f| / (m g r). In Contact Dynamics this residual force is
+    m dv/h, the grain's acceleration: in a static pile it measures how far the solver
+    left the grains from equilibrium (a truncated Gauss-Seidel leaves them accelerating).
+Writes DIR/accuracy.tsv (one row per branch, the reference rows included) and, with
+matplotlib, DIR/figures/accuracy.{png,pdf}.
+"""
+import argparse
+import math
+import os
+import sys
+
+import h5py
+import numpy as np
+
+
+def read_times(path):
+    rows = {}
+    with open(path) as f:
+        header = None
+        for line in f:
+            if line.startswith("#"):
+                continue
+            cells = line.rstrip("\n").split("\t")
+            if header is None:
+                header = cells
+                continue
+            rows[cells[0]] = dict(zip(header, cells))
+    return rows
+
+
+class Branch:
+    def __init__(self, path):
+        self.f = h5py.File(path, "r")
+        p = self.f["parameters"].attrs
+        self.mu = float(p["mu_grain"])
+        self.eps = float(p["critical_eps"])
+        self.g = float(p["gravity_m_s2"])
+        o = self.f["observables"]
+        self.theta = o["tilt_angle/value"][:]
+        n = o["contacts_grain/value"][:].astype(float)
+        nc = o["critical_grain/value"][:].astype(float)
+        self.nu = np.where(n > 0, nc / np.maximum(n, 1), np.nan)
+        self.sweeps = o["sweeps/value"][:]
+        self.converged = o["converged/value"][:]
+        g = self.f["particles/grains"]
+        self.radius = g["radius"][:]
+        self.mass = g["mass"][:]
+        self.free = g["species"][:] == 0
+        c = self.f["contacts"]
+        self.frame_theta = c["tilt_angle"][:]
+        self.offset = c["offset"][:]
+        self.count = c["count"][:]
+
+    def contacts(self, k):
+        c = self.f["contacts"]
+        rows = slice(int(self.offset[k]), int(self.offset[k] + self.count[k]))
+        return {key: c[key][rows] for key in ("i", "j", "point", "normal", "fn", "ft")}
+
+    def critical_pairs(self, k):
+        """Active and critical grain-grain contacts between free grains, as sets of pairs."""
+        c = self.contacts(k)
+        i, j, fn, ft = c["i"], c["j"], c["fn"], c["ft"]
+        grain = j >= 0
+        grain[grain] &= self.free[i[grain]] & self.free[j[grain]]
+        active = grain & (fn > 0)
+        crit = active & (np.abs(ft) >= (1 - self.eps) * self.mu * fn)
+        key = i.astype(np.int64) * (1 << 32) + np.where(j >= 0, j, 0)
+        return set(key[active].tolist()), set(key[crit].tolist())
+
+    def balance(self, k):
+        """Force and torque residuals of the free grains at frame k (see the module doc)."""
+        c = self.contacts(k)
+        pos = self.f["particles/grains/position/value"][k]
+        theta = math.radians(self.frame_theta[k])
+        n, t = c["normal"], np.stack([-c["normal"][:, 1], c["normal"][:, 0]], axis=1)
+        f = c["fn"][:, None] * n + c["ft"][:, None] * t
+        force = np.zeros_like(pos)
+        torque = np.zeros(len(pos))
+        i, j = c["i"], c["j"]
+        np.add.at(force, i, f)
+        arm_i = c["point"] - pos[i]
+        np.add.at(torque, i, arm_i[:, 0] * f[:, 1] - arm_i[:, 1] * f[:, 0])
+        g = j >= 0
+        np.add.at(force, j[g], -f[g])
+        arm_j = c["point"][g] - pos[j[g]]
+        np.add.at(torque, j[g], -(arm_j[:, 0] * f[g][:, 1] - arm_j[:, 1] * f[g][:, 0]))
+        weight = self.mass[:, None] * self.g * np.array([math.sin(theta), -math.cos(theta)])
+        mg = self.mass * self.g
+        fres = np.linalg.norm(force + weight, axis=1)[self.free] / mg[self.free]
+        tres = np.abs(torque)[self.free] / (mg * self.radius)[self.free]
+        return np.percentile(fres, 99), fres.max(), np.percentile(tres, 99)
+
+
+def compare(b, ref):
+    out = {}
+    out["sweeps"] = float(np.mean(b.sweeps))
+    out["unconverged"] = float(np.mean(b.converged == 0))
+    out["nu"] = float(np.nanmean(b.nu))
+    out["nu_ref"] = float(np.nanmean(ref.nu))
+    nu_ref_here = np.interp(b.theta, ref.theta, ref.nu)
+    out["nu_err"] = float(np.nanmean(np.abs(b.nu - nu_ref_here)))
+    mis = []
+    for k, th in enumerate(b.frame_theta):
+        m = np.nonzero(np.abs(ref.frame_theta - th) < 1e-9)[0]
+        if len(m) == 0 or k == 0:  # frame 0 is the common start
+            continue
+        act_r, crit_r = ref.critical_pairs(int(m[0]))
+        _, crit_b = b.critical_pairs(k)
+        if act_r:
+            mis.append(len(crit_r ^ crit_b) / len(act_r))
+    out["misclassified"] = float(np.mean(mis)) if mis else float("nan")
+    out["imbalance_p99"], out["imbalance_max"], out["torque_p99"] = b.balance(len(b.frame_theta) - 1)
+    return out
+
+
+COLUMNS = ["file", "angle_deg", "tolerance", "max_sweeps", "time_step_s", "rate_deg_per_step", "reference",
+           "cpu_s", "sweeps", "unconverged", "nu", "nu_ref", "nu_err", "misclassified", "imbalance_p99",
+           "imbalance_max", "torque_p99"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("dir")
+    ap.add_argument("-o", dest="figures", help="figures folder (default DIR/figures)")
+    a = ap.parse_args()
+    times_path = os.path.join(a.dir, "times.tsv")
+    if not os.path.exists(times_path):
+        sys.exit(f"accuracy.py: {times_path}: missing (run pipelines/accuracy.sh first)")
+    times = read_times(times_path)
+    refs = {r["angle_deg"]: name for name, r in times.items() if r["reference"] == "1"}
+    rows = []
+    for name, r in times.items():
+        angle = r["angle_deg"]
+        if angle not in refs:
+            sys.exit(f"accuracy.py: {times_path}: no reference branch at {angle} deg")
+        b = Branch(os.path.join(a.dir, name))
+        ref = Branch(os.path.join(a.dir, refs[angle]))
+        row = dict(r)
+        row.update(compare(b, ref))
+        rows.append(row)
+    rows.sort(key=lambda r: (float(r["angle_deg"]), -int(r["reference"]), float(r["tolerance"]), int(r["max_sweeps"])))
+    tsv = os.path.join(a.dir, "accuracy.tsv")
+    with open(tsv + ".tmp", "w") as f:
+        f.write("# speed-accuracy chart: each branch against the reference branch from the same frame "
+                "(pipelines/accuracy.py)\n")
+        f.write("\t".join(COLUMNS) + "\n")
+        for r in rows:
+            cells = []
+            for c in COLUMNS:
+                v = r[c]
+                cells.append(f"{v:.4g}" if isinstance(v, float) else str(v))
+            f.write("\t".join(cells) + "\n")
+    os.replace(tsv + ".tmp", tsv)
+    print(f"accuracy.py: {tsv}")
+    figures(rows, a.figures or os.path.join(a.dir, "figures"))
+
+
+def figures(rows, outdir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    os.makedirs(outdir, exist_ok=True)
+    angles = sorted({float(r["angle_deg"]) for r in rows})
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
+    panels = [("nu_err", r"mean $|\nu - \nu_{ref}|$ over the window"),
+              ("misclassified", "fraction of contacts misclassified"),
+              ("imbalance_p99", r"force residual of the grains, 99th pct [$m g$]")]
+    for ax, (key, label) in zip(axes, panels):
+        for angle in angles:
+            # The reference's own error is zero by definition; its force residual is not.
+            sel = [r for r in rows if float(r["angle_deg"]) == angle
+                   and (r["reference"] == "0" or key == "imbalance_p99")]
+            x = [float(r["cpu_s"]) for r in sel]
+            # A zero cannot be drawn on a log scale: shown at 1e-9 (1e-6 for the errors).
+            y = [max(float(r[key]), 1e-9 if key == "imbalance_p99" else 1e-6) for r in sel]
+            ax.scatter(x, y, label=f"{angle:g} deg", s=18)
+            for r, xi, yi in zip(sel, x, y):
+                tag = "ref" if r["reference"] == "1" else f'{float(r["tolerance"]):.0e}/{r["max_sweeps"]}'
+                ax.annotate(tag, (xi, yi), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("CPU time of the branch [s]")
+        ax.set_ylabel(label)
+    axes[0].legend(title="branch start", fontsize=7)
+    fig.suptitle("Speed against accuracy: tolerance/sweep cap of each branch (reference: tightest)", fontsize=10)
+    fig.tight_layout()
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(outdir, f"accuracy.{ext}"), dpi=110)
+    print(f"accuracy.py: {outdir}/accuracy.png")
+
+
+if __name__ == "__main__":
+    main()
