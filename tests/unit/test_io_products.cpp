@@ -102,3 +102,48 @@ TEST(Products, OneTableAndMissingTable) {
   EXPECT_THROW(write_tsv(os2, p, {}, {"nope"}), Error);
   EXPECT_THROW(sample().table("nope"), Error);
 }
+
+namespace {
+/// A product whose tables have no rows (correlate --from beyond the data): a text column
+/// with no labels, and no notes at all.
+Product empty_product() {
+  Product p;
+  p.kind = "correlate";
+  p.results = {{"windows", std::int64_t{0}}};
+  auto& t = p.add_table("windows", "no window");
+  t.add_column("theta", "deg");
+  t.add_column("n", "", ColumnKind::integer);
+  t.add_column("se_over", "", ColumnKind::text);
+  return p;
+}
+
+void expect_empty(const Product& b) {
+  EXPECT_EQ(b.kind, "correlate");
+  EXPECT_TRUE(b.notes.empty());
+  const auto& t = b.table("windows");
+  EXPECT_EQ(t.rows(), 0u);
+  ASSERT_EQ(t.columns.size(), 3u);
+  EXPECT_EQ(t.column("se_over").kind, ColumnKind::text);
+  EXPECT_EQ(t.column("theta").unit, "deg");
+}
+}  // namespace
+
+TEST(Products, EmptyTableHdfRoundTrip) {
+  const Product p = empty_product();
+  h5::File f = h5::create_in_memory("mem.h5");
+  write_hdf5(f, p, {provenance_now("correlate", "correlate in.h5 --from 100", "in.h5")});
+  const Product back = read_product_hdf5(f).product;
+  expect_empty(back);
+  EXPECT_EQ(back.table("windows").column("n").kind, ColumnKind::integer);  // TSV does not keep it
+  EXPECT_TRUE(h5::attr_strings(f, "/tables/windows/se_over", "labels").empty());
+  // and as the bytes a pipe carries (-o - into the next tool's -)
+  const std::vector<char> image = h5::image_of(f);
+  h5::File g = h5::open_image(image, "stdin");
+  expect_empty(read_product_hdf5(g).product);
+}
+
+TEST(Products, EmptyTableTsvRoundTrip) {
+  std::ostringstream os;
+  write_tsv(os, empty_product(), {});
+  expect_empty(read_product_tsv(os.str(), "x.tsv").product);
+}

@@ -59,6 +59,11 @@ void write_attr_raw(const File& f, const std::string& path, const std::string& n
                             : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
   Handle attr(checked_id(H5Acreate2(obj.id(), name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT),
                          f, path, "cannot create attribute " + name));
+  // An empty list (the labels of a text column with no rows, no notes) is a valid
+  // attribute of shape [0]; H5Awrite refuses its null buffer, and there is nothing to write.
+  hsize_t n = 1;
+  for (hsize_t d : dims) n *= d;
+  if (n == 0) return;
   check(H5Awrite(attr.id(), type, data), f, path, [&] { return "cannot write attribute " + name; });
 }
 
@@ -435,6 +440,7 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path, co
   if (H5Tget_class(t.id()) != H5T_STRING) fail(f, path, "attribute '" + name + "' is not text");
   hssize_t n = attr_points(a);
   std::vector<std::string> out;
+  if (n == 0) return out;  // an empty list: H5Aread refuses a null buffer
   if (H5Tis_variable_str(t.id()) > 0) {
     Handle mt = string_type();
     std::vector<char*> p(static_cast<std::size_t>(n), nullptr);
@@ -470,6 +476,7 @@ std::vector<T> attr_numbers(const File& f, const std::string& path, const std::s
   if (std::is_integral_v<T> && cls != H5T_INTEGER)
     fail(f, path, "attribute '" + name + "' should be an integer");
   std::vector<T> out(static_cast<std::size_t>(attr_points(a)));
+  if (out.empty()) return out;  // an empty list: H5Aread refuses a null buffer
   check(H5Aread(a.id(), native_type<T>(), out.data()), f, path, [&] { return "cannot read attribute " + name; });
   if constexpr (std::is_floating_point_v<T>)
     for (T x : out)
