@@ -72,10 +72,7 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   Product p;
   p.kind = "correlate";
   p.parameters = {{"window_deg", opt.window}, {"window_start_deg", opt.window_start}};
-  if (opt.theta.bounded()) {
-    p.parameters["theta_lo_deg"] = opt.theta.lo;
-    p.parameters["theta_hi_deg"] = opt.theta.hi;
-  }
+  record_range(p.parameters, "theta", opt.theta);
   for (const auto& [k, v] : in.parameters) p.parameters["localnu_" + k] = v;
   p.notes = {
       "nu_bar(theta, r) = mean of nu_i(theta, r) over critical contacts (eq 3), r in D",

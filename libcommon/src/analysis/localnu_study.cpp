@@ -195,10 +195,7 @@ Product LocalNuStudy::product() const {
                   {"pdf_radius_D", opt_.pdf_radius},
                   {"pdf_bins", static_cast<std::int64_t>(opt_.pdf_bins)},
                   {"pdf_theta", std::string(opt_.pdf_theta ? "range" : "loading")}};
-  if (opt_.pdf_theta) {
-    p.parameters["pdf_theta_lo_deg"] = opt_.pdf_theta->lo;
-    p.parameters["pdf_theta_hi_deg"] = opt_.pdf_theta->hi;
-  }
+  if (opt_.pdf_theta) record_range(p.parameters, "pdf_theta", *opt_.pdf_theta);
   p.notes = {
       "nu_i(r) = (critical contacts with contact point within r of i's) / (contacts within r), "
       "distance <= r, contact i included unless exclude_self; r in units of the run's mean "

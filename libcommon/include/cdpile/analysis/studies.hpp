@@ -9,6 +9,7 @@
 #include "cdpile/analysis/series.hpp"
 #include "cdpile/analysis/table.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -25,6 +26,13 @@ struct ThetaRange {
   bool contains(double t) const { return t >= lo && t <= hi; }
   bool bounded() const { return lo > -std::numeric_limits<double>::infinity() || hi < std::numeric_limits<double>::infinity(); }
 };
+
+/// Records the ends of a range as the parameters `<prefix>_lo_deg` and `<prefix>_hi_deg`,
+/// leaving out an open end: an HDF5 product holds no infinity (its reader refuses one).
+inline void record_range(Values& v, const std::string& prefix, const ThetaRange& r) {
+  if (std::isfinite(r.lo)) v[prefix + "_lo_deg"] = r.lo;
+  if (std::isfinite(r.hi)) v[prefix + "_hi_deg"] = r.hi;
+}
 
 // =================================================================================
 // critical: nu(theta), events, ensemble, envelope, avalanche angle (eqs 1-2, Figs 1-2)
