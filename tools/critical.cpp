@@ -79,6 +79,18 @@ static void usage(cli::Usage& u) {
             "the envelope's limit, with nu_c_se");
 }
 
+// --table names tables of the product: an unknown one is refused before any run is read.
+static void check_tables(const std::vector<std::string>& only, const analysis::CriticalOptions& opt) {
+  const std::vector<std::string> names = analysis::critical_table_names(opt);
+  for (const std::string& t : only) {
+    if (std::find(names.begin(), names.end(), t) != names.end()) continue;
+    if (t == "steps") throw UsageError("--table steps with --no-steps");
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw UsageError("--table: no table '" + t + "' (critical writes " + list + ")");
+  }
+}
+
 static void run(const cli::Args& a) {
   analysis::CriticalOptions opt;
   opt.rule = cli::critical_rule(a);
@@ -104,9 +116,7 @@ static void run(const cli::Args& a) {
   opt.cut_at_avalanche = !a.flag("no-cut");
   opt.step_table = !a.flag("no-steps");
 
-  const std::vector<std::string> only = cli::split_list(a.text("table"));
-  if (!opt.step_table && std::find(only.begin(), only.end(), "steps") != only.end())
-    throw UsageError("--table steps with --no-steps");
+  check_tables(cli::split_list(a.text("table")), opt);
 
   std::vector<analysis::RunRecord> runs;
   std::vector<io::Provenance> history;

@@ -159,6 +159,18 @@ TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
       << p.notes.back();
 }
 
+TEST(CriticalStudy, TableNamesKnownBeforehand) {
+  // critical refuses an unknown --table before reading its runs from this list
+  for (bool steps : {true, false}) {
+    CriticalOptions o;
+    o.step_table = steps;
+    const Product p = critical_study({small_run("a", {10, 10}, {1, 2})}, o);
+    std::vector<std::string> made;
+    for (const Table& t : p.tables) made.push_back(t.name);
+    EXPECT_EQ(made, critical_table_names(o));
+  }
+}
+
 TEST(CriticalStudy, EmptyInputsGiveEmptyTables) {
   Product p = critical_study({}, {});
   EXPECT_EQ(p.table("ensemble").rows(), 0u);

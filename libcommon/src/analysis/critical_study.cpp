@@ -74,6 +74,11 @@ std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& r
   return std::nullopt;
 }
 
+std::vector<std::string> critical_table_names(const CriticalOptions& opt) {
+  if (opt.step_table) return {"runs", "steps", "frames", "events", "ensemble", "envelope"};
+  return {"runs", "frames", "events", "ensemble", "envelope"};
+}
+
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt) {
   validate(opt.rule, Friction{});
   if (!(opt.grid_step > 0.0)) throw Error("ensemble grid step must be > 0 deg");

@@ -39,6 +39,16 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
   if (last_loading) return last_loading;
   return count ? std::optional<std::size_t>(count - 1) : std::nullopt;
 }
+
+// A contact table has no parameters and no grains, so mu and D are required options: a
+// missing one is a usage error, reported before the table is parsed.
+void require_table_options(const LocalNuReading& o, const std::string& file) {
+  const char* missing = !o.mu.grain && !o.diameter ? "--mu and --diameter are"
+                        : !o.mu.grain             ? "--mu is"
+                        : !o.diameter             ? "--diameter is"
+                                                  : nullptr;
+  if (missing) throw UsageError(std::string(missing) + " required for a contact table (" + file + ")");
+}
 }  // namespace
 
 analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, const std::string& file) {
@@ -112,9 +122,9 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
 
   if (!in.is_hdf5()) {
     // A plain contact table: no grains, so D and mu come from the command line.
+    require_table_options(o, file);
     const ContactTable t = read_contact_table(in.text(), file);
     info.table = true;
-    if (!o.diameter) throw Error(file, "", "a contact table needs the mean diameter (--diameter)");
     const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
     if (o.theta_c) { info.theta_c = o.theta_c; info.theta_c_from = "option"; }
     else info.theta_c_from = "none";

@@ -21,8 +21,11 @@ expect_fail 2 "localnu: --mu: expected a finite number in [1e-12, 1000000], got 
 expect_fail 2 "localnu: --mu: expected a finite number in [1e-12, 1000000], got '-0.5' (out of range) (see 'localnu --help')" \
   localnu run.h5 --mu -0.5 -o out.h5
 expect_fail 1 "localnu: mu0.h5: /parameters: mu_grain must be > 0, got 0" localnu mu0.h5 -o out.h5
-expect_fail 1 "localnu: ok.tsv: a contact table has no friction coefficient; give --mu" localnu ok.tsv --diameter 1 -o out.h5
-expect_fail 1 "localnu: ok.tsv: a contact table needs the mean diameter (--diameter)" localnu ok.tsv --mu 0.5 -o out.h5
+# a contact table has no parameters: --mu and --diameter are required options (usage errors)
+expect_fail 2 "localnu: --mu is required for a contact table (ok.tsv) (see 'localnu --help')" localnu ok.tsv --diameter 1 -o out.h5
+expect_fail 2 "localnu: --diameter is required for a contact table (ok.tsv) (see 'localnu --help')" localnu ok.tsv --mu 0.5 -o out.h5
+expect_fail 2 "localnu: --mu and --diameter are required for a contact table (nocol.tsv) (see 'localnu --help')" localnu nocol.tsv -o out.h5
+expect_fail 2 "localnu: --mu is required for a contact table (stdin) (see 'localnu --help')" bash -c 'localnu - --diameter 1 -o out.h5 < ok.tsv'
 expect_fail 1 "localnu: run.h5: no frame 7 to map (--map-frame)" localnu run.h5 --map-frame 7 -o out.h5
 expect_fail 2 "localnu: --radii must be strictly increasing (see 'localnu --help')" localnu run.h5 --radii 2,1 -o out.h5
 expect_fail 2 "localnu: --map-run 1: there are 1 inputs (see 'localnu --help')" localnu run.h5 --map-run 1 -o out.h5

@@ -88,6 +88,10 @@ struct RunRecord {
 
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
 
+/// The tables critical_study makes with these options, in order (so that a tool can refuse
+/// an unknown --table before it reads anything).
+std::vector<std::string> critical_table_names(const CriticalOptions& opt);
+
 /// theta_c of a run by the rule [deg]: empty when the run never passes it, or when its
 /// kinetic energy, gravity, grain mass or diameter is unknown.
 std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule);

@@ -68,6 +68,8 @@ struct LocalNuInputInfo {
 };
 
 /// Adds every frame of input `in` (a run file or a contact table) as run number `run`.
+/// A contact table without `mu.grain` or `diameter` is a UsageError (they are required
+/// options for a table).
 LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
                                    const LocalNuReading& opt);
 
