@@ -297,7 +297,30 @@ TEST(ReaderErrors, NotFiniteValues) {
               H5Ldelete(f.id(), "/particles/grains/position/value", H5P_DEFAULT);
               h5::write(f, "/particles/grains/position/value", pos.data(), {2, 4, 2});
             }),
-            p + ": /particles/grains/position/value: non-finite value at element 5");
+            p + ": /particles/grains/position/value: non-finite value (inf) at element 5");
+  EXPECT_EQ(error_after(p, [](h5::File& f) {
+              std::vector<double> v(2 * 4 * 2, 0.0);
+              v[13] = NAN;
+              H5Ldelete(f.id(), "/particles/grains/velocity/value", H5P_DEFAULT);
+              h5::write(f, "/particles/grains/velocity/value", v.data(), {2, 4, 2});
+            }),
+            p + ": /particles/grains/velocity/value: non-finite value (NaN) at element 13");
+}
+
+TEST(ReaderErrors, RunWithoutObservables) {
+  // A run always records its per-step observables; without them the analyses would see a
+  // run of zero steps (no theta_c, no events) and say nothing.
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { H5Ldelete(f.id(), "/observables", H5P_DEFAULT); }),
+            p + ": /observables: missing group (a run records its per-step observables)");
+  // a pile may lack them
+  const auto q = dir / "pile.h5";
+  EXPECT_EQ(error_after(q, [](h5::File& f) {
+              H5Ldelete(f.id(), "/observables", H5P_DEFAULT);
+              h5::set_attr(f, "/", "kind", std::string("pile"));
+            }),
+            "no error");
 }
 
 TEST(ReaderErrors, NegativeRadius) {

@@ -74,19 +74,26 @@ analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, 
   return mu;
 }
 
-analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
-                                       const analysis::CriticalRule& rule, const std::string& file) {
-  const Contacts c = rr.contacts(k);
+namespace {
+// The contacts of frame k that count, classified; a bad force names the frame.
+analysis::ContactSet classify(const Frame& fr, std::size_t k, const analysis::Friction& mu,
+                              const analysis::CriticalRule& rule, const std::string& file) {
   try {
-    return analysis::select_contacts(c, rr.grain_properties().species, mu, rule);
+    return analysis::select_contacts(fr.contacts, fr.grains.species, mu, rule);
   } catch (const Error& e) {
     throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
   }
 }
+}  // namespace
 
-analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
-                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers, bool include_steps) {
+analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule, const std::string& file) {
+  // The whole frame is read, not only its contacts: reading checks its grain state too
+  // (docs/schema.md promises finite values everywhere), for a few N x 2 doubles a frame.
+  return classify(rr.frame(k), k, mu, rule, file);
+}
+
+analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file, const analysis::CriticalRule& rule) {
   const RunHeader& h = rr.header();
   const Grains& g = rr.grain_properties();
   analysis::RunRecord r;
@@ -96,14 +103,22 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
   r.mean_mass = analysis::mean_mass(g);
   r.gravity = real_parameter(h.parameters, "gravity_m_s2", file).value_or(0.0);
   r.recorded_avalanche = real_parameter(h.results, "avalanche_angle_deg", file);
-  if (include_steps) r.steps = steps_from_series(rr.series(), rule.include_walls, file);
+  r.steps = steps_from_series(rr.series(), rule.include_walls, file);
+  return r;
+}
+
+analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
+                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
+                                    analysis::RattlerRule rattlers) {
+  analysis::RunRecord r = read_run_steps(rr, file, rule);
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
-    const analysis::ContactSet set = frame_contact_set(rr, k, mu, rule, file);
+    const Frame fr = rr.frame(k);
     analysis::FrameRecord f;
     f.frame = static_cast<std::int64_t>(k);
-    f.step = rr.frame_steps()[k];
-    f.theta = rr.frame_tilt_angle(k) * 180.0 / M_PI;
-    f.state = analysis::pile_state(set, g.species, r.free_grains, r.diameter, rattlers);
+    f.step = fr.step;
+    f.theta = fr.tilt_angle * 180.0 / M_PI;
+    f.state = analysis::pile_state(classify(fr, k, mu, rule, file), fr.grains.species, r.free_grains,
+                                   r.diameter, rattlers);
     r.frames.push_back(std::move(f));
   }
   return r;
@@ -154,6 +169,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   }
 
   const RunReader rr(in.hdf5());
+  rr.check_observables();  // read only for theta_c, but a run without them is damaged
   const analysis::Friction mu = choose_friction(&rr.header(), o.mu, file);
   const double diameter = o.diameter.value_or(analysis::mean_diameter(rr.grain_properties()));
   if (o.theta_c) {
@@ -162,8 +178,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   } else {
     // The same avalanche angle as `critical`, so that both tools cut the loading phase
     // at the same theta.
-    analysis::RunRecord rec = read_run_record(rr, file, mu, o.rule, analysis::RattlerRule::exclude, true);
-    rec.frames.clear();
+    const analysis::RunRecord rec = read_run_steps(rr, file, o.rule);
     if (auto t = analysis::avalanche_angle(rec, o.avalanche)) {
       info.theta_c = t;
       info.theta_c_from = "rule";

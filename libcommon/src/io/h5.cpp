@@ -374,7 +374,8 @@ std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, 
   if constexpr (std::is_floating_point_v<T>) {
     for (std::size_t k = 0; k < out.size(); ++k)
       if (!std::isfinite(out[k]))
-        fail(f, path, "non-finite value at element " + std::to_string(first * (n / count) + k));
+        fail(f, path, "non-finite value (" + std::string(std::isnan(out[k]) ? "NaN" : "inf") +
+                          ") at element " + std::to_string(first * (n / count) + k));
   }
   return out;
 }

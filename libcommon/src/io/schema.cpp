@@ -463,8 +463,18 @@ Frame RunReader::frame(std::size_t k) const {
   return fr;
 }
 
+void RunReader::check_observables() const {
+  // A finished run always records its per-step observables; a pile may lack them, and a
+  // run being written (OUTPUT.partial) has none before its first checkpoint, which is why
+  // the constructor does not check this.
+  if (header_.kind != "run") return;
+  if (!h5::exists(*f_, kObservables)) bad(*f_, kObservables, "missing group (a run records its per-step observables)");
+  if (h5::members(*f_, kObservables).empty()) bad(*f_, kObservables, "no observable (a run records its per-step observables)");
+}
+
 Series RunReader::series() const {
   const h5::File& f = *f_;
+  check_observables();
   Series s;
   if (!h5::exists(f, kObservables)) return s;
   auto names = h5::members(f, kObservables);

@@ -27,15 +27,19 @@ analysis::Friction choose_friction(const RunHeader* header, const FrictionChoice
                                    const std::string& file);
 
 /// The contacts that count in frame k of a run, classified by the rule (select_contacts).
+/// The frame's grain state is read and checked too.
 analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
                                        const analysis::CriticalRule& rule, const std::string& file);
 
-/// A run as `critical` reads it: per-step observables (steps_from_series), the pile state
-/// of every frame (eqs 1-2), the mean diameter, mean mass, gravity and the simulator's
-/// own avalanche angle.
+/// A run without its frames: per-step observables (steps_from_series; error if a run has
+/// none), the mean diameter, mean mass, gravity and the simulator's own avalanche angle.
+analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file, const analysis::CriticalRule& rule);
+
+/// A run as `critical` reads it: read_run_steps and the pile state of every frame (eqs 1-2).
+/// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers, bool include_steps = true);
+                                    analysis::RattlerRule rattlers);
 
 /// How `localnu` reads its inputs.
 struct LocalNuReading {

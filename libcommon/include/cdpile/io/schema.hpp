@@ -117,8 +117,11 @@ class RunReader {
   double frame_time(std::size_t k) const { return frame_time_[k]; }
   /// The grains' fixed properties (radius, mass, inertia, species), state zeroed.
   const Grains& grain_properties() const { return grains_; }
-  /// All per-step observables.
+  /// All per-step observables. Error if the file is a run without them (check_observables).
   Series series() const;
+  /// Error naming /observables if the file is a run (kind "run") without observables; a
+  /// pile may lack them.
+  void check_observables() const;
   const std::string& name() const { return f_->name(); }
 
  private:
