@@ -16,10 +16,12 @@ static void usage(cli::Usage& u) {
   u.synopsis = "nu = Nc/N, z, Ek, lambda per step and per frame; events; ensemble; envelope and nu_c";
   u.description = {
       "Reads one or more tilt runs (the ensemble is the list of files) and writes, per step "
-      "(from /observables) and per frame (from the contacts), the tilt angle theta, the number "
-      "N of active contacts, the number Nc of critical ones, nu = Nc/N (eq 1 of Staron, "
-      "Vilotte & Radjai 2002), the coordination z, the mean translational kinetic energy Ek "
-      "per grain and lambda = sqrt(2/(z nu)) D (eq 2, in units of D).",
+      "(from /observables) and per frame (from the contacts and grains), the tilt angle theta, "
+      "the number N of active contacts, the number Nc of critical ones, nu = Nc/N (eq 1 of "
+      "Staron, Vilotte & Radjai 2002), the coordination z, the mean translational kinetic energy "
+      "Ek per free grain (J/m; per step from the observable kinetic_energy, per frame from the "
+      "grains' velocities and masses) with ek_norm = Ek/(m g D), and lambda = sqrt(2/(z nu)) D "
+      "(eq 2, in units of D).",
       "Critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n. The default eps = 1e-3 is ten times the "
       "solver's relative tolerance (1e-4): a contact the solver leaves sliding is exactly on the "
       "cone, a sticking one can sit inside it by about the tolerance. The solver's own sliding "

@@ -123,3 +123,21 @@ TEST(Critical, MeanDiameterOfFreeGrains) {
   EXPECT_DOUBLE_EQ(mean_diameter(g), 1.5);
   EXPECT_EQ(free_grain_count(g), 2);
 }
+
+TEST(Critical, MeanKineticEnergyPerFreeGrain) {
+  // Three free grains and one glued to the floor, masses and velocities chosen by hand:
+  // Ek = (1/2 2 (3^2 + 4^2) + 1/2 1 1^2 + 0) / 3 = (25 + 0.5) / 3 per free grain.
+  Grains g;
+  for (int k = 0; k < 4; ++k) g.add_disk(0.5, 1.0, Vec2(k, 0.5), k == 3 ? Species::floor : Species::free);
+  g.mass = {2.0, 1.0, 5.0, 7.0};
+  g.velocity = {Vec2(3, -4), Vec2(0, 1), Vec2(0, 0), Vec2(10, 10)};  // the glued one is left out
+  g.angular_velocity = {100.0, 100.0, 100.0, 100.0};                  // rotation is not Ek
+  ASSERT_TRUE(mean_kinetic_energy(g));
+  EXPECT_DOUBLE_EQ(*mean_kinetic_energy(g), 25.5 / 3.0);
+  // no free grain, or no velocities: undefined
+  Grains glued;
+  glued.add_disk(0.5, 1.0, Vec2(0, 0.5), Species::floor);
+  EXPECT_FALSE(mean_kinetic_energy(glued));
+  g.velocity.clear();
+  EXPECT_FALSE(mean_kinetic_energy(g));
+}

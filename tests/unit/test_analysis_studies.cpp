@@ -79,11 +79,17 @@ TEST(CriticalStudy, FramesSourceAndAvalancheCut) {
   a.steps.critical.clear();  // no per-step critical count: frames are the source
   a.steps.kinetic_energy = {0, 0, 0, 5e-3, 6e-3, 7e-3};  // per grain: /10 -> 5e-4.. with m g D = 1
   for (auto& e : a.steps.kinetic_energy) e *= 10;          // -> 5e-3 per grain
-  a.frames = {{0, 0, 0.0, state(10, 1)}, {1, 2, 0.2, state(10, 2)}, {2, 4, 0.4, state(10, 9)}};
+  // frame 1 carries its Ek per grain (m g D = 1); the others have no grain velocities
+  a.frames = {{0, 0, 0.0, state(10, 1), std::nullopt}, {1, 2, 0.2, state(10, 2), 3e-3},
+              {2, 4, 0.4, state(10, 9), std::nullopt}};
   CriticalOptions o;
   o.avalanche = {1e-3, 0.1};
   Product p = critical_study({a}, o);
   EXPECT_EQ(std::get<std::string>(p.parameters.at("series")), "frames");
+  EXPECT_FALSE(p.table("frames").column("Ek").get(0));
+  EXPECT_DOUBLE_EQ(*p.table("frames").column("Ek").get(1), 3e-3);
+  EXPECT_DOUBLE_EQ(*p.table("frames").column("ek_norm").get(1), 3e-3);
+  EXPECT_EQ(p.table("frames").column("Ek").unit, "J m-1");
   EXPECT_NEAR(*p.table("runs").column("theta_c").get(0), 0.3, 1e-12);
   EXPECT_NEAR(*p.result("theta_c_deg"), 0.3, 1e-12);
   const Table& fr = p.table("frames");

@@ -135,6 +135,21 @@ double mean_diameter(const Grains& g) {
 double mean_mass(const Grains& g) {
   return mean_over_free(g, [&](std::size_t k) { return g.mass.size() > k ? g.mass[k] : 0.0; });
 }
+std::optional<double> mean_kinetic_energy(const Grains& g) {
+  // Over the free grains, as the per-step Ek (the simulator's kinetic_energy sums the free
+  // grains; critical divides it by free_grain_count): glued grains never move.
+  if (g.velocity.size() != g.size() || g.mass.size() != g.size()) return std::nullopt;
+  double sum = 0.0;
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    if (k < g.species.size() && g.species[k] != Species::free) continue;
+    sum += 0.5 * g.mass[k] * g.velocity[k].squaredNorm();
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  return sum / static_cast<double>(n);
+}
+
 std::int64_t free_grain_count(const Grains& g) {
   std::int64_t n = 0;
   for (std::size_t k = 0; k < g.size(); ++k)

@@ -118,7 +118,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       "nu = Nc/N (eq 1); z = 2N/Np' with Np' the free grains with >= 2 counted contacts "
       "(rattlers excluded) or all free grains (z_all); lambda = sqrt(2/(z nu)) D (eq 2), in D",
       "per-step z and lambda use z_all = 2N/Np (the per-step series has no per-grain counts)",
-      "Ek: mean translational kinetic energy per free grain [J/m]; ek_norm = Ek/(m g D)",
+      "Ek: mean translational kinetic energy per free grain [J/m], per step from the observable "
+      "kinetic_energy, per frame from the grains' velocities and masses; ek_norm = Ek/(m g D)",
       "theta_c: first step where ek_norm >= avalanche_threshold and stays so for "
       "avalanche_hold_deg (or to the end of the run); ensemble theta_c = mean over runs",
       "event: from a local maximum of N to the next local minimum (turning points confirmed "
@@ -161,7 +162,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"nu", "", ColumnKind::real}, {"sliding", "", ColumnKind::integer},
            {"nu_sliding", "", ColumnKind::real}, {"z", "", ColumnKind::real},
            {"z_all", "", ColumnKind::real}, {"loaded_grains", "", ColumnKind::integer},
-           {"lambda", "D", ColumnKind::real}, {"loading", "", ColumnKind::integer}})
+           {"lambda", "D", ColumnKind::real}, {"Ek", "J m-1", ColumnKind::real},
+           {"ek_norm", "", ColumnKind::real}, {"loading", "", ColumnKind::integer}})
     frames_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
@@ -235,6 +237,9 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       frames_t.column("loaded_grains").add_int(st.loaded_grains);
       frames_t.column("lambda").add(st.lambda && r.diameter > 0 ? std::optional<double>(*st.lambda / r.diameter)
                                                               : std::nullopt);
+      frames_t.column("Ek").add(f.kinetic_energy);
+      frames_t.column("ek_norm").add(f.kinetic_energy && scale > 0.0 ? std::optional<double>(*f.kinetic_energy / scale)
+                                                                    : std::nullopt);
       const bool loading = f.theta <= cut;
       frames_t.column("loading").add_int(loading);
       if (loading && st.z) { z_sum += *st.z; ++z_n; }

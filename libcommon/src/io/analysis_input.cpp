@@ -119,6 +119,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
     f.theta = fr.tilt_angle * 180.0 / M_PI;
     f.state = analysis::pile_state(classify(fr, k, mu, rule, file), fr.grains.species, r.free_grains,
                                    r.diameter, rattlers);
+    f.kinetic_energy = analysis::mean_kinetic_energy(fr.grains);
     r.frames.push_back(std::move(f));
   }
   return r;

@@ -111,5 +111,8 @@ double mean_diameter(const Grains& g);
 double mean_mass(const Grains& g);
 /// Number of free (not glued) grains.
 std::int64_t free_grain_count(const Grains& g);
+/// Ek: the mean translational kinetic energy per free grain, sum of m v^2 / 2 over the free
+/// grains / their number [J/m]. Empty without free grains or without velocities.
+std::optional<double> mean_kinetic_energy(const Grains& g);
 
 }  // namespace cdpile::analysis

@@ -73,6 +73,7 @@ struct FrameRecord {
   std::int64_t frame = 0, step = 0;
   double theta = 0.0;  ///< [deg]
   PileState state;
+  std::optional<double> kinetic_energy;  ///< Ek, mean per free grain (mean_kinetic_energy) [J/m]
 };
 
 struct RunRecord {
