@@ -42,10 +42,14 @@ static void usage(cli::Usage& u) {
       "scaled by chi2/dof when above 1). nu_c is reported with its standard error, and only "
       "when the envelope saturates: tau shorter than the fitted range and 0 < nu_c <= 1 "
       "(result envelope_saturates; otherwise a note says why there is no nu_c).",
-      "The series behind the ensemble, envelope and events (--series): 'steps' uses a per-step "
-      "critical count recorded by the simulator (observable critical_grain), 'frames' the "
-      "frames' contacts with the eps rule, 'sliding' the per-step sliding count; 'auto' takes "
-      "steps when every run records them, else frames.",
+      "The series behind the ensemble, envelope and events (--series): 'steps' uses the per-step "
+      "critical count recorded by the simulator (observable critical_grain, critical with "
+      "--walls), counted with the run's own rule (its parameters critical_eps, mu_grain, mu_wall); "
+      "'frames' the frames' contacts with the rule asked for; 'sliding' the per-step sliding "
+      "count. 'auto' takes steps when every run records them with the rule asked for (same eps "
+      "and mu, mu_wall with --walls, no --floor-grains grain without --walls), else frames, with a "
+      "note naming the difference; the per-step Nc, nu and lambda of such a run are then NA. "
+      "--series steps with another rule is a usage error.",
       "theta_c of a run: the first step where Ek/(m g D) (m the mean grain mass) reaches "
       "--avalanche-ek and stays there for --avalanche-hold degrees or to the end of the run; "
       "the ensemble theta_c is the mean over runs with its standard error. The simulator's own "
@@ -132,6 +136,9 @@ static void run(const cli::Args& a) {
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu =
         io::choose_friction(&rr.header(), cli::friction_choice(a), in.name());
+    // --series steps with another rule than the run's: refused before its frames are read
+    if (opt.source == analysis::SeriesSource::steps)
+      analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule, mu);
     analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");

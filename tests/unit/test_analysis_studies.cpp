@@ -32,6 +32,7 @@ RunRecord small_run(const std::string& name, std::vector<std::int64_t> n, std::v
   r.diameter = 1.0;
   r.mean_mass = 1.0;
   r.gravity = 1.0;
+  r.recorded_rule = {default_eps, 0.5, 0.5};  // the counts follow the default rule
   for (std::size_t k = 0; k < n.size(); ++k) {
     r.steps.step.push_back(std::int64_t(k));
     r.steps.theta.push_back(0.1 * double(k));
@@ -99,6 +100,84 @@ TEST(CriticalStudy, FramesSourceAndAvalancheCut) {
                Error);
 }
 
+TEST(CriticalStudy, StepRuleMismatch) {
+  const RecordedRule rec{1e-3, 0.5, 0.4};
+  const Friction mu{0.5, 0.4};
+  EXPECT_FALSE(step_rule_mismatch(rec, CriticalRule{}, mu));
+  CriticalRule eps;
+  eps.eps = 0.2;
+  ASSERT_TRUE(step_rule_mismatch(rec, eps, mu));
+  EXPECT_FALSE(step_rule_mismatch(rec, eps, mu)->unknown);
+  EXPECT_EQ(step_rule_mismatch(rec, eps, mu)->why, "eps 0.2 asked, 0.001 recorded");
+  EXPECT_EQ(step_rule_mismatch(rec, eps, {0.3, 0.4})->why, "eps 0.2 asked, 0.001 recorded; mu 0.3 asked, 0.5 recorded");
+  // mu_wall matters only when wall contacts count (the recorded 'critical' then)
+  EXPECT_FALSE(step_rule_mismatch(rec, CriticalRule{}, {0.5, 0.9}));
+  CriticalRule walls;
+  walls.include_walls = true;
+  EXPECT_EQ(step_rule_mismatch(rec, walls, {0.5, 0.9})->why, "mu_wall 0.9 asked, 0.4 recorded");
+  EXPECT_FALSE(step_rule_mismatch(rec, walls, mu));
+  // critical_grain leaves contacts with glued floor grains out; with walls they all count
+  CriticalRule floor;
+  floor.floor_grains_are_walls = false;
+  EXPECT_EQ(step_rule_mismatch(rec, floor, mu)->why, "floor grains counted as grains, not in critical_grain");
+  floor.include_walls = true;
+  EXPECT_FALSE(step_rule_mismatch(rec, floor, mu));
+  // a run that does not record its rule (a pile of deposit has no critical_eps)
+  ASSERT_TRUE(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu));
+  EXPECT_TRUE(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu)->unknown);
+  EXPECT_EQ(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu)->why, "no critical_eps in /parameters");
+  // the same values written as text and read back are the same
+  EXPECT_FALSE(step_rule_mismatch({0.001, 0.5, 0.4}, CriticalRule{}, mu));
+}
+
+TEST(CriticalStudy, AnotherRuleThanTheRecordedTakesTheFrames) {
+  // The per-step count follows eps = 1e-3 (nu 0.1, 0.2, 0.1, 0.1); the frames, classified
+  // with the eps asked for, say nu = 0.5, 0.6. With eps = 0.2 the per-step counts are not
+  // the asked rule's: auto takes the frames for nu_max, the ensemble and the events, and the
+  // steps table has no Nc, nu or lambda.
+  RunRecord a = small_run("a.h5", {10, 10, 8, 8}, {1, 2, 0, 1});
+  a.frames = {{0, 0, 0.0, state(10, 5), std::nullopt}, {1, 1, 0.1, state(10, 6), std::nullopt}};
+  CriticalOptions o;
+  o.grid_step = 0.2;
+  o.envelope_window = 0.2;
+  o.rule.eps = 0.2;
+  Product p = critical_study({a}, o);
+  EXPECT_EQ(std::get<std::string>(p.parameters.at("series")), "frames");
+  EXPECT_DOUBLE_EQ(*p.table("runs").column("nu_max").get(0), 0.6);
+  EXPECT_DOUBLE_EQ(*p.table("events").column("nu_before").get(0), 0.6);  // frame 1, the peak's step
+  EXPECT_DOUBLE_EQ(*p.table("ensemble").column("nu").get(0), 0.55);
+  const Table& st = p.table("steps");
+  for (std::size_t k = 0; k < st.rows(); ++k) {
+    EXPECT_FALSE(st.column("Nc").get(k));
+    EXPECT_FALSE(st.column("nu").get(k));
+    EXPECT_FALSE(st.column("lambda").get(k));
+  }
+  EXPECT_EQ(*st.column("N").get(2), 8);
+  const std::string note =
+      "a.h5 recorded its per-step critical count with another rule (eps 0.2 asked, 0.001 recorded): its "
+      "per-step Nc, nu and lambda are NA and nu(theta) comes from its frames unless --series sliding";
+  EXPECT_NE(std::find(p.notes.begin(), p.notes.end(), note), p.notes.end());
+  // the same eps as recorded: the per-step series
+  o.rule.eps = default_eps;
+  EXPECT_EQ(std::get<std::string>(critical_study({a}, o).parameters.at("series")), "steps");
+  // asked for explicitly with another rule: a usage error; with an unrecorded rule: a data error
+  o.rule.eps = 0.2;
+  o.source = SeriesSource::steps;
+  try {
+    critical_study({a}, o);
+    FAIL();
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--series steps: a.h5 recorded its per-step critical count with another rule (eps 0.2 asked, "
+              "0.001 recorded); use --series frames or auto");
+  }
+  o.rule.eps = default_eps;
+  a.recorded_rule.eps.reset();
+  EXPECT_THROW(critical_study({a}, o), Error);
+  o.source = SeriesSource::automatic;
+  EXPECT_EQ(std::get<std::string>(critical_study({a}, o).parameters.at("series")), "frames");
+}
+
 TEST(CriticalStudy, EnvelopeFitRecoversNuC) {
   // 15 runs whose nu fluctuates below an envelope nu_c - B exp(-theta/tau)
   const double nu_c = 0.08, B = 0.07, tau = 4.0;
@@ -110,6 +189,7 @@ TEST(CriticalStudy, EnvelopeFitRecoversNuC) {
     run.name = "r" + std::to_string(r);
     run.free_grains = 4000;
     run.diameter = 1;
+    run.recorded_rule = {default_eps, 0.5, 0.5};
     for (int k = 0; k <= 20000; ++k) {
       const double th = 0.001 * k;
       run.steps.step.push_back(k);
@@ -144,6 +224,7 @@ TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
     run.name = "r" + std::to_string(r);
     run.free_grains = 300;
     run.diameter = 1;
+    run.recorded_rule = {default_eps, 0.5, 0.5};
     for (int k = 0; k <= 1500; ++k) {
       const double th = 0.01 * k;
       run.steps.step.push_back(k);

@@ -7,6 +7,7 @@
 #include "cdpile/error.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <string>
 #include <cmath>
@@ -59,7 +60,79 @@ struct Curve {
   std::vector<double> theta, nu;
 };
 
+/// The shortest text that reads back to the same double: a message comparing two rules
+/// must not print 0.5 for 0.5000001.
+std::string exact(double v) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return ec == std::errc() ? std::string(buf, end) : format_short(v);
+}
+
+// Parameters written as text and read back, or given as 1e-3 and 0.001, are the same.
+bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)); }
+
+std::string join(const std::vector<std::string>& parts, const char* sep) {
+  std::string s;
+  for (const std::string& x : parts) s += (s.empty() ? "" : sep) + x;
+  return s;
+}
+
+// For each run, how its recorded per-step critical count departs from the rule asked for
+// (empty when it follows it, or when the run records no count).
+std::vector<std::optional<StepRuleMismatch>> step_rule_mismatches(const std::vector<RunRecord>& runs,
+                                                                  const CriticalRule& rule) {
+  std::vector<std::optional<StepRuleMismatch>> out(runs.size());
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    if (!runs[k].steps.critical.empty()) out[k] = step_rule_mismatch(runs[k].recorded_rule, rule, runs[k].mu);
+  return out;
+}
+
+// Notes on the runs whose per-step series is missing or not used.
+void note_step_series(Product& p, const std::vector<RunRecord>& runs,
+                      const std::vector<std::optional<StepRuleMismatch>>& mismatch) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const std::string& name = runs[k].name;
+    if (runs[k].steps.step.empty())
+      p.notes.push_back(name + ": no per-step observables: no steps, events or theta_c from this run");
+    if (!mismatch[k]) continue;
+    p.notes.push_back(name + (mismatch[k]->unknown ? " does not record the rule of its per-step critical count ("
+                                                   : " recorded its per-step critical count with another rule (") +
+                      mismatch[k]->why + "): its per-step Nc, nu and lambda are NA and nu(theta) comes from "
+                      "its frames unless --series sliding");
+  }
+}
+
 }  // namespace
+
+std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, const CriticalRule& rule,
+                                                   const Friction& mu) {
+  std::vector<std::string> differ, missing;
+  auto compare = [&](const char* what, const char* parameter, double asked, std::optional<double> recorded) {
+    if (!recorded) missing.push_back(std::string("no ") + parameter + " in /parameters");
+    else if (!same_value(asked, *recorded))
+      differ.push_back(std::string(what) + " " + exact(asked) + " asked, " + exact(*recorded) + " recorded");
+  };
+  compare("eps", "critical_eps", rule.eps, rec.eps);
+  compare("mu", "mu_grain", mu.grain, rec.mu_grain);
+  if (rule.include_walls) compare("mu_wall", "mu_wall", mu.wall, rec.mu_wall);
+  else if (!rule.floor_grains_are_walls)
+    differ.push_back("floor grains counted as grains, not in critical_grain");
+  // A known difference says more than a missing parameter.
+  if (!differ.empty()) return StepRuleMismatch{false, join(differ, "; ")};
+  if (!missing.empty()) return StepRuleMismatch{true, join(missing, ", ")};
+  return std::nullopt;
+}
+
+void require_step_rule(const std::string& name, const RecordedRule& rec, const CriticalRule& rule,
+                       const Friction& mu) {
+  const auto m = step_rule_mismatch(rec, rule, mu);
+  if (!m) return;
+  if (m->unknown)
+    throw Error(name, "", "--series steps: the rule of the per-step critical count is not recorded (" + m->why +
+                              "); use --series frames");
+  throw UsageError("--series steps: " + name + " recorded its per-step critical count with another rule (" +
+                   m->why + "); use --series frames or auto");
+}
 
 std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule) {
   const RunSteps& s = r.steps;
@@ -90,11 +163,17 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     all_critical = all_critical && !r.steps.step.empty() && r.steps.critical.size() == r.steps.step.size();
     all_sliding = all_sliding && !r.steps.step.empty() && r.steps.sliding.size() == r.steps.step.size();
   }
+  // A per-step count recorded with another eps or mu counts other contacts: it is used only
+  // when it follows the rule asked for, else auto takes the frames.
+  const auto mismatch = step_rule_mismatches(runs, opt.rule);
+  const bool all_follow = std::none_of(mismatch.begin(), mismatch.end(), [](const auto& m) { return m.has_value(); });
   SeriesSource src = opt.source;
-  if (src == SeriesSource::automatic) src = all_critical ? SeriesSource::steps : SeriesSource::frames;
+  if (src == SeriesSource::automatic) src = all_critical && all_follow ? SeriesSource::steps : SeriesSource::frames;
   if (src == SeriesSource::steps && !all_critical && !runs.empty())
     throw Error("--series steps: a run does not record a per-step critical count "
                 "(observable critical_grain or critical); use --series frames or sliding");
+  if (src == SeriesSource::steps)
+    for (const RunRecord& r : runs) require_step_rule(r.name, r.recorded_rule, opt.rule, r.mu);
   if (src == SeriesSource::sliding && !all_sliding && !runs.empty())
     throw Error("--series sliding: a run does not record the per-step sliding count");
 
@@ -131,6 +210,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       "envelope fit: nu_c - B exp(-theta/tau) by Levenberg-Marquardt, weighted by the se when "
       "every window has one; uncertainties from the covariance (scaled by chi2/dof if > 1)",
       "missing values (NA): nu with N = 0, lambda with Nc = 0 (infinite), se from one run"};
+  note_step_series(p, runs, mismatch);
 
   Table& runs_t = p.add_table("runs", "one row per run");
   Table* steps_t = opt.step_table ? &p.add_table("steps", "one row per time step of each run") : nullptr;
@@ -188,11 +268,13 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     const double np = static_cast<double>(r.free_grains);
     const bool have_ek = !s.kinetic_energy.empty() && r.free_grains > 0;
     const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
+    // the recorded per-step critical count, if it follows the rule asked for
+    const bool have_nc = !s.critical.empty() && !mismatch[ri];
 
     // per-step quantities
     std::vector<double> nu_c(n, nan), nu_s(n, nan), ekn(n, nan);
     for (std::size_t k = 0; k < n; ++k) {
-      if (!s.critical.empty()) nu_c[k] = ratio(s.critical[k], s.contacts[k]).value_or(nan);
+      if (have_nc) nu_c[k] = ratio(s.critical[k], s.contacts[k]).value_or(nan);
       if (!s.sliding.empty()) nu_s[k] = ratio(s.sliding[k], s.contacts[k]).value_or(nan);
       if (have_ek && scale > 0.0) ekn[k] = s.kinetic_energy[k] / np / scale;
     }
@@ -206,16 +288,14 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
         steps_t->column("step").add_int(s.step[k]);
         steps_t->column("theta").add(s.theta[k]);
         steps_t->column("N").add_int(s.contacts[k]);
-        steps_t->column("Nc").add(s.critical.empty() ? nan : static_cast<double>(s.critical[k]));
+        steps_t->column("Nc").add(have_nc ? static_cast<double>(s.critical[k]) : nan);
         steps_t->column("nu").add(nu_c[k]);
         steps_t->column("sliding").add(s.sliding.empty() ? nan : static_cast<double>(s.sliding[k]));
         steps_t->column("nu_sliding").add(nu_s[k]);
         const auto z_all = ratio(2 * s.contacts[k], r.free_grains);
         steps_t->column("z_all").add(z_all);
-        const double nu_for_lambda = !s.critical.empty() ? nu_c[k] : nan;
-        steps_t->column("lambda").add(z_all && std::isfinite(nu_for_lambda)
-                                          ? critical_spacing(*z_all, nu_for_lambda, 1.0)
-                                          : std::nullopt);
+        steps_t->column("lambda").add(z_all && std::isfinite(nu_c[k]) ? critical_spacing(*z_all, nu_c[k], 1.0)
+                                                                        : std::nullopt);
         steps_t->column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
         steps_t->column("ek_norm").add(ekn[k]);
       }

@@ -74,6 +74,11 @@ analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, 
   return mu;
 }
 
+analysis::RecordedRule recorded_rule(const RunHeader& h, const std::string& file) {
+  return {real_parameter(h.parameters, "critical_eps", file), real_parameter(h.parameters, "mu_grain", file),
+          real_parameter(h.parameters, "mu_wall", file)};
+}
+
 namespace {
 // The contacts of frame k that count, classified; a bad force names the frame.
 analysis::ContactSet classify(const Frame& fr, std::size_t k, const analysis::Friction& mu,
@@ -103,6 +108,7 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
   r.mean_mass = analysis::mean_mass(g);
   r.gravity = real_parameter(h.parameters, "gravity_m_s2", file).value_or(0.0);
   r.recorded_avalanche = real_parameter(h.results, "avalanche_angle_deg", file);
+  r.recorded_rule = recorded_rule(h, file);
   r.steps = steps_from_series(rr.series(), rule.include_walls, file);
   return r;
 }
@@ -111,6 +117,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
+  r.mu = mu;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
     const Frame fr = rr.frame(k);
     analysis::FrameRecord f;

@@ -39,7 +39,8 @@ inline void record_range(Values& v, const std::string& prefix, const ThetaRange&
 
 /// Which nu(theta) series the ensemble mean, the envelope and the events use.
 enum class SeriesSource {
-  automatic,  ///< `steps` when every run records a per-step critical count, else `frames`
+  automatic,  ///< `steps` when every run records a per-step critical count by the rule asked
+              ///< for (step_rule_mismatch), else `frames`
   steps,      ///< per-step critical count from the observables (column critical_grain/critical)
   frames,     ///< the frames' contacts with the eps rule (exact definition, sparser)
   sliding,    ///< per-step count of contacts the solver reports sliding
@@ -58,6 +59,32 @@ struct CriticalOptions {
   SeriesSource source = SeriesSource::automatic;
   bool step_table = true;             ///< include the per-step table
 };
+
+/// The rule behind a run's recorded per-step critical count (observable critical_grain,
+/// or critical with walls): the simulator's own eps and friction, from the run's
+/// /parameters critical_eps, mu_grain and mu_wall. Empty: not recorded.
+struct RecordedRule {
+  std::optional<double> eps, mu_grain, mu_wall;
+};
+
+/// How a recorded per-step count departs from the rule asked for.
+struct StepRuleMismatch {
+  bool unknown = false;  ///< the run does not record its rule (e.g. no critical_eps)
+  std::string why;       ///< one line: "eps 0.2 asked, 0.001 recorded"
+};
+
+/// Whether a per-step count recorded with `rec` counts what `rule` with friction `mu`
+/// asks for: empty when it does. The simulator's critical_grain counts the contacts between
+/// two free grains at the Coulomb threshold with (critical_eps, mu_grain); its critical
+/// (read with walls) all contacts, mu_wall against a wall plane. So without walls,
+/// --floor-grains grain departs from it too.
+std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, const CriticalRule& rule,
+                                                   const Friction& mu);
+
+/// For an explicit --series steps, before the run is read: a UsageError when run `name`
+/// recorded its per-step count with another rule, an Error when it does not record its rule.
+void require_step_rule(const std::string& name, const RecordedRule& rec, const CriticalRule& rule,
+                       const Friction& mu);
 
 /// Per-step observables of one run, as recorded. Optional series are empty when absent.
 struct RunSteps {
@@ -83,6 +110,8 @@ struct RunRecord {
   double mean_mass = 0.0;   ///< [kg/m]
   double gravity = 0.0;     ///< [m/s^2]; 0 if unknown (then no avalanche angle)
   std::optional<double> recorded_avalanche;  ///< [deg] the simulator's own detection
+  Friction mu;                ///< the friction the frames were classified with
+  RecordedRule recorded_rule; ///< the rule of steps.critical; used only when it is the asked one
   RunSteps steps;
   std::vector<FrameRecord> frames;
 };

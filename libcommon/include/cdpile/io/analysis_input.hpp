@@ -26,6 +26,10 @@ struct FrictionChoice {
 analysis::Friction choose_friction(const RunHeader* header, const FrictionChoice& c,
                                    const std::string& file);
 
+/// The rule a run recorded its per-step critical counts with: /parameters critical_eps,
+/// mu_grain, mu_wall (each empty when absent).
+analysis::RecordedRule recorded_rule(const RunHeader& header, const std::string& file);
+
 /// The contacts that count in frame k of a run, classified by the rule (select_contacts).
 /// The frame's grain state is read and checked too.
 analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
