@@ -125,14 +125,14 @@ static void run(const cli::Args& a) {
   check_tables(cli::split_list(a.text("table")), opt);
 
   std::vector<analysis::RunRecord> runs;
-  std::vector<io::Provenance> history;
+  std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every run
   std::string inputs;
   int stdin_count = 0;
   for (const std::string& path : a.arguments("runs")) {
     if (path == "-" && ++stdin_count > 1) throw UsageError("'-' (standard input) given twice");
     io::Input in(path);
     io::RunReader rr(in.hdf5());
-    if (history.empty()) history = rr.header().provenance;
+    histories.emplace_back(in.name(), rr.header().provenance);
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu =
         io::choose_friction(&rr.header(), cli::friction_choice(a), in.name());
@@ -145,6 +145,7 @@ static void run(const cli::Args& a) {
     runs.push_back(std::move(r));
   }
   analysis::Product p = analysis::critical_study(runs, opt);
+  std::vector<io::Provenance> history = io::merge_histories(histories);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
   cli::emit_product(a, p, history);
 }

@@ -135,14 +135,16 @@ static void run(const cli::Args& a) {
   }
 
   analysis::LocalNuStudy study(opt);
-  std::vector<io::Provenance> history;
+  std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every input
   std::string inputs;
   analysis::Values per_input;
   for (std::size_t k = 0; k < paths.size(); ++k) {
     io::Input in(paths[k]);
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const io::LocalNuInputInfo info = io::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
-    if (history.empty() && in.is_hdf5()) history = io::RunReader(in.hdf5()).header().provenance;
+    // a contact table has no history, but it is one of the inputs the others are told from
+    histories.emplace_back(in.name(), in.is_hdf5() ? io::read_header(in.hdf5()).provenance
+                                                   : std::vector<io::Provenance>{});
     const std::string key = "run" + std::to_string(k) + "_";
     per_input[key + "theta_c_deg"] = info.theta_c ? analysis::Value(*info.theta_c) : analysis::Value(std::string("NA"));
     per_input[key + "theta_c_from"] = info.theta_c_from;
@@ -157,6 +159,7 @@ static void run(const cli::Args& a) {
   if (rd.mu.grain) p.parameters["mu"] = *rd.mu.grain;
   if (rd.diameter) p.parameters["diameter"] = *rd.diameter;
   for (auto& [key, v] : per_input) p.results[key] = v;
+  std::vector<io::Provenance> history = io::merge_histories(histories);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
   cli::emit_product(a, p, history);
 }

@@ -74,6 +74,24 @@ TEST(Products, TsvRoundTrip) {
   EXPECT_EQ(back.provenance[0].command_line, "correlate in.h5");
 }
 
+TEST(Products, TsvRoundTripOfAMergedHistory) {
+  // entries from several inputs carry the input they came through as a sixth field
+  std::vector<Provenance> history = merge_histories(
+      {{"run1.h5", {{"tilt-cd", "0.1.0", "tilt-cd p.h5 -o run1.h5", "p.h5", "2026-01-01T00:00:00Z"}}},
+       {"run2.h5", {{"tilt-cd", "0.1.0", "tilt-cd q.h5 -o run2.h5", "q.h5", "2026-01-02T00:00:00Z"}}}});
+  history.push_back(provenance_now("critical", "critical run1.h5 run2.h5", "run1.h5 run2.h5"));
+  std::ostringstream os;
+  write_tsv(os, sample(), history);
+  EXPECT_NE(os.str().find("\ttilt-cd q.h5 -o run2.h5\trun2.h5\n"), std::string::npos) << os.str();
+  const ProductFile back = read_product_tsv(os.str(), "x.tsv");
+  ASSERT_EQ(back.provenance.size(), 3u);
+  EXPECT_EQ(back.provenance[0].via, "run1.h5");
+  EXPECT_EQ(back.provenance[1].via, "run2.h5");
+  EXPECT_EQ(back.provenance[1].command_line, "tilt-cd q.h5 -o run2.h5");
+  EXPECT_EQ(back.provenance[2].via, "");
+  EXPECT_EQ(back.provenance[2].tool, "critical");
+}
+
 TEST(Products, HdfRoundTrip) {
   Product p = sample();
   h5::File f = h5::create_in_memory("mem.h5");

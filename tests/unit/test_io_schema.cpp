@@ -194,6 +194,43 @@ TEST(Schema, ReopenDropsWhatCameAfterTheCheckpoint) {
   expect_same(r2.frame(2).contacts, frames[2].contacts);
 }
 
+TEST(Schema, MergedHistoriesKeepEveryInputsChain) {
+  const io::Provenance dep1{"deposit", "0.1.0", "deposit -o p1.h5", "", "2026-01-01T00:00:00Z"};
+  const io::Provenance tilt1{"tilt-cd", "0.1.0", "tilt-cd p1.h5 -o run1.h5", "p1.h5", "2026-01-01T00:01:00Z"};
+  const io::Provenance dep2{"deposit", "0.1.0", "deposit -o p2.h5", "", "2026-01-02T00:00:00Z"};
+  // one input: a linear chain, unchanged
+  auto one = io::merge_histories({{"run1.h5", {dep1, tilt1}}});
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(one[1].command_line, tilt1.command_line);
+  EXPECT_EQ(one[0].via + one[1].via, "");
+  // several: every chain in input order, each entry marked with its input
+  auto two = io::merge_histories({{"run1.h5", {dep1, tilt1}}, {"table.tsv", {}}, {"run2.h5", {dep2}}});
+  ASSERT_EQ(two.size(), 3u);
+  EXPECT_EQ(two[0].command_line, dep1.command_line);
+  EXPECT_EQ(two[0].via, "run1.h5");
+  EXPECT_EQ(two[1].via, "run1.h5");
+  EXPECT_EQ(two[2].command_line, dep2.command_line);
+  EXPECT_EQ(two[2].via, "run2.h5");
+  // merged again (a product of products): the path of inputs
+  auto deep = io::merge_histories({{"c.h5", two}, {"d.h5", {dep1}}});
+  EXPECT_EQ(deep[2].via, "c.h5 > run2.h5");
+  EXPECT_EQ(deep[3].via, "d.h5");
+  // written and read back: `via` only where it is set
+  io::RunHeader h = test_header();
+  h.provenance = two;
+  h.provenance.push_back(io::provenance_now("critical", "critical run1.h5 table.tsv run2.h5", "run1.h5 table.tsv run2.h5"));
+  h5::File f = h5::create_in_memory("merged.h5");
+  io::write_header(f, h);
+  EXPECT_FALSE(h5::has_attr(f, "/provenance/003", "via"));
+  EXPECT_EQ(h5::attr_string(f, "/provenance/002", "via"), "run2.h5");
+  const io::RunHeader back = io::read_header(f);
+  ASSERT_EQ(back.provenance.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(back.provenance[k].command_line, h.provenance[k].command_line);
+    EXPECT_EQ(back.provenance[k].via, h.provenance[k].via);
+  }
+}
+
 TEST(Output, RefusesToOverwriteWithoutForceAndLeavesNoPartialFile) {
   TempDir dir;
   const std::string path = dir / "keep.h5";

@@ -61,9 +61,12 @@ void write_header_lines(std::ostream& os, const Product& p, const std::vector<Pr
     os << "# tool: " << p.kind << '\n';
   }
   os << "# kind: " << p.kind << '\n';
-  for (const Provenance& h : history)
+  for (const Provenance& h : history) {
     os << "# provenance: " << clean(h.tool) << '\t' << clean(h.version) << '\t' << clean(h.date) << '\t'
-       << clean(h.inputs) << '\t' << clean(h.command_line) << '\n';
+       << clean(h.inputs) << '\t' << clean(h.command_line);
+    if (!h.via.empty()) os << '\t' << clean(h.via);  // a sixth field, only after a merge
+    os << '\n';
+  }
   for (const auto& [k, v] : p.parameters) os << "# parameter " << k << " = " << value_text(v) << '\n';
   for (const auto& [k, v] : p.results) os << "# result " << k << " = " << value_text(v) << '\n';
   for (const auto& n : p.notes) os << "# note: " << clean(n) << '\n';
@@ -296,7 +299,8 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
           if (e == std::string::npos) break;
           k = e + 1;
         }
-        if (f.size() == 5) out.provenance.push_back({f[0], f[1], f[4], f[3], f[2]});
+        if (f.size() == 5 || f.size() == 6)
+          out.provenance.push_back({f[0], f[1], f[4], f[3], f[2], f.size() == 6 ? f[5] : std::string()});
       } else if (auto v6 = after("about:")) {
         title = *v6;
       } else if (auto v7 = after("columns:")) {

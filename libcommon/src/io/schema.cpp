@@ -63,7 +63,20 @@ Provenance provenance_now(const std::string& tool, const std::string& command_li
   std::time_t t = std::time(nullptr);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return {tool, CDPILE_VERSION, command_line, inputs, buf};
+  return {tool, CDPILE_VERSION, command_line, inputs, buf, ""};
+}
+
+std::vector<Provenance> merge_histories(
+    const std::vector<std::pair<std::string, std::vector<Provenance>>>& inputs) {
+  if (inputs.size() == 1) return inputs.front().second;
+  std::vector<Provenance> out;
+  for (const auto& [name, history] : inputs) {
+    for (Provenance p : history) {
+      p.via = p.via.empty() ? name : name + " > " + p.via;
+      out.push_back(std::move(p));
+    }
+  }
+  return out;
 }
 
 void Series::clear() {
@@ -104,6 +117,7 @@ void append_provenance(const h5::File& f, const Provenance& p) {
   h5::set_attr(f, g, "command_line", p.command_line);
   h5::set_attr(f, g, "inputs", p.inputs);
   h5::set_attr(f, g, "date", p.date);
+  if (!p.via.empty()) h5::set_attr(f, g, "via", p.via);  // only in files made from several inputs
 }
 
 void write_header(const h5::File& f, const RunHeader& h) {
@@ -143,7 +157,8 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
       const std::string g = "/provenance/" + k;
       h.provenance.push_back({h5::attr_string(f, g, "tool"), h5::attr_string(f, g, "version"),
                               h5::attr_string(f, g, "command_line"), h5::attr_string(f, g, "inputs"),
-                              h5::attr_string(f, g, "date")});
+                              h5::attr_string(f, g, "date"),
+                              h5::has_attr(f, g, "via") ? h5::attr_string(f, g, "via") : std::string()});
     }
   }
   return h;

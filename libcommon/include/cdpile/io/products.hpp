@@ -7,7 +7,8 @@
 ///     # tool: critical 0.1.0
 ///     # command: critical run1.h5 run2.h5
 ///     # input: run1.h5 run2.h5
-///     # provenance: TOOL<TAB>VERSION<TAB>DATE<TAB>INPUTS<TAB>COMMAND   (one per earlier tool)
+///     # provenance: TOOL<TAB>VERSION<TAB>DATE<TAB>INPUTS<TAB>COMMAND[<TAB>VIA]   (one per tool
+///                   of the chain, this one last; VIA: Provenance::via, after a merge)
 ///     # parameter eps = 0.001
 ///     # result nu_c = 0.0812
 ///     # note: ...

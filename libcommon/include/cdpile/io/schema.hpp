@@ -14,7 +14,8 @@
 ///   /parameters               attrs: every physical and numerical parameter, the
 ///                             unit in the name's suffix (time_step_s, mu_grain, ...)
 ///   /results                  attrs: results of the run (e.g. avalanche_angle_deg)
-///   /provenance/<k>           attrs: tool, version, command_line, inputs, date
+///   /provenance/<k>           attrs: tool, version, command_line, inputs, date; via in
+///                             a file made from several inputs (merge_histories)
 #pragma once
 
 #include "cdpile/io/files.hpp"
@@ -24,6 +25,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -42,7 +44,18 @@ std::int64_t as_int(const Values& v, const std::string& key, const std::string& 
 /// Who made a file, from what: one entry per tool that wrote into it, appended.
 struct Provenance {
   std::string tool, version, command_line, inputs, date;
+  /// In a file made from several inputs, the input this entry came through ("run2.h5";
+  /// "c.h5 > run2.h5" through two such files); empty for the file's own tool and for the
+  /// entries of a single input's chain.
+  std::string via = {};
 };
+
+/// The history of a file made from `inputs` (name and history of each, in order): with one
+/// input, its history as it is; with several, each input's history in turn, every entry
+/// marked with the input it came through (`via`), so that no input's chain is lost and each
+/// can be told apart. The caller appends its own entry.
+std::vector<Provenance> merge_histories(
+    const std::vector<std::pair<std::string, std::vector<Provenance>>>& inputs);
 /// Provenance of the running tool (date now, version of this build).
 Provenance provenance_now(const std::string& tool, const std::string& command_line,
                           const std::string& inputs);
