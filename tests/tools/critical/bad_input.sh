@@ -15,6 +15,7 @@ cp noobs.h5 pile.h5
 "$PY" -c "import h5py; f = h5py.File('pile.h5', 'r+'); f.attrs['kind'] = 'pile'"
 critical pile.h5 --quiet > pile.tsv
 expect_eq "0 2" "$(tsv_value pile.tsv runs steps 1) $(tsv_rows pile.tsv frames)"
+grep -q '^# note: pile.h5: no per-step observables: no steps, events or theta_c from this run$' pile.tsv
 # A NaN in a grain position: the schema promises finite values everywhere.
 cp run.h5 nan.h5
 "$PY" -c "import h5py; f = h5py.File('nan.h5', 'r+'); f['particles/grains/position/value'][1, 2, 0] = float('nan')"
