@@ -126,10 +126,7 @@ std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, cons
 void require_step_rule(const std::string& name, const RecordedRule& rec, const CriticalRule& rule,
                        const Friction& mu) {
   const auto m = step_rule_mismatch(rec, rule, mu);
-  if (!m) return;
-  if (m->unknown)
-    throw Error(name, "", "--series steps: the rule of the per-step critical count is not recorded (" + m->why +
-                              "); use --series frames");
+  if (!m || m->unknown) return;
   throw UsageError("--series steps: " + name + " recorded its per-step critical count with another rule (" +
                    m->why + "); use --series frames or auto");
 }
@@ -172,8 +169,12 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
   if (src == SeriesSource::steps && !all_critical && !runs.empty())
     throw Error("--series steps: a run does not record a per-step critical count "
                 "(observable critical_grain or critical); use --series frames or sliding");
-  if (src == SeriesSource::steps)
-    for (const RunRecord& r : runs) require_step_rule(r.name, r.recorded_rule, opt.rule, r.mu);
+  for (std::size_t k = 0; src == SeriesSource::steps && k < runs.size(); ++k) {
+    require_step_rule(runs[k].name, runs[k].recorded_rule, opt.rule, runs[k].mu);
+    if (mismatch[k])  // not recorded: the counts may follow any rule
+      throw Error(runs[k].name, "", "--series steps: the rule of the per-step critical count is not recorded (" +
+                                        mismatch[k]->why + "); use --series frames");
+  }
   if (src == SeriesSource::sliding && !all_sliding && !runs.empty())
     throw Error("--series sliding: a run does not record the per-step sliding count");
 

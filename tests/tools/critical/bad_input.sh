@@ -25,5 +25,8 @@ expect_fail 1 "localnu: nan.h5: /particles/grains/position/value: non-finite val
   localnu nan.h5 -o out.h5
 expect_fail 1 "localnu: nan.h5: /particles/grains/position/value: non-finite value (NaN) at element 10" \
   localnu nan.h5 --theta-c 5 -o out.h5
+# --series steps on a run without a per-step critical count (this one has none).
+expect_fail 1 "critical: --series steps: a run does not record a per-step critical count (observable critical_grain or critical); use --series frames or sliding" \
+  critical run.h5 --series steps -o out.h5 --quiet
 test ! -e out.h5
 expect_eq "" "$(ls -A | grep tmp || true)" "(temporary files left)"

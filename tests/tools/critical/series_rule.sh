@@ -51,5 +51,5 @@ critical norule.h5 --quiet > n.tsv
 expect_eq frames "$(sed -n 's/^# parameter series = //p' n.tsv)"
 grep -q "^# note: norule.h5 does not record the rule of its per-step critical count (no critical_eps in /parameters)" n.tsv
 expect_fail 1 "critical: norule.h5: --series steps: the rule of the per-step critical count is not recorded (no critical_eps in /parameters); use --series frames" \
-  critical norule.h5 --series steps -o out.h5
+  critical norule.h5 --series steps -o out.h5 --quiet
 test ! -e out.h5

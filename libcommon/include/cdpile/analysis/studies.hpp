@@ -82,7 +82,8 @@ std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, cons
                                                    const Friction& mu);
 
 /// For an explicit --series steps, before the run is read: a UsageError when run `name`
-/// recorded its per-step count with another rule, an Error when it does not record its rule.
+/// recorded its per-step count with another rule. (A run that records a count but not its
+/// rule is a data error of critical_study: the run is read by then.)
 void require_step_rule(const std::string& name, const RecordedRule& rec, const CriticalRule& rule,
                        const Friction& mu);
 
