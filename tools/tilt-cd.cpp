@@ -52,7 +52,10 @@ static void usage(cli::Usage& u) {
       "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
       "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps). Results: steps, final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
-      "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle)."};
+      "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle), warnings and "
+      "warning_messages.",
+      "Warnings (on stderr, even with --quiet, and in /results): more than 1 % of the steps at the sweep "
+      "cap, or an overlap beyond 1e-3 D (docs/method.md, \"Warnings\")."};
   u.argument("pile", "pile file made by deposit, or with --branch-at a run made by tilt-cd ('-' for standard input)");
   u.output("output run file ('-' for standard output, without checkpoints)");
   u.group("Tilt");
@@ -202,6 +205,7 @@ static void run(const cli::Args& a) {
   cli::info(std::string(line) + "; " + std::to_string(outcome.unconverged_steps) + " unconverged steps; " +
             std::to_string(static_cast<long long>(secs)) + " s wall, " + std::to_string(static_cast<long long>(sps)) +
             " steps/s");
+  for (const auto& w : outcome.warnings) cli::warn(w);
 }
 
 CDPILE_TOOL(usage, run)

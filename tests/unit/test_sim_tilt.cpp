@@ -319,4 +319,31 @@ TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
   EXPECT_GT(flagged, 100);  // 150 steps of a 100-grain pile cannot converge to 1e-9 in 2 sweeps
   EXPECT_EQ(out.unconverged_steps, flagged);
   EXPECT_EQ(io::as_int(r.header().results, "unconverged_steps", "run"), flagged);
+  // ... and warned of, in the outcome and in the file.
+  ASSERT_EQ(out.warnings.size(), 1u);
+  EXPECT_EQ(out.warnings[0].rfind(std::to_string(flagged) + " of 150 steps (", 0), 0u) << out.warnings[0];
+  EXPECT_EQ(io::as_int(r.header().results, "warnings", "run"), 1);
+  EXPECT_EQ(r.header().results.at("warning_messages"), io::Value(out.warnings[0]));
+}
+
+// The run-time warnings and their thresholds: 1 % of the steps at the cap, overlaps of
+// 1e-3 D. A sound run has none (and the short run above, converged, says so in its file).
+TEST(Tilt, RunWarningsAtTheirThresholds) {
+  EXPECT_TRUE(sim::run_warnings(1000, 10, 0.0, 1e-3).empty());  // exactly 1 %
+  const auto cap = sim::run_warnings(1000, 11, 0.0, 1e-3);
+  ASSERT_EQ(cap.size(), 1u);
+  EXPECT_EQ(cap[0], "11 of 1000 steps (1.1 %) hit the sweep cap; their forces are not converged "
+                    "(raise --max-sweeps; docs/performance.md)");
+  EXPECT_TRUE(sim::run_warnings(1000, 0, 1e-6, 1e-3).empty());  // exactly 1e-3 D
+  const auto overlap = sim::run_warnings(1000, 0, 2.5e-6, 1e-3);
+  ASSERT_EQ(overlap.size(), 1u);
+  EXPECT_EQ(overlap[0], "the largest overlap, 0.0025 D, exceeds 1e-3 D; the time step is too large for these "
+                        "speeds (lower --time-step)");
+  EXPECT_EQ(sim::run_warnings(1000, 500, 1e-5, 1e-3).size(), 2u);
+  Scratch s;
+  const auto out = sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
+  EXPECT_TRUE(out.warnings.empty());
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run");
+  EXPECT_EQ(io::as_int(io::RunReader(f).header().results, "warnings", "run"), 0);
+  EXPECT_EQ(io::RunReader(f).header().results.count("warning_messages"), 0u);
 }

@@ -185,7 +185,7 @@ std::string option_label(const OptionSpec& o) {
 void add_standard_options(Usage& u) {
   u.group("Standard options");
   u.flag("force", "replace an existing output file (otherwise it is never overwritten)");
-  u.flag("quiet", "print no progress or information on stderr (errors are still printed)");
+  u.flag("quiet", "print no progress or information on stderr (warnings and errors are still printed)");
   u.flag("help", "print this help and exit", 'h');
   u.flag("version", "print the version and exit");
 }

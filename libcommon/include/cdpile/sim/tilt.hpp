@@ -21,6 +21,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace cdpile::sim {
 
@@ -107,7 +108,18 @@ struct TiltOutcome {
   bool interrupted = false;
   std::string stop_reason;       ///< "avalanche", "to", "max_angle" or "interrupted"
   std::int64_t unconverged_steps = 0;
+  std::vector<std::string> warnings;  ///< run_warnings of the finished run (also in /results)
 };
+
+/// The run-time warnings of a run (docs/method.md, "Warnings"): what tells a user that the
+/// numbers of a run are not to be trusted as they stand. Each is one sentence without the
+/// tool name; none when the run is sound.
+///  - more than 1 % of the steps hit the sweep cap (forces not converged in those steps);
+///  - the largest overlap exceeds 1e-3 D (the step lets grains move too far: --time-step).
+/// `steps` counts every step of the run, `unconverged` those at the cap, `max_overlap_m`
+/// the largest overlap seen, `diameter_m` the mean diameter.
+std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged, double max_overlap_m,
+                                      double diameter_m);
 
 /// Tilts `pile` and writes the run to `output` (a path, or "-" for standard output,
 /// which has no checkpoints). Refuses an existing output or partial unless `force`.
