@@ -171,33 +171,59 @@ def main():
 
 
 def figures(rows, outdir):
+    """Three panels against CPU time: the error in nu, the misclassified fraction, the force
+    residual. One colour per start angle; the tolerance series at the run's h and rate
+    joined by a line and labelled by tolerance/cap; other time steps or rates as open
+    triangles labelled by h; the branch with the reference's own setting (zero error by
+    construction, a check of the comparison) is left out of the error panels."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     os.makedirs(outdir, exist_ok=True)
     angles = sorted({float(r["angle_deg"]) for r in rows})
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
+    ref_rows = {r["angle_deg"]: r for r in rows if r["reference"] == "1"}
+    base_h = {a: r["time_step_s"] for a, r in ref_rows.items()}
+    base_rate = {a: r["rate_deg_per_step"] for a, r in ref_rows.items()}
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.4))
     panels = [("nu_err", r"mean $|\nu - \nu_{ref}|$ over the window"),
               ("misclassified", "fraction of contacts misclassified"),
               ("imbalance_p99", r"force residual of the grains, 99th pct [$m g$]")]
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for ax, (key, label) in zip(axes, panels):
-        for angle in angles:
-            # The reference's own error is zero by definition; its force residual is not.
-            sel = [r for r in rows if float(r["angle_deg"]) == angle
-                   and (r["reference"] == "0" or key == "imbalance_p99")]
-            x = [float(r["cpu_s"]) for r in sel]
-            # A zero cannot be drawn on a log scale: shown at 1e-9 (1e-6 for the errors).
-            y = [max(float(r[key]), 1e-9 if key == "imbalance_p99" else 1e-6) for r in sel]
-            ax.scatter(x, y, label=f"{angle:g} deg", s=18)
-            for r, xi, yi in zip(sel, x, y):
-                tag = "ref" if r["reference"] == "1" else f'{float(r["tolerance"]):.0e}/{r["max_sweeps"]}'
-                ax.annotate(tag, (xi, yi), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        for n, angle in enumerate(angles):
+            colour = colours[n % len(colours)]
+            mine = [r for r in rows if float(r["angle_deg"]) == angle]
+            a = mine[0]["angle_deg"]
+            same = [r for r in mine if r["time_step_s"] == base_h[a] and r["rate_deg_per_step"] == base_rate[a]]
+            if key != "imbalance_p99":
+                ref = ref_rows[a]
+                same = [r for r in same if r["reference"] == "0"
+                        and (r["tolerance"], r["max_sweeps"]) != (ref["tolerance"], ref["max_sweeps"])]
+            same.sort(key=lambda r: (-float(r["tolerance"]), int(r["max_sweeps"])))
+            x = [float(r["cpu_s"]) for r in same]
+            y = [max(float(r[key]), 1e-12) for r in same]
+            ax.plot(x, y, "o-", color=colour, ms=4, lw=0.8, label=f"{angle:g} deg")
+            for r, xi, yi in zip(same, x, y):
+                tag = "ref" if r["reference"] == "1" else f'{float(r["tolerance"]):.0e}'
+                if r["max_sweeps"] != "2000" and r["reference"] == "0":
+                    tag += f'/{r["max_sweeps"]}'
+                ax.annotate(tag, (xi, yi), fontsize=6, xytext=(2, 2), textcoords="offset points", color=colour)
+            other = [r for r in mine if r not in same and r["reference"] == "0"
+                     and (r["time_step_s"] != base_h[a] or r["rate_deg_per_step"] != base_rate[a])]
+            for r in other:
+                xi, yi = float(r["cpu_s"]), max(float(r[key]), 1e-12)
+                fixed_rate = r["rate_deg_per_step"] != base_rate[a]
+                ax.plot([xi], [yi], "v" if fixed_rate else "^", mfc="none", color=colour, ms=6)
+                ax.annotate(f'h={float(r["time_step_s"]):.0e}', (xi, yi), fontsize=6, xytext=(2, -7),
+                            textcoords="offset points", color=colour)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("CPU time of the branch [s]")
         ax.set_ylabel(label)
     axes[0].legend(title="branch start", fontsize=7)
-    fig.suptitle("Speed against accuracy: tolerance/sweep cap of each branch (reference: tightest)", fontsize=10)
+    n_grains = rows[0].get("grains", "")
+    fig.suptitle("Speed against accuracy: dots, solver tolerance (cap 2000 unless marked) at the run's h; "
+                 "triangles, other h (^ same deg/step, v same deg/s), tolerance of the reference", fontsize=9)
     fig.tight_layout()
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(outdir, f"accuracy.{ext}"), dpi=110)
