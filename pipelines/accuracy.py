@@ -221,7 +221,6 @@ def figures(rows, outdir):
         ax.set_xlabel("CPU time of the branch [s]")
         ax.set_ylabel(label)
     axes[0].legend(title="branch start", fontsize=7)
-    n_grains = rows[0].get("grains", "")
     fig.suptitle("Speed against accuracy: dots, solver tolerance (cap 2000 unless marked) at the run's h; "
                  "triangles, other h (^ same deg/step, v same deg/s), tolerance of the reference", fontsize=9)
     fig.tight_layout()
