@@ -46,7 +46,7 @@ static void usage(cli::Usage& u) {
       "fitted has converged = 0 and NA values; with nothing to fit the tables are empty and a "
       "note says why: a documented empty result, never NaN."};
   u.argument("correlate", "correlate product (TSV or HDF5; '-' for standard input)");
-  cli::declare_product_output(u, "fits, model, affine");
+  cli::declare_product_output(u, {"fits", "model", "affine"});
   u.group("Cluster law (eq 4)");
   u.text_opt("nu", "critical product (TSV or HDF5): ensemble nu(theta) for nu_inf, and nu_c");
   u.text("nu-inf", "auto", "nu_inf(theta) of eq (4)", {"auto", "ensemble", "pile", "fit"});

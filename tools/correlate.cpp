@@ -6,8 +6,6 @@
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/products.hpp"
 
-#include <algorithm>
-
 using namespace cdpile;
 
 static void usage(cli::Usage& u) {
@@ -35,7 +33,7 @@ static void usage(cli::Usage& u) {
       "Output: TSV on standard output by default (for gnuplot and awk), an HDF5 product with -o "
       "FILE (-o - for a pipe into clusterfit)."};
   u.argument("localnu", "localnu product (TSV or HDF5; '-' for standard input)");
-  cli::declare_product_output(u, "frames, windows");
+  cli::declare_product_output(u, {"frames", "windows"});
   u.flag("no-frames", "leave the per-frame table out");
   u.group("Windows");
   u.real("window", 1.0, "width w of the theta windows", "deg", 1e-9, 360);
@@ -56,9 +54,7 @@ static void run(const cli::Args& a) {
   if (auto v = a.real_opt("from")) opt.theta.lo = *v;
   if (auto v = a.real_opt("to")) opt.theta.hi = *v;
   if (opt.theta.lo > opt.theta.hi) throw UsageError("--from must not be above --to");
-  const std::vector<std::string> only = cli::split_list(a.text("table"));
-  if (!opt.frame_table && std::find(only.begin(), only.end(), "frames") != only.end())
-    throw UsageError("--table frames with --no-frames");
+  cli::refuse_table_if(a, "frames", !opt.frame_table, "with --no-frames");
 
   const io::Input in(a.argument("localnu"));
   io::ProductFile f = io::read_product(in, "localnu");

@@ -7,7 +7,6 @@
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 using namespace cdpile;
@@ -61,7 +60,7 @@ static void usage(cli::Usage& u) {
       ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
       "from one run) are NA, never NaN. docs/tools/critical.md and docs/analysis.md say more."};
   u.argument("runs", "tilt run files (HDF5; '-' for standard input)", true, true);
-  cli::declare_product_output(u, "runs, steps, frames, events, ensemble, envelope");
+  cli::declare_product_output(u, analysis::critical_table_names(analysis::CriticalOptions{}));
   u.flag("no-steps", "leave the per-step table out");
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
   u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
@@ -83,18 +82,6 @@ static void usage(cli::Usage& u) {
             "tables under /tables, nu_c and theta_c under /results");
   u.example("nu_c and its error", "critical runs/run*.h5 --no-steps | grep '^# result nu_c'",
             "the envelope's limit, with nu_c_se");
-}
-
-// --table names tables of the product: an unknown one is refused before any run is read.
-static void check_tables(const std::vector<std::string>& only, const analysis::CriticalOptions& opt) {
-  const std::vector<std::string> names = analysis::critical_table_names(opt);
-  for (const std::string& t : only) {
-    if (std::find(names.begin(), names.end(), t) != names.end()) continue;
-    if (t == "steps") throw UsageError("--table steps with --no-steps");
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw UsageError("--table: no table '" + t + "' (critical writes " + list + ")");
-  }
 }
 
 static void run(const cli::Args& a) {
@@ -122,7 +109,8 @@ static void run(const cli::Args& a) {
   opt.cut_at_avalanche = !a.flag("no-cut");
   opt.step_table = !a.flag("no-steps");
 
-  check_tables(cli::split_list(a.text("table")), opt);
+  // an unknown --table is refused by the parser; one left out by --no-steps here, before any run is read
+  cli::refuse_table_if(a, "steps", !opt.step_table, "with --no-steps");
 
   std::vector<analysis::RunRecord> runs;
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every run

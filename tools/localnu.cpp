@@ -52,7 +52,7 @@ static void usage(cli::Usage& u) {
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "
       "without critical contacts give NA, never NaN."};
   u.argument("inputs", "tilt runs (HDF5) or contact tables (TSV/CSV); '-' for standard input", true, true);
-  cli::declare_product_output(u, "frames, states, pdf, map, contacts");
+  cli::declare_product_output(u, {"frames", "states", "pdf", "map", "contacts"});
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain; required for a table)");
   u.group("Local state");
   u.real_list("radii", "1:1:20", "radii r of the neighbourhoods (a list, or FIRST:STEP:LAST)", "D", 1e-6, 1e6);
@@ -102,6 +102,7 @@ static void run(const cli::Args& a) {
   opt.map_radius = a.real("map-radius");
   opt.map_spacing = a.real("map-spacing");
   opt.per_contact = a.flag("per-contact");
+  cli::refuse_table_if(a, "contacts", !opt.per_contact, "without --per-contact");
   for (std::size_t k = 1; k < opt.radii.size(); ++k)
     if (!(opt.radii[k] > opt.radii[k - 1])) throw UsageError("--radii must be strictly increasing");
   if (a.given("map-frame") && a.given("map-theta")) throw UsageError("--map-frame and --map-theta exclude each other");

@@ -11,7 +11,7 @@ cli::Args parse(const std::vector<std::string>& words) {
   u.name = "analysis-demo";
   u.synopsis = "shared analysis options";
   u.argument("runs", "runs", true, true);
-  cli::declare_product_output(u, "a, b");
+  cli::declare_product_output(u, {"a", "b"});
   cli::declare_critical_rule(u, "grain-grain friction coefficient");
   std::vector<std::string> argv{"analysis-demo"};
   argv.insert(argv.end(), words.begin(), words.end());
@@ -52,4 +52,6 @@ TEST(AnalysisOptions, RangesAreChecked) {
   EXPECT_THROW(parse({"run.h5", "--mu", "0"}), UsageError);
   EXPECT_THROW(parse({"run.h5", "--floor-grains", "floor"}), UsageError);
   EXPECT_THROW(parse({"run.h5", "--format", "csv"}), UsageError);
+  EXPECT_THROW(parse({"run.h5", "--table", "c"}), UsageError);
+  EXPECT_THROW(parse({"run.h5", "--table", "a,c"}), UsageError);
 }

@@ -19,6 +19,7 @@ cli::Usage demo() {
   u.real_opt("to", "final angle", "deg", 0, 90);
   u.real_list("radii", "1:1:20", "radii", "D", 0);
   u.text("criterion", "max", "convergence criterion", {"max", "quad"});
+  u.text_list("table", "tables to write", {"runs", "frames"});
   u.flag("exclude-self", "leave contact i out of its own neighbourhood");
   u.flag("force", "replace");
   u.seed();
@@ -78,6 +79,14 @@ TEST(Cli, StrictNumbers) {
   EXPECT_EQ(usage_error({"a", "--radii", "1:0:5"}),
             "--radii: expected a list of numbers (A,B,C or FIRST:STEP:LAST) >= 0, got '1:0:5' (the step must be positive and LAST >= FIRST)");
   EXPECT_EQ(usage_error({"a", "--criterion", "l2"}), "--criterion: expected one of max, quad, got 'l2'");
+}
+
+TEST(Cli, ListOfChoicesCheckedItemByItem) {
+  EXPECT_EQ(run({"a"}).text_list("table"), std::vector<std::string>{});
+  EXPECT_EQ(run({"a", "--table", "frames,runs"}).text_list("table"), (std::vector<std::string>{"frames", "runs"}));
+  EXPECT_EQ(usage_error({"a", "--table", "foo"}), "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
+  EXPECT_EQ(usage_error({"a", "--table", "runs,foo"}), "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
+  EXPECT_EQ(usage_error({"a", "--table", "runs,"}), "--table: expected one or more of runs, frames (comma-separated), got ''");
 }
 
 TEST(Cli, NoPrefixGuessingAndUnknownOptions) {

@@ -2,16 +2,24 @@
 
 #include "cdpile/io/products.hpp"
 
+#include <algorithm>
+
 namespace cdpile::cli {
 
-void declare_product_output(Usage& u, const std::string& tables) {
+void declare_product_output(Usage& u, const std::vector<std::string>& tables) {
   u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
   u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_opt("table", "write only these tables to TSV (comma-separated: " + tables + ")");
+  u.text_list("table", "write only these tables to TSV", tables);
+}
+
+void refuse_table_if(const Args& a, const std::string& table, bool left_out, const std::string& why) {
+  if (!left_out) return;
+  const std::vector<std::string> only = a.text_list("table");
+  if (std::find(only.begin(), only.end(), table) != only.end()) throw UsageError("--table " + table + " " + why);
 }
 
 void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history) {
-  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), split_list(a.text("table")));
+  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), a.text_list("table"));
 }
 
 void declare_critical_rule(Usage& u, const std::string& mu_help) {

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <cmath>
@@ -123,6 +124,23 @@ void validate(const OptionSpec& o, const std::string& v) {
   }
 }
 
+// An option with a fixed set of values (Usage::text, Usage::text_list): every value, or
+// every item of a list, must be one of them. The one check of all enumerated options.
+void check_choices(const Usage& usage, const OptionSpec& o, const std::string& v) {
+  auto ch = usage.choices_.find(o.name);
+  if (ch == usage.choices_.end() || ch->second.empty()) return;
+  const auto& allowed = ch->second;
+  const std::vector<std::string> items = o.kind == Kind::text_list ? split_list(v) : std::vector<std::string>{v};
+  for (const std::string& item : items) {
+    if (std::find(allowed.begin(), allowed.end(), item) != allowed.end()) continue;
+    std::string list;
+    for (const auto& c : allowed) list += (list.empty() ? "" : ", ") + c;
+    if (o.kind == Kind::text_list)
+      throw UsageError("--" + o.name + ": expected one or more of " + list + " (comma-separated), got '" + item + "'");
+    throw UsageError("--" + o.name + ": expected one of " + list + ", got '" + v + "'");
+  }
+}
+
 std::string shell_quote(const std::string& s) {
   if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") == std::string::npos)
     return s;
@@ -137,6 +155,7 @@ std::string metavar(const OptionSpec& o) {
     case Kind::integer: return "N";
     case Kind::real: return "X";
     case Kind::real_list: return "LIST";
+    case Kind::text_list: return "LIST";
     case Kind::path_out: return "FILE";
     case Kind::path_in: return "FILE";
     default: return "TEXT";
@@ -283,6 +302,15 @@ Usage& Usage::text_opt(const std::string& n, const std::string& help) {
   return add(s);
 }
 
+Usage& Usage::text_list(const std::string& n, const std::string& help, const std::vector<std::string>& choices) {
+  OptionSpec s;
+  s.name = n; s.kind = Kind::text_list; s.help = help + "; comma-separated, each one of:";
+  for (std::size_t k = 0; k < choices.size(); ++k) s.help += (k ? ", " : " ") + choices[k];
+  add(s);
+  choices_[n] = choices;
+  return *this;
+}
+
 Usage& Usage::output(const std::string& help, const std::string& def) {
   OptionSpec s;
   s.name = "output"; s.short_name = 'o'; s.kind = Kind::path_out; s.help = help;
@@ -357,6 +385,7 @@ const std::string& Args::text(const std::string& n) const {
   auto it = values_.find(n);
   return it == values_.end() ? empty : it->second;
 }
+std::vector<std::string> Args::text_list(const std::string& n) const { return split_list(text(n)); }
 const std::vector<std::string>& Args::arguments(const std::string& n) const {
   static const std::vector<std::string> none;
   auto it = positional_.find(n);
@@ -411,13 +440,7 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
     if (vm.count(o.name)) {
       const std::string v = vm[o.name].as<std::string>();
       validate(o, v);
-      auto ch = usage.choices_.find(o.name);
-      if (ch != usage.choices_.end() && !ch->second.empty() &&
-          std::find(ch->second.begin(), ch->second.end(), v) == ch->second.end()) {
-        std::string list;
-        for (const auto& c : ch->second) list += (list.empty() ? "" : ", ") + c;
-        throw UsageError("--" + o.name + ": expected one of " + list + ", got '" + v + "'");
-      }
+      check_choices(usage, o, v);
       a.values_[o.name] = v;
       a.given_[o.name] = true;
     } else if (o.has_default) {

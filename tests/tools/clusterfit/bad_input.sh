@@ -14,7 +14,17 @@ expect_fail 1 "clusterfit: nan.tsv: line 6, column nu_pile: 'nan' is not a finit
 expect_fail 2 "clusterfit: --r-max must be above --r-min (see 'clusterfit --help')" clusterfit d.tsv --r-min 5 --r-max 2 -o out.h5
 expect_fail 2 "clusterfit: --nu-inf ensemble needs the critical product (--nu FILE) (see 'clusterfit --help')" clusterfit d.tsv --nu-inf ensemble -o out.h5
 expect_fail 2 "clusterfit: --nu-c: expected a finite number in [1e-12, 0.999999], got '0' (out of range) (see 'clusterfit --help')" clusterfit d.tsv --nu-c 0 -o out.h5
+# A bad value of an option with a fixed set of values (--table, --format, --nu-inf, --rc-from)
+# is a usage error found before any input is read (missing.h5 does not exist).
+expect_fail 2 "clusterfit: --table: expected one or more of fits, model, affine (comma-separated), got 'foo' (see 'clusterfit --help')" \
+  clusterfit missing.h5 --table foo -o out.tsv
+expect_fail 2 "clusterfit: --table: expected one or more of fits, model, affine (comma-separated), got 'foo' (see 'clusterfit --help')" \
+  clusterfit d.tsv --table fits,foo -o out.tsv
+expect_fail 2 "clusterfit: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'clusterfit --help')" clusterfit missing.h5 --format csv -o out.tsv
+expect_fail 2 "clusterfit: --nu-inf: expected one of auto, ensemble, pile, fit, got 'foo' (see 'clusterfit --help')" clusterfit missing.h5 --nu-inf foo -o out.tsv
+expect_fail 2 "clusterfit: --rc-from: expected one of window, affine, got 'foo' (see 'clusterfit --help')" clusterfit missing.h5 --rc-from foo -o out.tsv
 test ! -e out.h5
+test ! -e out.tsv
 # Too few radii to fit (L = 3 leaves 3 < 4 points): no fit, NA values, a note; exit 0.
 clusterfit d.tsv --r-max 3 --nu-c 0.08 > e.tsv
 expect_eq "0 NA NA 0" "$(tsv_result e.tsv windows_fitted) $(tsv_value e.tsv fits A 1) $(tsv_value e.tsv fits r_c 1) $(tsv_rows e.tsv affine)"

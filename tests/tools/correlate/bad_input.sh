@@ -21,4 +21,13 @@ awk -F'\t' -v OFS='\t' '/^# table: states/{s=1} /^# table: pdf/{s=0} s && $1 == 
 expect_fail 1 "correlate: orphan.tsv: table states, row 1: run 0 frame 9 is not in table frames" correlate orphan.tsv -o out.h5
 expect_fail 2 "correlate: --window: expected a finite number in [1e-09, 360], got '0' (out of range) (see 'correlate --help')" correlate l.h5 --window 0 -o out.h5
 expect_fail 2 "correlate: --from must not be above --to (see 'correlate --help')" correlate l.h5 --from 5 --to 1 -o out.h5
+# A bad value of an option with a fixed set of values is a usage error found before the
+# input is read (missing.h5 does not exist); so is a table --no-frames leaves out.
+expect_fail 2 "correlate: --table: expected one or more of frames, windows (comma-separated), got 'foo' (see 'correlate --help')" \
+  correlate missing.h5 --table foo -o out.tsv
+expect_fail 2 "correlate: --table: expected one or more of frames, windows (comma-separated), got 'foo' (see 'correlate --help')" \
+  correlate l.h5 --table windows,foo -o out.tsv
+expect_fail 2 "correlate: --table frames with --no-frames (see 'correlate --help')" correlate missing.h5 --no-frames --table frames -o out.tsv
+expect_fail 2 "correlate: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'correlate --help')" correlate missing.h5 --format csv -o out.tsv
 test ! -e out.h5
+test ! -e out.tsv

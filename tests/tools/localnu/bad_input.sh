@@ -31,7 +31,19 @@ expect_fail 2 "localnu: --radii must be strictly increasing (see 'localnu --help
 expect_fail 2 "localnu: --map-run 1: there are 1 inputs (see 'localnu --help')" localnu run.h5 --map-run 1 -o out.h5
 expect_fail 2 "localnu: --nu and --nu-c exclude each other (see 'localnu --help')" localnu run.h5 --nu x.tsv --nu-c 0.1 -o out.h5
 expect_fail 1 "localnu: ok.tsv: not a cdpile critical product (no '# kind:' header line)" localnu run.h5 --nu ok.tsv -o out.h5
+# A bad value of an option with a fixed set of values (--table, --format, --edge, --floor-grains)
+# is a usage error found when the command line is parsed, before any input is read
+# (missing.h5 does not exist); so is a table the other options leave out.
+expect_fail 2 "localnu: --table: expected one or more of frames, states, pdf, map, contacts (comma-separated), got 'foo' (see 'localnu --help')" \
+  localnu missing.h5 --table foo -o out.tsv
+expect_fail 2 "localnu: --table: expected one or more of frames, states, pdf, map, contacts (comma-separated), got 'foo' (see 'localnu --help')" \
+  localnu run.h5 --table frames,foo -o out.tsv
+expect_fail 2 "localnu: --table contacts without --per-contact (see 'localnu --help')" localnu missing.h5 --table contacts -o out.tsv
+expect_fail 2 "localnu: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'localnu --help')" localnu missing.h5 --format csv -o out.tsv
+expect_fail 2 "localnu: --edge: expected one of keep, exclude, got 'foo' (see 'localnu --help')" localnu missing.h5 --edge foo -o out.tsv
+expect_fail 2 "localnu: --floor-grains: expected one of wall, grain, got 'foo' (see 'localnu --help')" localnu missing.h5 --floor-grains foo -o out.tsv
 test ! -e out.h5
+test ! -e out.tsv
 expect_eq "" "$(ls -A | grep tmp || true)" "(temporary files left)"
 
 # A header and no rows: no frames, empty tables, NA pdfs; exit 0.

@@ -14,8 +14,15 @@
 namespace cdpile::cli {
 
 /// -o, --format and --table of a product: TSV on standard output by default, HDF5 with
-/// -o FILE (TSV if FILE ends in .tsv). `tables` lists the product's tables, for --help.
-void declare_product_output(Usage& u, const std::string& tables);
+/// -o FILE (TSV if FILE ends in .tsv). `tables` lists every table the tool can write: the
+/// values --table accepts, checked when the command line is parsed (a usage error, exit 2,
+/// before any input is read). A tool refuses a table its other options leave out
+/// (critical --no-steps with --table steps) itself, also before reading.
+void declare_product_output(Usage& u, const std::vector<std::string>& tables);
+
+/// Refuses `--table NAME` when the tool's other options leave that table out (`left_out`):
+/// a usage error "--table NAME WHY" (WHY e.g. "with --no-steps"), before any input is read.
+void refuse_table_if(const Args& a, const std::string& table, bool left_out, const std::string& why);
 
 /// Writes the product where the options of declare_product_output say (io::emit).
 void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history);

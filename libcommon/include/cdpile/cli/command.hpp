@@ -23,7 +23,8 @@ namespace cdpile::cli {
 
 /// The kinds of value an option takes; each is parsed strictly (no trailing junk,
 /// no nan or inf, range checked), so `--grains 1e` or `--mu nan` is a usage error.
-enum class Kind { flag, integer, real, text, real_list, path_in, path_out };
+/// `text_list` is a comma-separated list of names from a fixed set (`--table runs,frames`).
+enum class Kind { flag, integer, real, text, real_list, text_list, path_in, path_out };
 
 struct OptionSpec {
   std::string name;          ///< long name without dashes, e.g. "grains"
@@ -52,7 +53,9 @@ class Usage {
   std::vector<OptionSpec> positionals;   ///< in order; the last may repeat
   bool last_positional_repeats = false;
   std::vector<OptionSpec> options;
-  std::map<std::string, std::vector<std::string>> choices_;  ///< allowed values of text options
+  /// Allowed values of text options, and of each item of a text_list option. Checked when
+  /// the command line is parsed, so a bad value is a usage error before any work starts.
+  std::map<std::string, std::vector<std::string>> choices_;
 
   /// A positional argument (a file, "-" for standard input where the tool allows it).
   Usage& argument(const std::string& name, const std::string& help, bool repeats = false,
@@ -76,6 +79,10 @@ class Usage {
   Usage& text(const std::string& name, const std::string& def, const std::string& help,
               const std::vector<std::string>& choices = {});
   Usage& text_opt(const std::string& name, const std::string& help);
+  /// A comma-separated list of names, each one of `choices` (e.g. --table runs,frames);
+  /// no default: absent means "all" to the tool. Read it with Args::text_list.
+  Usage& text_list(const std::string& name, const std::string& help,
+                   const std::vector<std::string>& choices);
   /// Declares `-o FILE` / `--output FILE`. `def` "-" means standard output by default.
   Usage& output(const std::string& help, const std::string& def = "");
   /// Declares `--seed N` (default 1), the one seed option of every tool.
@@ -102,6 +109,8 @@ class Args {
   std::optional<std::int64_t> integer_opt(const std::string& name) const;
   std::vector<double> real_list(const std::string& name) const;
   const std::string& text(const std::string& name) const;
+  /// The items of a text_list option (split_list of its value); empty if not given.
+  std::vector<std::string> text_list(const std::string& name) const;
   /// Positional arguments by name; a repeating one gives all its values.
   const std::vector<std::string>& arguments(const std::string& name) const;
   const std::string& argument(const std::string& name) const;
