@@ -102,15 +102,19 @@ static void run(const cli::Args& a) {
   if (opt.power.lo >= opt.power.hi) throw UsageError("--power-from must be below --power-to");
   opt.theta_c = a.real_opt("theta-c");
 
+  if (a.text("nu") == "-" && a.argument("correlate") == "-") throw UsageError("'-' (standard input) given twice");
+
   const io::Input in(a.argument("correlate"));
   io::ProductFile cor = io::read_product(in, "correlate");
   std::optional<io::ProductFile> crit;
   std::string inputs = in.name();
+  // the history of every input: correlate's chain, and critical's with --nu
+  std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories{{in.name(), cor.provenance}};
   if (!a.text("nu").empty()) {
-    if (a.text("nu") == "-" && a.argument("correlate") == "-") throw UsageError("'-' (standard input) given twice");
     const io::Input cin(a.text("nu"));
     crit = io::read_product(cin, "critical");
     inputs += " " + cin.name();
+    histories.emplace_back(cin.name(), crit->provenance);
   }
   analysis::Product p;
   try {
@@ -120,8 +124,9 @@ static void run(const cli::Args& a) {
     if (what.rfind(in.name() + ":", 0) == 0 || (crit && what.rfind(crit->product.source + ":", 0) == 0)) throw;
     throw Error(in.name(), "", what);
   }
-  cor.provenance.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
-  cli::emit_product(a, p, cor.provenance);
+  std::vector<io::Provenance> history = io::merge_histories(histories);
+  history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
+  cli::emit_product(a, p, history);
 }
 
 CDPILE_TOOL(usage, run)

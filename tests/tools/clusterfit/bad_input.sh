@@ -23,6 +23,8 @@ expect_fail 2 "clusterfit: --table: expected one or more of fits, model, affine 
 expect_fail 2 "clusterfit: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'clusterfit --help')" clusterfit missing.h5 --format csv -o out.tsv
 expect_fail 2 "clusterfit: --nu-inf: expected one of auto, ensemble, pile, fit, got 'foo' (see 'clusterfit --help')" clusterfit missing.h5 --nu-inf foo -o out.tsv
 expect_fail 2 "clusterfit: --rc-from: expected one of window, affine, got 'foo' (see 'clusterfit --help')" clusterfit missing.h5 --rc-from foo -o out.tsv
+# both inputs from standard input: refused before either is read
+expect_fail 2 "clusterfit: '-' (standard input) given twice (see 'clusterfit --help')" bash -c 'clusterfit - --nu - -o out.tsv < d.tsv'
 test ! -e out.h5
 test ! -e out.tsv
 # Too few radii to fit (L = 3 leaves 3 < 4 points): no fit, NA values, a note; exit 0.
