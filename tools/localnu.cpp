@@ -8,6 +8,7 @@
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
+#include <optional>
 
 using namespace cdpile;
 
@@ -123,16 +124,18 @@ static void run(const cli::Args& a) {
   if (rd.map_run >= static_cast<std::int64_t>(paths.size()))
     throw UsageError("--map-run " + std::to_string(rd.map_run) + ": there are " +
                      std::to_string(paths.size()) + " inputs");
-  if (std::count(paths.begin(), paths.end(), "-") > 1) throw UsageError("'-' (standard input) given twice");
+  if (std::count(paths.begin(), paths.end(), "-") + (a.text("nu") == "-") > 1)
+    throw UsageError("'-' (standard input) given twice");
 
   opt.nu_c = a.real("nu-c");
   std::string nu_c_from = "option";
+  std::optional<io::ProductFile> crit;  // with --nu, an input too: its history is kept
   if (!a.text("nu").empty()) {
-    const io::ProductFile crit = io::read_product(io::Input(a.text("nu")), "critical");
-    const auto v = crit.product.result("nu_c");
-    if (!v) throw Error(crit.product.source, "", "the critical product has no nu_c (its envelope was not fitted); give --nu-c");
+    crit = io::read_product(io::Input(a.text("nu")), "critical");
+    const auto v = crit->product.result("nu_c");
+    if (!v) throw Error(crit->product.source, "", "the critical product has no nu_c (its envelope was not fitted); give --nu-c");
     opt.nu_c = *v;
-    nu_c_from = crit.product.source;
+    nu_c_from = crit->product.source;
   }
 
   analysis::LocalNuStudy study(opt);
@@ -152,6 +155,10 @@ static void run(const cli::Args& a) {
     cli::info(in.name() + ": " + std::to_string(info.frames) + " frames (" +
               std::to_string(info.loading_frames) + " in the loading phase" +
               (info.theta_c ? ", theta_c " + io::format_number(*info.theta_c) + " deg from " + info.theta_c_from : "") + ")");
+  }
+  if (crit) {
+    inputs += " " + crit->product.source;
+    histories.emplace_back(crit->product.source, crit->provenance);
   }
   analysis::Product p = study.product();
   p.parameters["eps"] = rd.rule.eps;

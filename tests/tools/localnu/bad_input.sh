@@ -42,6 +42,7 @@ expect_fail 2 "localnu: --table contacts without --per-contact (see 'localnu --h
 expect_fail 2 "localnu: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'localnu --help')" localnu missing.h5 --format csv -o out.tsv
 expect_fail 2 "localnu: --edge: expected one of keep, exclude, got 'foo' (see 'localnu --help')" localnu missing.h5 --edge foo -o out.tsv
 expect_fail 2 "localnu: --floor-grains: expected one of wall, grain, got 'foo' (see 'localnu --help')" localnu missing.h5 --floor-grains foo -o out.tsv
+expect_fail 2 "localnu: '-' (standard input) given twice (see 'localnu --help')" bash -c 'localnu - --nu - -o out.tsv < /dev/null'
 test ! -e out.h5
 test ! -e out.tsv
 expect_eq "" "$(ls -A | grep tmp || true)" "(temporary files left)"
