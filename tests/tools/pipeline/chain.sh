@@ -48,6 +48,7 @@ P
 # The same chain through TSV pipes gives the same fit.
 localnu run.h5 --format tsv -o - --quiet | correlate - --format tsv -o - | clusterfit - --nu critical.tsv --nu-c 0.1 > fit2.tsv
 expect_eq "$A $al" "$(tsv_value fit2.tsv fits A 1) $(tsv_value fit2.tsv fits alpha 1)"
-# Provenance: every tool of the chain is recorded in order
-expect_eq "localnu correlate clusterfit" \
-  "$(sed -n 's/^# provenance: \([a-z]*\)\t.*/\1/p' fit.tsv | tr '\n' ' ' | sed 's/ $//')"
+# Provenance: every tool of both chains is recorded in order, the correlate chain (through
+# the pipe, stdin) then critical's (--nu critical.tsv), each entry marked with its input
+expect_eq "localnu stdin|correlate stdin|critical critical.tsv|clusterfit " \
+  "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %s", n++ ? "|" : "", $1, $6 }' fit.tsv)"
