@@ -17,8 +17,8 @@ whole run (it stops when the avalanche is confirmed, 0.2 degree after
 theta_c); LAMMPS' whole run times the fraction of its steps done by theta_c
 (a DEM step costs the same before and after); Siconos' CPU per step of the
 window times the steps cdpile needed to theta_c ("extrapolated, window cost"),
-and that times the growth of cdpile's own cost per step from its window to
-its full run ("extrapolated, scaled as cdpile").
+and that scaled to 1000 sweeps in every step, Siconos' cap ("extrapolated,
+every step at the cap", an upper estimate).
 """
 import csv
 import glob
@@ -114,11 +114,13 @@ if full_ok:
     res.append(dict(code="cdpile", N=ngr, phase="full", steps=n_f, sim_s=n_f * H_CD,
                     theta_end=float(r["final_angle_deg"]), cpu_s=cpu_f, wall_s=wall_f,
                     theta_c=thc, cpu_to_theta_c=cpu_f, wall_to_theta_c=wall_f,
-                    how="measured (run stops 0.2 deg after theta_c)",
+                    how="measured (run stops 0.2 deg after theta_c)" if thc else
+                    "measured, no avalanche: to the stop at the maximum angle",
                     note=f"{sw.mean():.0f} sweeps/step, {unconv} steps ({100 * unconv / n_f:.1f} %) "
                     f"at the 2000-sweep cap"))
     cd_growth = (cpu_f / n_f) / cd_cpu_step_w
-    steps_thc = round(thc / 0.001) if thc else None
+    # without an avalanche (stopped at --max-angle) the "to theta_c" figures are to the stop
+    steps_thc = round(thc / 0.001) if thc else n_f
 else:
     thc = steps_thc = cd_growth = None
 
@@ -142,16 +144,17 @@ sic_step = t["cpu_s"] / n_s
 sic_wall_step = t["wall_s"] / n_s
 if steps_thc:
     res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
-                    theta_end=thc, theta_c=None, cpu_s=None, wall_s=None,
+                    theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
                     cpu_to_theta_c=sic_step * steps_thc, wall_to_theta_c=sic_wall_step * steps_thc,
                     how="extrapolated, window cost x cdpile's steps to theta_c",
                     note="not run: theta_c not measured"))
+    capf = 1000.0 / t["iters_mean"]  # every step at Siconos' 1000-sweep cap, cost ~ sweeps
     res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
-                    theta_end=thc, theta_c=None, cpu_s=None, wall_s=None,
-                    cpu_to_theta_c=sic_step * steps_thc * cd_growth,
-                    wall_to_theta_c=sic_wall_step * steps_thc * cd_growth,
-                    how=f"extrapolated, scaled as cdpile (x{cd_growth:.2f})",
-                    note="assumes Siconos' cost per step grows as cdpile's from the window to the avalanche"))
+                    theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
+                    cpu_to_theta_c=sic_step * steps_thc * capf,
+                    wall_to_theta_c=sic_wall_step * steps_thc * capf,
+                    how=f"extrapolated, every step at the cap (x{capf:.2f})",
+                    note="upper estimate: the window's cost per sweep (overhead included) times 1000 sweeps"))
 
 # ---------------- LAMMPS ----------------
 for phase, log, tf in (("window", "log.window", "window.time"), ("full", "log.full", "full.time")):
@@ -221,8 +224,8 @@ for name, key, a, b in (
 base = cf.get("cpu_to_theta_c")
 rat.append(("CPU to theta_c", base, pick("Siconos", "full", "extrapolated, window").get("cpu_to_theta_c"),
             pick("LAMMPS", "full").get("cpu_to_theta_c"), "Siconos extrapolated (window cost)"))
-rat.append(("CPU to theta_c", base, pick("Siconos", "full", "extrapolated, scaled").get("cpu_to_theta_c"),
-            None, "Siconos extrapolated (scaled as cdpile)"))
+rat.append(("CPU to theta_c", base, pick("Siconos", "full", "extrapolated, every").get("cpu_to_theta_c"),
+            None, "Siconos extrapolated (every step at its cap)"))
 with open(P("ratios.tsv"), "w") as fh:
     fh.write("metric\tcdpile\tSiconos\tLAMMPS\tSiconos/cdpile\tLAMMPS/cdpile\thow\n")
     for name, b, s, l, how in rat:
