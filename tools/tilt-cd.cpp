@@ -50,7 +50,7 @@ static void usage(cli::Usage& u) {
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
       "tilt_max_deg, avalanche_margin_deg, avalanche_energy, avalanche_hold_deg, frame_every_steps, "
       "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
-      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps). Results: steps, final_angle_deg, "
+      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion). Results: steps, final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
       "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle), warnings and "
       "warning_messages.",

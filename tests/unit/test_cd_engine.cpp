@@ -2,6 +2,7 @@
 // a block and a rolling disk on an incline, a column of disks, collisions with e = 0.
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -197,6 +198,53 @@ TEST(Column, HittingTheSweepCapIsReported) {
   EXPECT_TRUE(ok.converged);
   EXPECT_GT(ok.sweeps, 3);
   EXPECT_LE(ok.residual, s.tolerance);
+}
+
+// The three convergence criteria stop at the first sweep that meets their rule, and not
+// before: the same 10-disk column from rest (no warm start), run once to convergence
+// and once with the cap one sweep short, which must then report no convergence. The
+// root mean square of the corrections never exceeds their largest, so 'quad' stops no
+// later than 'qm16', which stops no later than 'maxm'.
+TEST(Column, EachCriterionStopsAtTheFirstSweepThatMeetsIt) {
+  Grains g;
+  for (int n = 0; n < 10; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  const double tol = 1e-6;
+  auto first_step = [&](cd::Criterion c, int cap) {
+    cd::Settings s = settings();
+    s.tolerance = tol;
+    s.criterion = c;
+    s.max_sweeps = cap;
+    cd::Engine e(Box{0.02, 0.02}, g, s);
+    return e.step(0.0);
+  };
+  int sweeps[3] = {0, 0, 0};
+  const cd::Criterion all[3] = {cd::Criterion::maxm, cd::Criterion::qm16, cd::Criterion::quad};
+  for (int k = 0; k < 3; ++k) {
+    const cd::StepReport ok = first_step(all[k], 2000);
+    ASSERT_TRUE(ok.converged) << cd::criterion_name(all[k]);
+    EXPECT_LE(ok.residual_rms, ok.residual);
+    switch (all[k]) {
+      case cd::Criterion::maxm: EXPECT_LE(ok.residual, tol); break;
+      case cd::Criterion::qm16:
+        EXPECT_LE(ok.residual_rms, tol);
+        EXPECT_LE(ok.residual, cd::qm16_max_factor * tol);
+        break;
+      case cd::Criterion::quad: EXPECT_LE(ok.residual_rms, tol); break;
+    }
+    ASSERT_GT(ok.sweeps, 1);
+    const cd::StepReport short_cap = first_step(all[k], ok.sweeps - 1);
+    EXPECT_FALSE(short_cap.converged) << cd::criterion_name(all[k]);
+    sweeps[k] = ok.sweeps;
+  }
+  EXPECT_GE(sweeps[0], sweeps[1]);
+  EXPECT_GE(sweeps[1], sweeps[2]);
+  EXPECT_GT(sweeps[0], sweeps[2]);  // ten contacts: the mean is well below the max
+}
+
+TEST(Criterion, NamesRoundTripAndAnUnknownOneIsAUsageError) {
+  for (const cd::Criterion c : {cd::Criterion::maxm, cd::Criterion::quad, cd::Criterion::qm16})
+    EXPECT_EQ(cd::criterion_from_name(cd::criterion_name(c)), c);
+  EXPECT_THROW(cd::criterion_from_name("Quad "), cdpile::UsageError);
 }
 
 // --- collisions with restitution 0 -----------------------------------------------

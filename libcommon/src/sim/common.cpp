@@ -15,7 +15,8 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"alert_distance_m", s.alert_distance},
           {"tolerance", s.tolerance},
           {"max_sweeps", std::int64_t{s.max_sweeps}},
-          {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}}};
+          {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}},
+          {"criterion", std::string(cd::criterion_name(s.criterion))}};
 }
 
 CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
@@ -36,13 +37,14 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
 
 io::Series observables_series() {
   io::Series s;
-  for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "max_overlap"})
+  for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
+                        "max_overlap"})
     s.real[n] = {};
   for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
                         "critical_grain"})
     s.integer[n] = {};
   s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
-            {"residual", ""},     {"max_overlap", "m"},         {"contacts", ""},
+            {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},         {"contacts", ""},
             {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},
             {"converged", ""},    {"critical", ""},             {"critical_grain", ""}};
   return s;
@@ -55,6 +57,7 @@ void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCo
   s.real["kinetic_energy"].push_back(r.kinetic_energy);
   s.real["rotational_energy"].push_back(r.rotational_energy);
   s.real["residual"].push_back(r.residual);
+  s.real["residual_rms"].push_back(r.residual_rms);
   s.real["max_overlap"].push_back(r.max_overlap);
   s.integer["contacts"].push_back(r.contacts);
   s.integer["contacts_grain"].push_back(r.contacts_grain);

@@ -20,9 +20,23 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace cdpile::cd {
+
+/// When the NSGS sweeps of a step stop (docs/method.md, "Convergence"). Each measures the
+/// velocity corrections W_aa dR_a that a full sweep made, relative to the velocity scale
+/// of StepReport::residual; the names are LMGC90's (physics.md 2.1).
+enum class Criterion {
+  maxm,  ///< every contact's correction <= tolerance
+  quad,  ///< root mean square of the corrections over the active contacts <= tolerance
+  qm16,  ///< quad, and every contact's correction <= 16.66 tolerance (LMGC90 'QM/16')
+};
+/// The criterion's name as on the command line and in files ("maxm", "quad", "qm16").
+const char* criterion_name(Criterion c);
+/// The criterion of a name; throws cdpile::UsageError on another name.
+Criterion criterion_from_name(const std::string& name);
 
 /// Numerical and physical settings of the engine. SI units. Defaults are for a mean
 /// grain diameter D = 1e-3 m (docs/method.md gives the reason for each).
@@ -36,6 +50,7 @@ struct Settings {
   double tolerance = 1e-4;       ///< NSGS convergence threshold on the residual (see Report)
   int max_sweeps = 2000;         ///< NSGS sweep cap per step; hitting it is reported
   bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
+  Criterion criterion = Criterion::maxm;  ///< when the sweeps stop (see Criterion)
 };
 
 /// Checks a settings value range; throws cdpile::UsageError naming the bad field.
@@ -51,7 +66,10 @@ struct StepReport {
   /// max_a |W_aa dR_a| (max-norm over contacts and components) made by the last sweep,
   /// divided by max(g h, mean W_nn R_n over active contacts). Zero when no contact.
   double residual = 0.0;
-  bool converged = true;      ///< residual <= tolerance before the sweep cap
+  /// The same corrections' root mean square over the active contacts (the larger
+  /// component of each), divided by the same scale: the 'quad' measure.
+  double residual_rms = 0.0;
+  bool converged = true;      ///< the criterion was met before the sweep cap
   int candidates = 0;         ///< contacts detected (within the alert distance)
   int contacts = 0;           ///< active contacts (R_n > 0), walls included
   int contacts_grain = 0;     ///< active contacts between two free grains
@@ -86,6 +104,9 @@ struct EngineState {
   double time = 0.0;
   std::vector<StoredImpulse> impulses;
 };
+
+/// LMGC90's 'QM/16' bound on the largest correction, in tolerances (physics.md 2.1).
+inline constexpr double qm16_max_factor = 16.66;
 
 class Engine {
  public:
@@ -137,7 +158,14 @@ class Engine {
   void compute_delassus();
   void warm_start();
   void solve(StepReport& report);
-  double sweep(bool backward, double& scale_sum, int& active);
+  struct SweepSums {
+    double largest = 0.0;     // max_a |W_aa dR_a|
+    double square_sum = 0.0;  // sum over active contacts of the same, squared
+    double scale_sum = 0.0;   // sum over active contacts of W_nn R_n
+    int active = 0;           // contacts with R_n > 0 after the sweep
+  };
+  SweepSums sweep(bool backward);
+  bool converged(double max_residual, double rms_residual, double tol) const;
   void update_velocities();
   void update_positions();
   void store_impulses();
