@@ -128,7 +128,7 @@ def compare(b, ref):
     return out
 
 
-COLUMNS = ["file", "angle_deg", "tolerance", "max_sweeps", "time_step_s", "rate_deg_per_step", "reference",
+COLUMNS = ["file", "angle_deg", "criterion", "tolerance", "max_sweeps", "time_step_s", "rate_deg_per_step", "reference",
            "cpu_s", "sweeps", "unconverged", "nu", "nu_ref", "nu_err", "misclassified", "imbalance_p99",
            "imbalance_max", "torque_p99"]
 
@@ -151,6 +151,7 @@ def main():
         b = Branch(os.path.join(a.dir, name))
         ref = Branch(os.path.join(a.dir, refs[angle]))
         row = dict(r)
+        row.setdefault("criterion", "maxm")  # times.tsv written before the column existed
         row.update(compare(b, ref))
         rows.append(row)
     rows.sort(key=lambda r: (float(r["angle_deg"]), -int(r["reference"]), float(r["tolerance"]), int(r["max_sweeps"])))
@@ -194,7 +195,8 @@ def figures(rows, outdir):
             colour = colours[n % len(colours)]
             mine = [r for r in rows if float(r["angle_deg"]) == angle]
             a = mine[0]["angle_deg"]
-            same = [r for r in mine if r["time_step_s"] == base_h[a] and r["rate_deg_per_step"] == base_rate[a]]
+            same = [r for r in mine if r["time_step_s"] == base_h[a] and r["rate_deg_per_step"] == base_rate[a]
+                    and r["criterion"] == "maxm"]
             if key != "imbalance_p99":
                 ref = ref_rows[a]
                 same = [r for r in same if r["reference"] == "0"
@@ -216,13 +218,21 @@ def figures(rows, outdir):
                 ax.plot([xi], [yi], "v" if fixed_rate else "^", mfc="none", color=colour, ms=6)
                 ax.annotate(f'h={float(r["time_step_s"]):.0e}', (xi, yi), fontsize=6, xytext=(2, -7),
                             textcoords="offset points", color=colour)
+            crit = [r for r in mine if r["criterion"] != "maxm" and r["reference"] == "0"
+                    and r["time_step_s"] == base_h[a] and r["rate_deg_per_step"] == base_rate[a]]
+            for r in crit:
+                xi, yi = float(r["cpu_s"]), max(float(r[key]), 1e-12)
+                ax.plot([xi], [yi], "s", mfc="none", color=colour, ms=5)
+                ax.annotate(f'{r["criterion"]} {float(r["tolerance"]):.0e}', (xi, yi), fontsize=6,
+                            xytext=(2, -7), textcoords="offset points", color=colour)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("CPU time of the branch [s]")
         ax.set_ylabel(label)
     axes[0].legend(title="branch start", fontsize=7)
     fig.suptitle("Speed against accuracy: dots, solver tolerance (cap 2000 unless marked) at the run's h; "
-                 "triangles, other h (^ same deg/step, v same deg/s), tolerance of the reference", fontsize=9)
+                 "triangles, other h (^ same deg/step, v same deg/s), tolerance of the reference; "
+                 "squares, other convergence criteria", fontsize=9)
     fig.tight_layout()
     for ext in ("png", "pdf"):
         fig.savefig(os.path.join(outdir, f"accuracy.{ext}"), dpi=110)

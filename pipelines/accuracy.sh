@@ -13,8 +13,10 @@
 #   -w DEG     window length [deg]
 #   -f STEPS   a frame every this many steps in each branch (misclassification is
 #              compared at the frames)
-#   -s LIST    settings TOL:CAP[:H[:RATE]]: tolerance, sweep cap, time step h [s] and tilt
-#              rate [deg/step] (h and rate default to the run's own)
+#   -s LIST    settings TOL:CAP[:H[:RATE[:CRITERION]]]: tolerance, sweep cap, time step h
+#              [s], tilt rate [deg/step] and convergence criterion (h and rate default to
+#              the run's own, an empty field too; the criterion to maxm), for example
+#              1e-5:2000:::qm16
 #   -R SET     the reference setting, same form (default 1e-7:100000)
 #   -b DIR     the tools (default: build/bin beside this folder)
 #
@@ -46,13 +48,15 @@ run_rate=$(attr tilt_rate_deg_per_step) run_h=$(attr time_step_s)
 [[ -n $run_rate && -n $run_h ]] || { echo "accuracy.sh: $run: no tilt_rate_deg_per_step or time_step_s parameter (not a tilt run?)" >&2; exit 1; }
 mkdir -p "$out"
 times=$out/times.tsv
-[[ -e $times ]] || printf '# CPU time of each branch (user + system) [s]\nfile\tangle_deg\ttolerance\tmax_sweeps\ttime_step_s\trate_deg_per_step\treference\tcpu_s\n' > "$times"
+[[ -e $times ]] || printf '# CPU time of each branch (user + system) [s]\nfile\tangle_deg\ttolerance\tmax_sweeps\ttime_step_s\trate_deg_per_step\treference\tcpu_s\tcriterion\n' > "$times"
 
 for angle in $angles; do
   is_ref=1
   for setting in $reference $settings; do
-    IFS=: read -r tol cap h rate <<< "$setting"
+    IFS=: read -r tol cap h rate crit <<< "$setting"
+    crit=${crit:-maxm}
     name=a${angle}-tol${tol}-cap${cap}${h:+-h$h}${rate:+-rate$rate}.h5
+    [[ $crit != maxm ]] && name=${name%.h5}-$crit.h5
     [[ $is_ref == 1 ]] && name=ref-$name
     this_ref=$is_ref is_ref=0
     [[ -e $out/$name ]] && continue
@@ -61,9 +65,9 @@ for angle in $angles; do
     echo "accuracy.sh: $name" >&2
     /usr/bin/time -f '%U %S' -o "$out/.time" \
       "$bin/tilt-cd" "$run" --branch-at "$angle" --to "$to" --tolerance "$tol" --max-sweeps "$cap" \
-      --frame-every "$frame_every" --quiet "${extra[@]}" --force -o "$out/$name"
+      --criterion "$crit" --frame-every "$frame_every" --quiet "${extra[@]}" --force -o "$out/$name"
     cpu=$(awk '{ print $1 + $2 }' "$out/.time")
-    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$angle" "$tol" "$cap" "${h:-$run_h}" "${rate:-$run_rate}" "$this_ref" "$cpu" >> "$times"
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$angle" "$tol" "$cap" "${h:-$run_h}" "${rate:-$run_rate}" "$this_ref" "$cpu" "$crit" >> "$times"
   done
 done
 rm -f "$out/.time"
