@@ -162,12 +162,21 @@ static void run(const cli::Args& a) {
     print(p, now);
   };
 
+  // The settings' warnings are said before the run starts (a user can stop a long run
+  // at once) and are not repeated at the end; the run's file records them all.
+  std::size_t warned = 0;
+  auto warn_settings = [](const sim::TiltOptions& o, const sim::PileInput& p) {
+    const auto w = sim::settings_warnings(o.settings, analysis::mean_diameter(p.grains));
+    for (const auto& line : w) cli::warn(line);
+    return w.size();
+  };
   sim::TiltOutcome outcome;
   if (resume && has_partial) {
     sim::PileInput partial = sim::read_partial(output);
     if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
       partial.branch = sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
     const sim::TiltOptions o = options(a, partial);
+    warned = warn_settings(o, partial);
     outcome = sim::resume_tilt(o, output, a.force(), hooks);
   } else {
     if (resume) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
@@ -181,6 +190,7 @@ static void run(const cli::Args& a) {
       cli::info(in.name() + what);
     }
     const sim::TiltOptions o = options(a, pile);
+    warned = warn_settings(o, pile);
     outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
   }
   if (show && latest) print(*latest, std::chrono::steady_clock::now());
@@ -205,7 +215,7 @@ static void run(const cli::Args& a) {
   cli::info(std::string(line) + "; " + std::to_string(outcome.unconverged_steps) + " unconverged steps; " +
             std::to_string(static_cast<long long>(secs)) + " s wall, " + std::to_string(static_cast<long long>(sps)) +
             " steps/s");
-  for (const auto& w : outcome.warnings) cli::warn(w);
+  for (std::size_t k = warned; k < outcome.warnings.size(); ++k) cli::warn(outcome.warnings[k]);
 }
 
 CDPILE_TOOL(usage, run)

@@ -328,6 +328,31 @@ TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
 
 // The run-time warnings and their thresholds: 1 % of the steps at the cap, overlaps of
 // 1e-3 D. A sound run has none (and the short run above, converged, says so in its file).
+// The settings' warnings and their thresholds, from the stability map: h sqrt(g/D) above
+// 0.02, a tolerance of 1e-2 or looser. The defaults earn none.
+TEST(Tilt, SettingsWarningsAtTheirThresholds) {
+  const double D = 1e-3;
+  cdpile::cd::Settings s;  // h = 1e-4 s, tolerance 1e-4
+  EXPECT_TRUE(sim::settings_warnings(s, D).empty());
+  s.time_step = 0.02 / std::sqrt(s.gravity / D) * (1 - 1e-9);  // just below 0.02
+  EXPECT_TRUE(sim::settings_warnings(s, D).empty());
+  s.time_step = 2.1e-4;
+  const auto step = sim::settings_warnings(s, D);
+  ASSERT_EQ(step.size(), 1u);
+  EXPECT_EQ(step[0], "h sqrt(g/D) = 0.0208 is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
+                     "from 0.04 on (lower --time-step; docs/performance.md)");
+  s.time_step = 1e-4;
+  s.tolerance = 9.99e-3;
+  EXPECT_TRUE(sim::settings_warnings(s, D).empty());
+  s.tolerance = 1e-2;
+  const auto tol = sim::settings_warnings(s, D);
+  ASSERT_EQ(tol.size(), 1u);
+  EXPECT_EQ(tol[0], "the tolerance 0.01 is 1e-2 or looser; runs of the stability map overlapped or moved the "
+                    "avalanche there (lower --tolerance; docs/performance.md)");
+  s.time_step = 1e-3;
+  EXPECT_EQ(sim::settings_warnings(s, D).size(), 2u);
+}
+
 TEST(Tilt, RunWarningsAtTheirThresholds) {
   EXPECT_TRUE(sim::run_warnings(1000, 10, 0.0, 1e-3).empty());  // exactly 1 %
   const auto cap = sim::run_warnings(1000, 11, 0.0, 1e-3);

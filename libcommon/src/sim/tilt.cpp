@@ -368,7 +368,9 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
       {"stop_reason", out.stop_reason},
   };
   // Flagged in the file as well as on stderr: a number of warnings and their text.
-  out.warnings = run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter());
+  out.warnings = settings_warnings(o.settings, agitation.diameter());
+  for (auto& w : run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter()))
+    out.warnings.push_back(std::move(w));
   results["warnings"] = static_cast<std::int64_t>(out.warnings.size());
   if (!out.warnings.empty()) {
     std::string text;
@@ -408,6 +410,32 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
                   "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
                   "speeds (lower --time-step)",
                   max_overlap_m / diameter_m);
+    w.emplace_back(line);
+  }
+  return w;
+}
+
+std::vector<std::string> settings_warnings(const cd::Settings& s, double diameter_m) {
+  std::vector<std::string> w;
+  char line[300];
+  // The map's grid has h sqrt(g/D) = 0.0099 (no overlap at any tolerance of 1e-3 or
+  // tighter) and 0.04 (overlaps at 1e-3 and looser, at nearly every tolerance from 0.16):
+  // 0.02 is the geometric middle of the last sound point and the first failing one.
+  const double h_hat = diameter_m > 0.0 ? s.time_step * std::sqrt(s.gravity / diameter_m) : 0.0;
+  if (h_hat > 0.02) {
+    std::snprintf(line, sizeof line,
+                  "h sqrt(g/D) = %.3g is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
+                  "from 0.04 on (lower --time-step; docs/performance.md)",
+                  h_hat);
+    w.emplace_back(line);
+  }
+  // At 1e-2 and 1e-1 every run of the map at h >= 1e-4 s overlapped, or avalanched more
+  // than 2 degrees from the reference (the artificial stiffness of a truncated solver).
+  if (s.tolerance >= 1e-2) {
+    std::snprintf(line, sizeof line,
+                  "the tolerance %.3g is 1e-2 or looser; runs of the stability map overlapped or moved "
+                  "the avalanche there (lower --tolerance; docs/performance.md)",
+                  s.tolerance);
     w.emplace_back(line);
   }
   return w;

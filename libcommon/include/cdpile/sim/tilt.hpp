@@ -108,7 +108,8 @@ struct TiltOutcome {
   bool interrupted = false;
   std::string stop_reason;       ///< "avalanche", "to", "max_angle" or "interrupted"
   std::int64_t unconverged_steps = 0;
-  std::vector<std::string> warnings;  ///< run_warnings of the finished run (also in /results)
+  /// settings_warnings, then run_warnings, of the finished run (also in /results)
+  std::vector<std::string> warnings;
 };
 
 /// The run-time warnings of a run (docs/method.md, "Warnings"): what tells a user that the
@@ -120,6 +121,14 @@ struct TiltOutcome {
 /// the largest overlap seen, `diameter_m` the mean diameter.
 std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged, double max_overlap_m,
                                       double diameter_m);
+
+/// The warnings a run's settings earn before it starts (docs/method.md, "Warnings"), from
+/// the stability map (docs/performance.md, "Where the methods fail"); one sentence each,
+/// none for sound settings:
+///  - h sqrt(g/D) above 0.02 (the map's runs overlapped beyond 1e-3 D from 0.04 on);
+///  - a tolerance of 1e-2 or looser (the map's runs overlapped or moved the avalanche).
+/// `diameter_m` is the mean diameter.
+std::vector<std::string> settings_warnings(const cd::Settings& s, double diameter_m);
 
 /// Tilts `pile` and writes the run to `output` (a path, or "-" for standard output,
 /// which has no checkpoints). Refuses an existing output or partial unless `force`.
