@@ -43,6 +43,24 @@ def read_times(path):
     return rows
 
 
+def write_tsv(path, comment, columns, rows):
+    """A table for people and awk: one comment line, the header, a row per dict (floats to 4
+    significant digits); written to a temporary and renamed, so no partial table is left."""
+    with open(path + ".tmp", "w") as f:
+        f.write(f"# {comment}\n")
+        f.write("\t".join(columns) + "\n")
+        for r in rows:
+            f.write("\t".join(f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in columns) + "\n")
+    os.replace(path + ".tmp", path)
+
+
+def save(fig, outdir, stem):
+    """The figure as PNG and PDF in outdir."""
+    fig.tight_layout()
+    for ext in ("png", "pdf"):
+        fig.savefig(os.path.join(outdir, f"{stem}.{ext}"), dpi=110)
+
+
 class Branch:
     def __init__(self, path):
         self.f = h5py.File(path, "r")
@@ -156,17 +174,8 @@ def main():
         rows.append(row)
     rows.sort(key=lambda r: (float(r["angle_deg"]), -int(r["reference"]), float(r["tolerance"]), int(r["max_sweeps"])))
     tsv = os.path.join(a.dir, "accuracy.tsv")
-    with open(tsv + ".tmp", "w") as f:
-        f.write("# speed-accuracy chart: each branch against the reference branch from the same frame "
-                "(pipelines/accuracy.py)\n")
-        f.write("\t".join(COLUMNS) + "\n")
-        for r in rows:
-            cells = []
-            for c in COLUMNS:
-                v = r[c]
-                cells.append(f"{v:.4g}" if isinstance(v, float) else str(v))
-            f.write("\t".join(cells) + "\n")
-    os.replace(tsv + ".tmp", tsv)
+    write_tsv(tsv, "speed-accuracy chart: each branch against the reference branch from the same frame "
+              "(pipelines/accuracy.py)", COLUMNS, rows)
     print(f"accuracy.py: {tsv}")
     figures(rows, a.figures or os.path.join(a.dir, "figures"))
 
@@ -233,9 +242,7 @@ def figures(rows, outdir):
     fig.suptitle("Speed against accuracy: dots, solver tolerance (cap 2000 unless marked) at the run's h; "
                  "triangles, other h (^ same deg/step, v same deg/s), tolerance of the reference; "
                  "squares, other convergence criteria", fontsize=9)
-    fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(outdir, f"accuracy.{ext}"), dpi=110)
+    save(fig, outdir, "accuracy")
     print(f"accuracy.py: {outdir}/accuracy.png")
 
 

@@ -33,7 +33,7 @@ import sys
 import h5py
 import numpy as np
 
-from accuracy import read_times
+from accuracy import read_times, save, write_tsv
 
 OUTCOMES = ["failed", "overlap", "early", "late", "unconverged", "ok"]
 COLOURS = {"failed": "#222222", "overlap": "#d62728", "early": "#ff7f0e", "late": "#9467bd",
@@ -113,13 +113,8 @@ def main():
     rows.sort(key=lambda r: (-int(r["grid"]), float(r["time_step_s"]), -float(r["tolerance"]),
                              int(r["max_sweeps"])))
     tsv = os.path.join(a.dir, "stability.tsv")
-    with open(tsv + ".tmp", "w") as f:
-        f.write(f"# stability map (pipelines/stability.py): reference {ref}, theta_c {theta_ref:.3f} deg, "
-                f"delta {a.delta:g} deg\n")
-        f.write("\t".join(COLUMNS) + "\n")
-        for r in rows:
-            f.write("\t".join(f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in COLUMNS) + "\n")
-    os.replace(tsv + ".tmp", tsv)
+    write_tsv(tsv, f"stability map (pipelines/stability.py): reference {ref}, theta_c {theta_ref:.3f} deg, "
+              f"delta {a.delta:g} deg", COLUMNS, rows)
     print(f"stability.py: {tsv}")
     figure(rows, ref, theta_ref, a.delta, a.figures or os.path.join(a.dir, "figures"))
 
@@ -184,9 +179,7 @@ def figure(rows, ref, theta_ref, delta, outdir):
         ax.set_title("other settings", fontsize=9)
     else:
         ax.axis("off")
-    fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(outdir, f"stability.{ext}"), dpi=110)
+    save(fig, outdir, "stability")
     print(f"stability.py: {outdir}/stability.png")
 
 
