@@ -357,9 +357,12 @@ void Engine::solve(StepReport& report) {
     const double scale =
         std::max(floor_scale, s.active > 0 ? s.scale_sum / static_cast<double>(s.active) : 0.0);
     report.sweeps = k + 1;
-    report.residual = s.largest / scale;
+    // Without gravity and without an active contact there is no velocity scale: the
+    // measures are then absolute [m/s].
+    const double unit = scale > 0.0 ? scale : 1.0;
+    report.residual = s.largest / unit;
     report.residual_rms =
-        s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / scale : 0.0;
+        s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
     if (!std::isfinite(report.residual))
       throw Error("engine: NSGS diverged (non-finite impulse) at step " +
                   std::to_string(step_ + 1));
