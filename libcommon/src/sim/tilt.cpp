@@ -176,6 +176,16 @@ class Recorder {
   virtual void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
 };
 
+/// A partial written by an earlier version may lack an observable added since (residual_rms):
+/// a series cannot gain a column, so the resumed run goes on without it rather than
+/// refusing to resume. Columns the partial has are all kept.
+void keep_recorded_columns(const h5::File& f, io::Series& s) {
+  const std::string obs = "/observables";
+  if (!h5::exists(f, obs) || h5::members(f, obs).empty()) return;
+  std::erase_if(s.real, [&](const auto& c) { return !h5::exists(f, obs + "/" + c.first); });
+  std::erase_if(s.integer, [&](const auto& c) { return !h5::exists(f, obs + "/" + c.first); });
+}
+
 void append_pending(io::RunWriter& w, const Pending& p) {
   for (const Frame& fr : p.frames) w.append_frame(fr);
   if (p.rows.size() > 0) w.append_series(p.rows);
@@ -225,6 +235,7 @@ class FileRecorder : public Recorder {
     {
       h5::File f = h5::open_write(tmp, partial_);
       io::RunWriter w = io::RunWriter::reopen(f, std::numeric_limits<std::int64_t>::max());
+      keep_recorded_columns(f, p.rows);
       append_pending(w, p);
       write_checkpoint(f, e, s);
       f.close();
