@@ -28,7 +28,12 @@ import h5py
 import numpy as np
 
 
-def read_times(path):
+def read_times(folder, script):
+    """The runs of FOLDER/times.tsv (written by SCRIPT.sh) by file name; exits with a one-line
+    error if the table is missing or empty."""
+    path = os.path.join(folder, "times.tsv")
+    if not os.path.exists(path):
+        sys.exit(f"{script}.py: {path}: missing (run pipelines/{script}.sh first)")
     rows = {}
     with open(path) as f:
         header = None
@@ -40,6 +45,8 @@ def read_times(path):
                 header = cells
                 continue
             rows[cells[0]] = dict(zip(header, cells))
+    if not rows:
+        sys.exit(f"{script}.py: {path}: no runs")
     return rows
 
 
@@ -156,16 +163,13 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("-o", dest="figures", help="figures folder (default DIR/figures)")
     a = ap.parse_args()
-    times_path = os.path.join(a.dir, "times.tsv")
-    if not os.path.exists(times_path):
-        sys.exit(f"accuracy.py: {times_path}: missing (run pipelines/accuracy.sh first)")
-    times = read_times(times_path)
+    times = read_times(a.dir, "accuracy")
     refs = {r["angle_deg"]: name for name, r in times.items() if r["reference"] == "1"}
     rows = []
     for name, r in times.items():
         angle = r["angle_deg"]
         if angle not in refs:
-            sys.exit(f"accuracy.py: {times_path}: no reference branch at {angle} deg")
+            sys.exit(f"accuracy.py: {os.path.join(a.dir, 'times.tsv')}: no reference branch at {angle} deg")
         b = Branch(os.path.join(a.dir, name))
         ref = Branch(os.path.join(a.dir, refs[angle]))
         row = dict(r)

@@ -85,12 +85,7 @@ def main():
     ap.add_argument("--delta", type=float, default=2.0, help="avalanche-angle tolerance [deg] (default 2)")
     ap.add_argument("-o", dest="figures", help="figures folder (default DIR/figures)")
     a = ap.parse_args()
-    times_path = os.path.join(a.dir, "times.tsv")
-    if not os.path.exists(times_path):
-        sys.exit(f"stability.py: {times_path}: missing (run pipelines/stability.sh first)")
-    times = read_times(times_path)
-    if not times:
-        sys.exit(f"stability.py: {times_path}: no runs")
+    times = read_times(a.dir, "stability")
     runs = {name: (read_run(os.path.join(a.dir, name)) if t["status"] == "0" else None)
             for name, t in times.items()}
     ref = a.reference or reference(times, runs)

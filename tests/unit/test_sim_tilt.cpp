@@ -326,8 +326,6 @@ TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
   EXPECT_EQ(r.header().results.at("warning_messages"), io::Value(out.warnings[0]));
 }
 
-// The run-time warnings and their thresholds: 1 % of the steps at the cap, overlaps of
-// 1e-3 D. A sound run has none (and the short run above, converged, says so in its file).
 // The settings' warnings and their thresholds, from the stability map: h sqrt(g/D) above
 // 0.02, a tolerance of 1e-2 or looser. The defaults earn none.
 TEST(Tilt, SettingsWarningsAtTheirThresholds) {
@@ -353,6 +351,8 @@ TEST(Tilt, SettingsWarningsAtTheirThresholds) {
   EXPECT_EQ(sim::settings_warnings(s, D).size(), 2u);
 }
 
+// The run-time warnings and their thresholds: 1 % of the steps at the cap, overlaps of
+// 1e-3 D. A sound run has none (and the short run above, converged, says so in its file).
 TEST(Tilt, RunWarningsAtTheirThresholds) {
   EXPECT_TRUE(sim::run_warnings(1000, 10, 0.0, 1e-3).empty());  // exactly 1 %
   const auto cap = sim::run_warnings(1000, 11, 0.0, 1e-3);
