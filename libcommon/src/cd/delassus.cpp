@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -168,8 +169,11 @@ DelassusProblem read_siconos_fc2d(const std::string& path) {
   return p;
 }
 
-double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) {
-  const Eigen::VectorXd u = p.W * r + p.q;
+namespace {
+
+/// The natural-map residual of `r` given its local velocities u = W r + q.
+double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r,
+                            const Eigen::VectorXd& u) {
   double sum = 0.0;
   for (Eigen::Index a = 0; a < p.contacts(); ++a) {
     const double mu = p.mu[a];
@@ -193,36 +197,113 @@ double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) 
   return norm_q > 2.220446049250313e-16 ? error / norm_q : error;
 }
 
+/// W by 2x2 blocks, column block by column block: for contact a, the contacts b whose
+/// velocities its impulse moves and the blocks W_ba (nn, nt, tn, tt). A sweep scatters
+/// each change of r_a through its column block, so u = W r + q stays current and the
+/// residual after a sweep needs no product with W (the ELG layout of the engine, for a
+/// general W).
+struct BlockColumns {
+  std::vector<Eigen::Index> start;  ///< m + 1 offsets into row and block
+  std::vector<Eigen::Index> row;    ///< the contact b of each block
+  std::vector<double> block;        ///< 4 per block: W(2b, 2a), W(2b, 2a+1), W(2b+1, 2a), W(2b+1, 2a+1)
+};
+
+BlockColumns block_columns(const DelassusProblem& p) {
+  const Eigen::Index m = p.contacts();
+  // Bucket the entries by column block (a counting sort). W is read row by row, so within
+  // a bucket the row blocks b arrive in increasing order and the entries of one block are
+  // consecutive once the two rows 2b and 2b + 1 are merged below.
+  struct Entry {
+    Eigen::Index b;
+    int k;
+    double value;
+  };
+  std::vector<Eigen::Index> offset(static_cast<std::size_t>(m + 1), 0);
+  for (Eigen::Index i = 0; i < p.W.outerSize(); ++i)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, i); it; ++it)
+      ++offset[static_cast<std::size_t>(it.col() / 2 + 1)];
+  for (std::size_t a = 1; a < offset.size(); ++a) offset[a] += offset[a - 1];
+  std::vector<Entry> entries(static_cast<std::size_t>(p.W.nonZeros()));
+  {
+    std::vector<Eigen::Index> fill(offset.begin(), offset.end() - 1);
+    for (Eigen::Index i = 0; i < p.W.outerSize(); ++i)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, i); it; ++it)
+        entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(it.col() / 2)]++)] = {
+            i / 2, static_cast<int>(2 * (i % 2) + it.col() % 2), it.value()};
+  }
+  BlockColumns c;
+  c.start.assign(static_cast<std::size_t>(m + 1), 0);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const std::size_t first = c.row.size();
+    for (Eigen::Index e = offset[static_cast<std::size_t>(a)];
+         e < offset[static_cast<std::size_t>(a + 1)]; ++e) {
+      const Entry& x = entries[static_cast<std::size_t>(e)];
+      if (c.row.size() == first || c.row.back() != x.b) {
+        c.row.push_back(x.b);
+        c.block.insert(c.block.end(), 4, 0.0);
+      }
+      c.block[c.block.size() - 4 + static_cast<std::size_t>(x.k)] = x.value;
+    }
+    c.start[static_cast<std::size_t>(a + 1)] = static_cast<Eigen::Index>(c.row.size());
+  }
+  return c;
+}
+
+}  // namespace
+
+double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) {
+  const Eigen::VectorXd u = p.W * r + p.q;
+  return natural_map_residual(p, r, u);
+}
+
 NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index m = p.contacts();
   if (r.size() != 2 * m) r = Eigen::VectorXd::Zero(2 * m);
+  const BlockColumns columns = block_columns(p);
   // The diagonal 2x2 blocks, kept apart: the sweep needs W_aa to remove a contact's own
-  // impulse from its velocity (b_a = (W r)_a + q_a - W_aa r_a).
-  std::vector<double> block(static_cast<std::size_t>(4 * m), 0.0);
-  for (Eigen::Index row = 0; row < 2 * m; ++row)
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, row); it; ++it)
-      if (it.col() / 2 == row / 2)
-        block[static_cast<std::size_t>(4 * (row / 2) + 2 * (row % 2) + it.col() % 2)] = it.value();
+  // impulse from its velocity (b_a = u_a - W_aa r_a).
+  std::vector<double> diagonal(static_cast<std::size_t>(4 * m), 0.0);
+  for (Eigen::Index a = 0; a < m; ++a)
+    for (Eigen::Index k = columns.start[static_cast<std::size_t>(a)];
+         k < columns.start[static_cast<std::size_t>(a + 1)]; ++k)
+      if (columns.row[static_cast<std::size_t>(k)] == a)
+        std::copy_n(&columns.block[static_cast<std::size_t>(4 * k)], 4,
+                    &diagonal[static_cast<std::size_t>(4 * a)]);
+  Eigen::VectorXd u = p.W * r + p.q;
   NsgsReport report;
   for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
     for (Eigen::Index a = 0; a < m; ++a) {
-      const double* w = &block[static_cast<std::size_t>(4 * a)];  // nn, nt, tn, tt
-      const double un = p.W.row(2 * a).dot(r) + p.q[2 * a];
-      const double ut = p.W.row(2 * a + 1).dot(r) + p.q[2 * a + 1];
+      const double* w = &diagonal[static_cast<std::size_t>(4 * a)];  // nn, nt, tn, tt
       const double rn = r[2 * a], rt = r[2 * a + 1];
-      const double bn = un - w[0] * rn - w[1] * rt;
-      const double bt = ut - w[2] * rn - w[3] * rt;
+      const double bn = u[2 * a] - w[0] * rn - w[1] * rt;
+      const double bt = u[2 * a + 1] - w[2] * rn - w[3] * rt;
       const LocalImpulse s = local_solve(w[0], w[1], w[2], w[3], p.mu[a], bn, bt);
+      const double dn = s.rn - rn, dt = s.rt - rt;
       r[2 * a] = s.rn;
       r[2 * a + 1] = s.rt;
+      if (dn == 0.0 && dt == 0.0) continue;
+      for (Eigen::Index k = columns.start[static_cast<std::size_t>(a)];
+           k < columns.start[static_cast<std::size_t>(a + 1)]; ++k) {
+        const double* blk = &columns.block[static_cast<std::size_t>(4 * k)];
+        const Eigen::Index b = columns.row[static_cast<std::size_t>(k)];
+        u[2 * b] += blk[0] * dn + blk[1] * dt;
+        u[2 * b + 1] += blk[2] * dn + blk[3] * dt;
+      }
     }
     report.sweeps = sweep;
-    report.residual = natural_map_residual(p, r);
+    report.residual = natural_map_residual(p, r, u);
     if (!std::isfinite(report.residual)) break;
-    if (report.residual <= options.tolerance) {
-      report.converged = true;
-      break;
+    // The updated u carries the rounding of many small updates: a solve is accepted, and
+    // the reported residual taken, on u recomputed as W r + q.
+    const bool last = sweep == options.max_sweeps;
+    if (report.residual <= options.tolerance || last) {
+      u = p.W * r + p.q;
+      report.residual = natural_map_residual(p, r, u);
+      if (report.residual <= options.tolerance) {
+        report.converged = true;
+        break;
+      }
     }
   }
   report.seconds =
