@@ -168,6 +168,34 @@ TEST(Deposit, SettledPileIsStaticAndObeysTheContactLaws) {
   }
 }
 
+// A pile may settle without friction (a denser preparation; tilt-cd --mu-grain then sets
+// the friction of the tilt). Without friction no contact carries a tangential force, the
+// grains find the denser packing, and the contact network is near isostatic for
+// frictionless disks (z = 4 rattlers excluded, less at the walls and the free surface),
+// so z and the packing fraction both exceed those of the same grains settled with mu = 0.5.
+TEST(Deposit, AFrictionlessPileIsDenserAndBetterConnected) {
+  auto o = small(5, 200);
+  const sim::Pile rough = sim::deposit(o);
+  o.settings.mu_grain = 0.0;
+  o.settings.mu_wall = 0.0;
+  const sim::Pile smooth = sim::deposit(o);
+  ASSERT_TRUE(smooth.settled);
+  std::size_t active = 0;
+  for (std::size_t k = 0; k < smooth.contacts.size(); ++k) {
+    EXPECT_EQ(smooth.contacts.ft[k], 0.0) << "contact " << k;
+    if (smooth.contacts.fn[k] > 0.0) ++active;
+  }
+  EXPECT_GT(active, smooth.grains.size());
+  const auto r = [](const sim::Pile& p, const char* k) { return std::get<double>(p.results.at(k)); };
+  std::printf("z %.3f (mu 0) against %.3f (mu 0.5); packing fraction %.4f against %.4f\n",
+              r(smooth, "coordination_number"), r(rough, "coordination_number"),
+              r(smooth, "packing_fraction"), r(rough, "packing_fraction"));
+  EXPECT_GT(r(smooth, "coordination_number"), r(rough, "coordination_number") + 0.2);
+  EXPECT_LE(r(smooth, "coordination_number"), 4.0);
+  EXPECT_GT(r(smooth, "packing_fraction"), r(rough, "packing_fraction"));
+  EXPECT_EQ(std::get<double>(smooth.parameters.at("mu_grain")), 0.0);
+}
+
 TEST(Deposit, PlacementHasNoOverlapAndStaysInTheBox) {
   const sim::Placement pl = sim::place_grains(small(7, 300));
   const Grains& g = pl.grains;
@@ -240,7 +268,7 @@ TEST(Deposit, MeasuresOfAKnownLayout) {
       if (x + 1 < cols) c.push_back(i + 1, i, Vec2::Zero(), Vec2(1, 0), 1.0, 0.0, 0.0, cdpile::ContactStatus::stick);
       if (y + 1 < rows) c.push_back(i + cols, i, Vec2::Zero(), Vec2(0, 1), 1.0, 0.0, 0.0, cdpile::ContactStatus::stick);
     }
-  const sim::PileMeasures m = sim::measure_pile(box, g, c, 0.5, 0.5);
+  const sim::PileMeasures m = sim::measure_pile(box, g, c);
   EXPECT_NEAR(m.bed_height, rows * d, 1e-15);
   EXPECT_NEAR(m.packing_fraction, M_PI / 4, 1e-9);
   const double bonds = (cols - 1) * rows + cols * (rows - 1);

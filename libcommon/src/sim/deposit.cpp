@@ -118,8 +118,7 @@ double disk_area_in_slab(double c, double r, double a, double b) {
 
 }  // namespace
 
-PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c, double mu_grain,
-                          double mu_wall) {
+PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c) {
   PileMeasures m;
   const double D = analysis::mean_diameter(g);
   if (g.size() == 0 || !(D > 0.0)) return m;
@@ -152,9 +151,12 @@ PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c, do
   for (std::size_t i = 0; i < g.size(); ++i)
     area += disk_area_in_slab(g.position[i].y(), g.radius[i], m.slab_bottom, m.slab_top);
   if (m.slab_top > m.slab_bottom) m.packing_fraction = area / (box.width * (m.slab_top - m.slab_bottom));
-  // Coordination: active contacts between free grains (analysis/critical.hpp).
-  analysis::Friction mu{mu_grain, mu_wall};
-  const analysis::ContactSet set = analysis::select_contacts(c, g.species, mu, analysis::CriticalRule{});
+  // Coordination: active contacts between free grains (analysis/critical.hpp). z counts
+  // contacts and does not classify them, so friction does not enter: the selection is
+  // given mu = 1 only because it also marks critical contacts, which need mu > 0, and a
+  // pile may settle without friction (deposit --mu-grain 0).
+  const analysis::Friction any_mu{1.0, 1.0};
+  const analysis::ContactSet set = analysis::select_contacts(c, g.species, any_mu, analysis::CriticalRule{});
   const analysis::PileState st = analysis::pile_state(set, g.species, analysis::free_grain_count(g), D,
                                                       analysis::RattlerRule::exclude);
   m.z = st.z.value_or(0.0);
@@ -214,7 +216,7 @@ Pile deposit(const DepositOptions& o, const std::function<void(const DepositProg
       {"rest_steps", o.rest_steps},
       {"settle_max_steps", o.max_steps},
   });
-  const PileMeasures m = measure_pile(pile.box, pile.grains, pile.contacts, o.settings.mu_grain, o.settings.mu_wall);
+  const PileMeasures m = measure_pile(pile.box, pile.grains, pile.contacts);
   double overlap = 0.0;
   for (std::size_t k = 0; k < pile.contacts.size(); ++k)
     if (pile.contacts.fn[k] > 0.0) overlap = std::max(overlap, -pile.contacts.gap[k]);

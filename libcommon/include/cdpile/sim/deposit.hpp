@@ -74,8 +74,7 @@ struct PileMeasures {
   double z = 0.0;                 ///< coordination, grain-grain, rattlers excluded
   double z_all = 0.0;             ///< 2 N / Np over all free grains
 };
-PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c, double mu_grain,
-                          double mu_wall);
+PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c);
 
 /// Writes a pile file: one frame (the final state and contacts), the settling
 /// observables, parameters, results and the provenance.
