@@ -87,6 +87,12 @@ def runs_label(n):
     return f"{int(n)} run" + ("" if int(n) == 1 else "s")
 
 
+def first_run(crit):
+    """The file name of the study's first run (row 0 of critical's runs table), for titles."""
+    names = crit.tables.get("runs", {}).get("name")
+    return os.path.basename(_text(names[0])) if names is not None and len(names) else "the first run"
+
+
 def fig1(crit, out):
     """Fig 1a: nu(theta) of one run, inset: the ensemble mean; 1b: Ek(theta) of the same
     run; 1c: the envelope of maxima of nu and its fitted approach to nu_c."""
@@ -99,7 +105,7 @@ def fig1(crit, out):
     ax.plot(steps["theta"][run0], steps["nu"][run0], lw=0.6, color="k")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$\nu = N_c/N$")
-    ax.set_title("Fig 1a: critical contacts, run 0")
+    ax.set_title(f"Fig 1a: critical contacts, {first_run(crit)}")
     inset = ax.inset_axes([0.1, 0.55, 0.38, 0.38])
     inset.errorbar(ens["theta"], ens["nu"], yerr=np.nan_to_num(ens["nu_se"]), fmt="-", lw=0.8, color="C0",
                    elinewidth=0.4)
@@ -113,7 +119,7 @@ def fig1(crit, out):
                     color="k")
         ax.set_xlabel(r"$\theta$ (deg)")
         ax.set_ylabel(r"$E_k$ per grain (J m$^{-1}$)")
-        ax.set_title("Fig 1b: mean translational kinetic energy, run 0")
+        ax.set_title(f"Fig 1b: mean translational kinetic energy, {first_run(crit)}")
         tc = crit.table("runs")["theta_c"][0]
         if np.isfinite(tc):
             ax.axvline(tc, ls=":", color="C3", label=rf"$\theta_c$ = {tc:.2f} deg")
@@ -217,7 +223,7 @@ def fig4(cor, fit, out):
     save(fig, out, "fig4b_nubar_log")
 
 
-def fig5(maps, out):
+def fig5(maps, run, out):
     have = [(name, p) for name, p in maps if p is not None]
     if not have:
         return
@@ -237,7 +243,7 @@ def fig5(maps, out):
                      rf"black: $\nu \geq \nu_c$ = {nu_c:.3f}", fontsize=9)
         ax.set_xlabel("x (D)")
         ax.set_ylabel("y (D)")
-    fig.suptitle("Fig 5: density of critical contacts (run 0)", fontsize=10)
+    fig.suptitle(f"Fig 5: density of critical contacts ({run})", fontsize=10)
     fig.tight_layout()
     save(fig, out, "fig5_maps")
 
@@ -290,7 +296,7 @@ def main():
     maps = sorted(glob.glob(os.path.join(a.study, "map-*.h5")))
     if not maps:
         print(f"figures.py: {a.study}: no map-*.h5, Fig 5 is skipped", file=sys.stderr)
-    fig5([(os.path.basename(m), Product(m)) for m in maps], out)
+    fig5([(os.path.basename(m), Product(m)) for m in maps], first_run(crit) if crit is not None else "the first run", out)
     if fit is not None:
         fig6(fit, out)
 
