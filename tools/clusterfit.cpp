@@ -71,6 +71,7 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
+  cli::check_output(a);  // refuse a bad target before the work
   analysis::ClusterFitOptions opt;
   opt.r_min = a.real("r-min");
   opt.r_max = a.real("r-max");

@@ -47,6 +47,7 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
+  cli::check_output(a);  // refuse a bad target before the work
   analysis::CorrelateOptions opt;
   opt.window = a.real("window");
   opt.window_start = a.real("window-start");

@@ -85,6 +85,7 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
+  cli::check_output(a);  // refuse a bad target before the work
   analysis::CriticalOptions opt;
   opt.rule = cli::critical_rule(a);
   opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude : analysis::RattlerRule::include;
@@ -115,9 +116,8 @@ static void run(const cli::Args& a) {
   std::vector<analysis::RunRecord> runs;
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every run
   std::string inputs;
-  int stdin_count = 0;
+  cli::refuse_repeated_inputs(a.arguments("runs"));
   for (const std::string& path : a.arguments("runs")) {
-    if (path == "-" && ++stdin_count > 1) throw UsageError("'-' (standard input) given twice");
     io::Input in(path);
     io::RunReader rr(in.hdf5());
     histories.emplace_back(in.name(), rr.header().provenance);

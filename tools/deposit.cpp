@@ -99,9 +99,9 @@ static void run(const cli::Args& a) {
   };
   const sim::Pile pile = sim::deposit(o, progress, [] { return cli::interrupted(); });
   if (show) std::fprintf(stderr, "\n");
-  if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130
+  if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130 or 143
     std::cerr << cli::tool_name() << ": interrupted at step " << pile.steps << "; no pile written" << std::endl;
-    std::exit(130);
+    std::exit(cli::interrupt_exit_code());
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!pile.settled)
@@ -111,9 +111,10 @@ static void run(const cli::Args& a) {
   auto r = [&](const char* k) { return io::as_real(pile.results, k, out.name()); };
   char line[400];
   std::snprintf(line, sizeof line,
-                "%lld grains settled in %lld steps (%.3g s simulated, %.1f s wall): bed height %.2f D, "
+                "%lld grains %s %lld steps (%.3g s simulated, %.1f s wall): bed height %.2f D, "
                 "packing fraction %.4f, z %.3f (rattlers excluded), %lld unconverged steps",
-                static_cast<long long>(o.grains), static_cast<long long>(pile.steps), pile.time, secs,
+                static_cast<long long>(o.grains), pile.settled ? "settled in" : "not at rest after",
+                static_cast<long long>(pile.steps), pile.time, secs,
                 r("bed_height_D"), r("packing_fraction"), r("coordination_number"),
                 static_cast<long long>(io::as_int(pile.results, "unconverged_steps", out.name())));
   cli::info(line);

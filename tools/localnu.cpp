@@ -87,6 +87,7 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
+  cli::check_output(a);  // refuse a bad target before the work
   analysis::LocalNuOptions opt = analysis::default_localnu_options();
   opt.radii = a.real_list("radii");
   opt.exclude_self = a.flag("exclude-self");
@@ -124,6 +125,7 @@ static void run(const cli::Args& a) {
   if (rd.map_run >= static_cast<std::int64_t>(paths.size()))
     throw UsageError("--map-run " + std::to_string(rd.map_run) + ": there are " +
                      std::to_string(paths.size()) + " inputs");
+  cli::refuse_repeated_inputs(paths);
   if (std::count(paths.begin(), paths.end(), "-") + (a.text("nu") == "-") > 1)
     throw UsageError("'-' (standard input) given twice");
 

@@ -44,7 +44,7 @@ static void usage(cli::Usage& u) {
       "group, rewritten every --checkpoint-every steps by an atomic rename, so a kill at any moment "
       "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
       "file, bit for bit in every dataset, as a run never interrupted (the pile argument is then not "
-      "read again). Ctrl-C writes a checkpoint of every completed step and exits with 130. The "
+      "read again). Ctrl-C writes a checkpoint of every completed step and exits with 130 (SIGTERM: 143). The "
       "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
       "does nothing. Writing to standard output (-o -) has no checkpoints.",
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
@@ -202,7 +202,7 @@ static void run(const cli::Args& a) {
               " deg); " + (output == "-" ? std::string("the run so far was written") :
                            sim::partial_path(output) + " holds it; run again with --resume to continue"));
     std::cout.flush();
-    std::exit(130);
+    std::exit(cli::interrupt_exit_code());
   }
   char line[400];
   if (outcome.avalanche)

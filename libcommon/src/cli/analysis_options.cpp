@@ -3,6 +3,7 @@
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace cdpile::cli {
 
@@ -20,6 +21,21 @@ void refuse_table_if(const Args& a, const std::string& table, bool left_out, con
 
 void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history) {
   io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), a.text_list("table"));
+}
+
+void refuse_repeated_inputs(const std::vector<std::string>& paths) {
+  if (std::count(paths.begin(), paths.end(), "-") > 1) throw UsageError("'-' (standard input) given twice");
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    for (std::size_t j = i + 1; j < paths.size(); ++j) {
+      std::error_code ec;
+      if (paths[i] != "-" && paths[j] != "-" && std::filesystem::equivalent(paths[i], paths[j], ec))
+        throw UsageError(paths[j] + ": the same file as " + paths[i] +
+                         "; an ensemble counts each run once");
+    }
+}
+
+void check_output(const Args& a) {
+  if (!a.output().empty() && a.output() != "-") io::Output check(a.output(), a.force());
 }
 
 void declare_critical_rule(Usage& u, const std::string& mu_help) {

@@ -28,7 +28,7 @@ volatile std::sig_atomic_t g_interrupted = 0;
 
 extern "C" void on_signal(int sig) {
   if (g_deferred.load() && g_interrupted == 0) {  // first Ctrl-C: finish the step, then stop
-    g_interrupted = 1;
+    g_interrupted = sig;
     return;
   }
   io::remove_temporaries();
@@ -475,8 +475,9 @@ std::string usage_line(const Usage& u) {
   return s;
 }
 const char* kExitCodes = "Exit status: 0 success; 1 runtime or data error (bad input file, failed write); "
-                         "2 usage error (unknown option, bad value, missing argument). Errors are one line "
-                         "on stderr: 'tool: FILE: WHERE: WHAT'.";
+                         "2 usage error (unknown option, bad value, missing argument); 130 interrupted by "
+                         "Ctrl-C (SIGINT), 143 by SIGTERM. Errors are one line on stderr: "
+                         "'tool: FILE: WHERE: WHAT'.";
 }  // namespace
 
 std::string help_text(const Usage& u) {
@@ -554,6 +555,7 @@ void info(const std::string& what) {
 
 void defer_interrupts() { g_deferred.store(true); }
 bool interrupted() { return g_interrupted != 0; }
+int interrupt_exit_code() { return g_interrupted != 0 ? 128 + g_interrupted : 0; }
 
 int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
              const std::function<void(const Args&)>& body) {

@@ -31,9 +31,10 @@ expect_eq "1 1 2 4 frames" "$(tsv_rows w5.tsv windows) $(tsv_value w5.tsv window
 expect_near 5/8 "$(tsv_value w5.tsv windows nu_bar 1)" 1e-15
 expect_near 5/24 "$(tsv_value w5.tsv windows se 1)" 1e-15
 expect_near 3 "$(tsv_value w5.tsv windows theta 1)" 1e-15
-# Two runs: the table and the same table again. Clusters are the runs, each S = 5/2, N = 4:
-# nu_bar = 5/8 and se = 0 (identical runs); runs = 2.
-localnu line.tsv line.tsv --mu 0.5 --diameter 1 --radii 1 -o - --quiet | correlate - --window 5 > r2.tsv
+# Two runs: the table and a copy of it (the same file twice is refused). Clusters are the
+# runs, each S = 5/2, N = 4: nu_bar = 5/8 and se = 0 (identical runs); runs = 2.
+cp line.tsv line2.tsv
+localnu line.tsv line2.tsv --mu 0.5 --diameter 1 --radii 1 -o - --quiet | correlate - --window 5 > r2.tsv
 expect_eq "2 4 8 runs" "$(tsv_value r2.tsv windows runs 1) $(tsv_value r2.tsv windows frames 1) $(tsv_value r2.tsv windows n 1) $(tsv_value r2.tsv windows se_over 1)"
 expect_near 5/8 "$(tsv_value r2.tsv windows nu_bar 1)" 1e-15
 expect_near 0 "$(tsv_value r2.tsv windows se 1)" 1e-15

@@ -21,3 +21,17 @@ expect_fail 2 "critical: --format: expected one of auto, tsv, hdf5, got 'csv' (s
 critical run.h5 --table runs,frames --quiet > t.tsv
 expect_eq "1 1" "$(tsv_rows t.tsv runs) $(tsv_rows t.tsv frames)"
 test ! -e out.tsv
+# The same run twice (or by two paths) would be counted twice in the ensemble: refused.
+mkdir sub
+expect_fail 2 "critical: ./run.h5: the same file as run.h5; an ensemble counts each run once (see 'critical --help')" \
+  critical run.h5 ./run.h5 -o out.tsv
+expect_fail 2 "localnu: sub/../run.h5: the same file as run.h5; an ensemble counts each run once (see 'localnu --help')" \
+  localnu run.h5 sub/../run.h5 -o out.tsv
+test ! -e out.tsv
+# A target that make would clobber is refused before the runs are read (missing.h5 is
+# not looked at): an existing output without --force, a missing folder.
+touch exists.tsv
+expect_fail 1 "critical: exists.tsv: exists; not overwritten (use --force to replace it)" critical missing.h5 -o exists.tsv
+expect_fail 1 "localnu: exists.tsv: exists; not overwritten (use --force to replace it)" localnu missing.h5 -o exists.tsv
+expect_fail 1 "correlate: exists.tsv: exists; not overwritten (use --force to replace it)" correlate missing.h5 -o exists.tsv
+expect_fail 1 "clusterfit: exists.tsv: exists; not overwritten (use --force to replace it)" clusterfit missing.h5 -o exists.tsv

@@ -22,3 +22,13 @@ PY
 tilt-cd pile.h5 -o run.h5 --resume "${opts[@]}" --quiet
 tilt-cd pile.h5 -o ref.h5 "${opts[@]}" --quiet
 h5diff --exclude-path /provenance ref.h5 run.h5
+# SIGTERM: the same clean stop, with exit 143 (128 + 15) as docs/cli.md says.
+rm -f run.h5
+tilt-cd pile.h5 -o term.h5 "${opts[@]}" 2> stderr.txt & pid=$!
+for _ in $(seq 100); do [[ -e term.h5.partial ]] && break; sleep 0.02; done
+sleep 0.1
+kill -TERM "$pid"
+rc=0; wait "$pid" || rc=$?
+expect_eq 143 "$rc"
+test ! -e term.h5
+grep -q "interrupted at step .* term.h5.partial holds it" stderr.txt

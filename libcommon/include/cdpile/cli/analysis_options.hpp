@@ -26,6 +26,13 @@ void refuse_table_if(const Args& a, const std::string& table, bool left_out, con
 
 /// Writes the product where the options of declare_product_output say (io::emit).
 void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history);
+/// Refuses (UsageError) an ensemble that names one input twice: '-' more than once, or
+/// two paths of the same file (statistics over runs would count it twice).
+void refuse_repeated_inputs(const std::vector<std::string>& paths);
+
+/// Refuses the -o target before any work (an existing file without --force, a missing
+/// folder), as emit_product would after it.
+void check_output(const Args& a);
 
 /// The "Critical contacts" group: --eps, --mu, --mu-wall, --walls, --floor-grains.
 /// `mu_help` is --mu's help (what the default is for this tool's inputs).

@@ -157,10 +157,12 @@ void info(const std::string& what);
 const std::string& tool_name();
 
 /// Ctrl-C and SIGTERM: by default they remove every registered temporary output and
-/// exit with 130. A tool with a long loop calls defer_interrupts() and polls
-/// interrupted() to stop cleanly after the current step.
+/// exit with 128 + the signal (130, 143). A tool with a long loop calls defer_interrupts()
+/// and polls interrupted() to stop cleanly after the current step, then exits with
+/// interrupt_exit_code().
 void defer_interrupts();
 bool interrupted();
+int interrupt_exit_code();
 
 }  // namespace cdpile::cli
 
