@@ -144,7 +144,16 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   };
 
   if (!in.is_hdf5()) {
-    // A plain contact table: no grains, so D and mu come from the command line.
+    // A plain contact table: no grains, so D and mu come from the command line. What is
+    // plainly not one is named as such first: an empty file, or a cdpile TSV product
+    // (its header has a '# kind: ...' line).
+    if (in.text().find_first_not_of(" \t\r\n") == std::string::npos)
+      throw Error(file, "", "empty: neither a run (HDF5) nor a contact table");
+    if (const auto at = in.text().find("\n# kind: "); at != std::string::npos && in.text().rfind("# tool: ", 0) == 0) {
+      const auto end = in.text().find('\n', at + 1);
+      throw Error(file, "", "is a '" + in.text().substr(at + 9, end - at - 9) +
+                                "' product, expected a run (HDF5) or a contact table");
+    }
     require_table_options(o, file);
     const ContactTable t = read_contact_table(in.text(), file);
     info.table = true;

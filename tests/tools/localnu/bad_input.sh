@@ -13,6 +13,11 @@ expect_fail 1 "localnu: nan.tsv: line 2, column ft: 'nan' is not a finite number
 expect_fail 1 "localnu: na.csv: line 2, column ft: missing value (NA) where a number is required" localnu na.csv $T -o out.h5
 expect_fail 1 "localnu: truncated.h5: cannot open as HDF5 (truncated or damaged?)" localnu truncated.h5 -o out.h5
 expect_fail 1 "localnu: junk.bin: line 1: binary data in a text table" localnu junk.bin $T -o out.h5
+# Plainly not a contact table: said so before --mu and --diameter are asked for.
+: > empty.tsv
+expect_fail 1 "localnu: empty.tsv: empty: neither a run (HDF5) nor a contact table" localnu empty.tsv -o out.h5
+critical run.h5 --quiet > crit.tsv
+expect_fail 1 "localnu: crit.tsv: is a 'critical' product, expected a run (HDF5) or a contact table" localnu crit.tsv -o out.h5
 expect_fail 1 "localnu: missing.h5: no such file" localnu missing.h5 -o out.h5
 expect_fail 1 "localnu: stdin: no data on standard input (did the previous tool fail?)" bash -c 'localnu - -o out.h5 < /dev/null'
 # mu <= 0: on the command line a usage error, in a run's parameters a data error
