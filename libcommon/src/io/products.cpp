@@ -108,6 +108,15 @@ void write_tsv(std::ostream& os, const Product& p, const std::vector<Provenance>
                const std::vector<std::string>& only) {
   for (const auto& name : only) p.table(name);  // error if unknown
   write_header_lines(os, p, history);
+  // The tables and their row counts, so a reader can tell a file cut at a line boundary
+  // (a table short of rows, or missing) from a whole one.
+  auto written = [&](const Table& t) {
+    return only.empty() || std::find(only.begin(), only.end(), t.name) != only.end();
+  };
+  os << "# tables:";
+  for (const Table& t : p.tables)
+    if (written(t)) os << ' ' << t.name << '=' << t.rows();
+  os << '\n';
   for (const Table& t : p.tables) {
     if (!only.empty() && std::find(only.begin(), only.end(), t.name) == only.end()) continue;
     os << "\n\n";
@@ -269,6 +278,7 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
   Product& p = out.product;
   p.source = name;
   bool header_seen = false;
+  std::vector<std::pair<std::string, std::size_t>> declared;  // "# tables:" of the header
   for (std::size_t ti = 0; ti < tables.size(); ++ti) {
     const TextTable& tt = tables[ti];
     std::map<std::string, std::string> units;
@@ -282,6 +292,16 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
         return v;
       };
       if (auto v = after("kind:")) { p.kind = *v; header_seen = true; }
+      else if (auto v8 = after("tables:")) {
+        std::istringstream items(*v8);
+        std::string item;
+        while (items >> item) {
+          const auto eq = item.find('=');
+          const auto rows = eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
+          if (!rows || *rows < 0) throw Error(name, "", "bad '# tables:' entry '" + item + "'");
+          declared.emplace_back(item.substr(0, eq), static_cast<std::size_t>(*rows));
+        }
+      }
       else if (auto v2 = after("parameter ")) {
         const auto eq = v2->find(" = ");
         if (eq != std::string::npos) p.parameters[v2->substr(0, eq)] = parse_value(v2->substr(eq + 3));
@@ -333,6 +353,14 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
     }
   }
   if (!header_seen && tables.empty()) throw Error(name, "", "empty input: no table");
+  for (const auto& [table, rows] : declared) {
+    const auto t = std::find_if(p.tables.begin(), p.tables.end(), [&](const Table& x) { return x.name == table; });
+    if (t == p.tables.end())
+      throw Error(name, "", "table '" + table + "' missing (the header lists it): a truncated file?");
+    if (t->rows() != rows)
+      throw Error(name, "", "table '" + table + "' has " + std::to_string(t->rows()) + " rows, the header says " +
+                                std::to_string(rows) + ": a truncated file?");
+  }
   return out;
 }
 

@@ -7,6 +7,12 @@ head -c 3000 l.h5 > truncated.h5
 expect_fail 1 "correlate: truncated.h5: cannot open as HDF5 (truncated or damaged?)" correlate truncated.h5 -o out.h5
 expect_fail 1 "correlate: w.h5: is a 'correlate' product, expected 'localnu'" correlate w.h5 -o out.h5
 expect_fail 1 "correlate: c.tsv: not a cdpile localnu product (no '# kind:' header line)" correlate c.tsv -o out.h5
+# Cut at a line boundary: the '# tables:' header line gives it away.
+pdf_line=$(grep -n '^# table: pdf' l.tsv | cut -d: -f1)
+head -n $(( pdf_line - 1 )) l.tsv > cut.tsv
+expect_fail 1 "correlate: cut.tsv: table 'pdf' missing (the header lists it): a truncated file?" correlate cut.tsv -o out.h5
+sed "$(( pdf_line - 3 ))d" l.tsv > short.tsv  # the last row of table states
+expect_fail 1 "correlate: short.tsv: table 'states' has 1 rows, the header says 2: a truncated file?" correlate short.tsv -o out.h5
 # the states table without its 'sum' column
 awk -F'\t' -v OFS='\t' '/^# table: states/{s=1} /^# table: pdf/{s=0} s && !/^#/ && NF {NF=5} 1' l.tsv > nosum.tsv
 expect_fail 1 "correlate: nosum.tsv: table 'states' has no column 'sum'" correlate nosum.tsv -o out.h5
