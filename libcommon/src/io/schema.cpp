@@ -25,8 +25,6 @@ std::string grain_path(const std::string& element) { return std::string(kGrains)
   throw Error(f.name(), where, what);
 }
 
-const double* flat(const std::vector<Vec2>& v) { return v.empty() ? nullptr : v[0].data(); }
-
 std::vector<Vec2> to_vec2(const std::vector<double>& xy) {
   std::vector<Vec2> out(xy.size() / 2);
   for (std::size_t k = 0; k < out.size(); ++k) out[k] = Vec2(xy[2 * k], xy[2 * k + 1]);
@@ -240,21 +238,63 @@ RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
   return w;
 }
 
-void RunWriter::append_frame(const Frame& fr) {
+void RunWriter::append_frame(const Frame& fr) { append_frames({fr}); }
+
+namespace {
+/// Appends the values of every frame's vector `member` one after another.
+template <class T, class Get>
+std::vector<T> gather(const std::vector<Frame>& frames, Get get) {
+  std::vector<T> out;
+  for (const Frame& fr : frames) {
+    const auto& v = get(fr);
+    out.insert(out.end(), v.begin(), v.end());
+  }
+  return out;
+}
+std::vector<double> gather_xy(const std::vector<Frame>& frames, const std::vector<Vec2>& (*get)(const Frame&)) {
+  std::vector<double> out;
+  for (const Frame& fr : frames)
+    for (const Vec2& p : get(fr)) {
+      out.push_back(p.x());
+      out.push_back(p.y());
+    }
+  return out;
+}
+}  // namespace
+
+void RunWriter::append_frames(const std::vector<Frame>& frames) {
+  if (frames.empty()) return;
   h5::File& f = *f_;
-  const Grains& g = fr.grains;
-  if (g.size() != grains_)
-    throw Error(f.name(), kGrains, "frame has " + std::to_string(g.size()) + " grains, file has " +
-                                       std::to_string(grains_));
-  const hsize_t n = grains_;
+  for (const Frame& fr : frames)
+    if (fr.grains.size() != grains_)
+      throw Error(f.name(), kGrains, "frame has " + std::to_string(fr.grains.size()) + " grains, file has " +
+                                         std::to_string(grains_));
+  const hsize_t n = grains_, nf = frames.size();
   const std::string pos = grain_path("position");
   const bool first = !h5::exists(f, pos + "/step");
-  h5::append(f, pos + "/step", &fr.step, {1}, {1024, 0});
-  h5::append(f, pos + "/time", &fr.time, {1}, {1024, 0});
-  h5::append(f, pos + "/value", flat(g.position), {1, n, 2}, kFrameLayout);
-  h5::append(f, grain_path("velocity") + "/value", flat(g.velocity), {1, n, 2}, kFrameLayout);
-  h5::append(f, grain_path("orientation") + "/value", g.orientation.data(), {1, n}, kFrameLayout);
-  h5::append(f, grain_path("angular_velocity") + "/value", g.angular_velocity.data(), {1, n}, kFrameLayout);
+  std::vector<std::int64_t> step, count, offset;
+  std::vector<double> time, tilt_deg;
+  for (const Frame& fr : frames) {
+    step.push_back(fr.step);
+    time.push_back(fr.time);
+    tilt_deg.push_back(fr.tilt_angle * 180.0 / M_PI);
+    offset.push_back(contacts_);
+    count.push_back(static_cast<std::int64_t>(fr.contacts.size()));
+    contacts_ += count.back();
+  }
+  h5::append(f, pos + "/step", step.data(), {nf}, {1024, 0});
+  h5::append(f, pos + "/time", time.data(), {nf}, {1024, 0});
+  h5::append(f, pos + "/value", gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.grains.position; }).data(),
+             {nf, n, 2}, kFrameLayout);
+  h5::append(f, grain_path("velocity") + "/value",
+             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.grains.velocity; }).data(),
+             {nf, n, 2}, kFrameLayout);
+  h5::append(f, grain_path("orientation") + "/value",
+             gather<double>(frames, [](const Frame& x) -> const auto& { return x.grains.orientation; }).data(), {nf, n},
+             kFrameLayout);
+  h5::append(f, grain_path("angular_velocity") + "/value",
+             gather<double>(frames, [](const Frame& x) -> const auto& { return x.grains.angular_velocity; }).data(),
+             {nf, n}, kFrameLayout);
   if (first) {
     for (const char* e : {"velocity", "orientation", "angular_velocity"}) make_element_links(f, grain_path(e), pos);
     h5::set_attr(f, pos + "/value", "unit", std::string("m"));
@@ -264,24 +304,31 @@ void RunWriter::append_frame(const Frame& fr) {
     h5::set_attr(f, grain_path("angular_velocity") + "/value", "unit", std::string("rad s-1"));
   }
 
-  const Contacts& c = fr.contacts;
-  const hsize_t k = c.size();
   const std::string cg = kContacts;
-  const double tilt_deg = fr.tilt_angle * 180.0 / M_PI;
-  const std::int64_t count = static_cast<std::int64_t>(k);
-  h5::append(f, cg + "/step", &fr.step, {1}, {1024, 0});
-  h5::append(f, cg + "/time", &fr.time, {1}, {1024, 0});
-  h5::append(f, cg + "/tilt_angle", &tilt_deg, {1}, {1024, 0});
-  h5::append(f, cg + "/offset", &contacts_, {1}, {1024, 0});
-  h5::append(f, cg + "/count", &count, {1}, {1024, 0});
-  h5::append(f, cg + "/i", c.i.data(), {k}, kContactLayout);
-  h5::append(f, cg + "/j", c.j.data(), {k}, kContactLayout);
-  h5::append(f, cg + "/point", flat(c.point), {k, 2}, kContactLayout);
-  h5::append(f, cg + "/normal", flat(c.normal), {k, 2}, kContactLayout);
-  h5::append(f, cg + "/fn", c.fn.data(), {k}, kContactLayout);
-  h5::append(f, cg + "/ft", c.ft.data(), {k}, kContactLayout);
-  h5::append(f, cg + "/gap", c.gap.data(), {k}, kContactLayout);
-  h5::append(f, cg + "/status", reinterpret_cast<const std::int8_t*>(c.status.data()), {k}, kContactLayout);
+  const auto k = static_cast<hsize_t>(contacts_ - offset.front());  // contacts of these frames
+  h5::append(f, cg + "/step", step.data(), {nf}, {1024, 0});
+  h5::append(f, cg + "/time", time.data(), {nf}, {1024, 0});
+  h5::append(f, cg + "/tilt_angle", tilt_deg.data(), {nf}, {1024, 0});
+  h5::append(f, cg + "/offset", offset.data(), {nf}, {1024, 0});
+  h5::append(f, cg + "/count", count.data(), {nf}, {1024, 0});
+  h5::append(f, cg + "/i", gather<std::int32_t>(frames, [](const Frame& x) -> const auto& { return x.contacts.i; }).data(), {k},
+             kContactLayout);
+  h5::append(f, cg + "/j", gather<std::int32_t>(frames, [](const Frame& x) -> const auto& { return x.contacts.j; }).data(), {k},
+             kContactLayout);
+  h5::append(f, cg + "/point",
+             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.contacts.point; }).data(), {k, 2},
+             kContactLayout);
+  h5::append(f, cg + "/normal",
+             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.contacts.normal; }).data(), {k, 2},
+             kContactLayout);
+  h5::append(f, cg + "/fn", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.fn; }).data(), {k},
+             kContactLayout);
+  h5::append(f, cg + "/ft", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.ft; }).data(), {k},
+             kContactLayout);
+  h5::append(f, cg + "/gap", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.gap; }).data(), {k},
+             kContactLayout);
+  const auto status = gather<ContactStatus>(frames, [](const Frame& x) -> const auto& { return x.contacts.status; });
+  h5::append(f, cg + "/status", reinterpret_cast<const std::int8_t*>(status.data()), {k}, kContactLayout);
   if (first) {
     h5::set_attr(f, cg, "description", std::string(
         "ragged table: frame k's contacts are rows offset[k] .. offset[k]+count[k]-1 of the flat "
@@ -295,8 +342,7 @@ void RunWriter::append_frame(const Frame& fr) {
     h5::set_attr(f, cg + "/gap", "unit", std::string("m"));
     h5::set_attr(f, cg + "/status", "meaning", std::string("0 open, 1 stick, 2 slide"));
   }
-  contacts_ += count;
-  ++frames_;
+  frames_ += nf;
 }
 
 void RunWriter::append_series(const Series& s) {

@@ -187,7 +187,7 @@ void keep_recorded_columns(const h5::File& f, io::Series& s) {
 }
 
 void append_pending(io::RunWriter& w, const Pending& p) {
-  for (const Frame& fr : p.frames) w.append_frame(fr);
+  w.append_frames(p.frames);
   if (p.rows.size() > 0) w.append_series(p.rows);
 }
 

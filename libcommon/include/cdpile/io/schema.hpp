@@ -97,6 +97,9 @@ class RunWriter {
   static RunWriter reopen(h5::File& f, std::int64_t last_step);
 
   void append_frame(const Frame& frame);
+  /// Several frames with one append per dataset: reopening a compressed, chunked dataset
+  /// for every frame re-reads its last chunk, which made many small frames slow to write.
+  void append_frames(const std::vector<Frame>& frames);
   void append_series(const Series& rows);
   void set_result(const std::string& name, const Value& v);
   void add_provenance(const Provenance& p);
