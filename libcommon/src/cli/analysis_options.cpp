@@ -35,6 +35,10 @@ void refuse_repeated_inputs(const std::vector<std::string>& paths) {
 }
 
 void check_output(const Args& a) {
+  if (!a.text_list("table").empty() &&
+      io::resolve_format(a.output(), io::parse_format(a.text("format"))) == io::Format::hdf5)
+    throw UsageError("--table chooses tables of TSV output; an HDF5 product (-o " + a.output() +
+                     ") holds them all (use a .tsv name or --format tsv)");
   if (!a.output().empty() && a.output() != "-") io::Output check(a.output(), a.force());
 }
 

@@ -429,15 +429,17 @@ bool text_extension(const std::string& path) {
 }
 }  // namespace
 
+Format resolve_format(const std::string& output, Format format) {
+  if (format != Format::automatic) return format;
+  if (output.empty()) return Format::tsv;
+  if (output == "-") return Format::hdf5;
+  return text_extension(output) ? Format::tsv : Format::hdf5;
+}
+
 void emit(const Product& p, const std::vector<Provenance>& history, const std::string& output,
           bool force, Format format, const std::vector<std::string>& only) {
   std::string target = output.empty() ? "-" : output;
-  Format f = format;
-  if (f == Format::automatic) {
-    if (output.empty()) f = Format::tsv;
-    else if (output == "-") f = Format::hdf5;
-    else f = text_extension(output) ? Format::tsv : Format::hdf5;
-  }
+  const Format f = resolve_format(output, format);
   Output out(target, force);
   if (f == Format::tsv) {
     write_tsv(out.text(), p, history, only);

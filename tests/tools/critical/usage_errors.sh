@@ -18,6 +18,8 @@ expect_fail 2 "critical: --floor-grains: expected one of wall, grain, got 'foo' 
   critical missing.h5 --floor-grains foo -o out.tsv
 expect_fail 2 "critical: --format: expected one of auto, tsv, hdf5, got 'csv' (see 'critical --help')" \
   critical run.h5 --format csv -o out.tsv
+expect_fail 2 "critical: --table chooses tables of TSV output; an HDF5 product (-o out.h5) holds them all (use a .tsv name or --format tsv) (see 'critical --help')" \
+  critical missing.h5 --table frames -o out.h5
 critical run.h5 --table runs,frames --quiet > t.tsv
 expect_eq "1 1" "$(tsv_rows t.tsv runs) $(tsv_rows t.tsv frames)"
 test ! -e out.tsv

@@ -31,7 +31,7 @@ void emit_product(const Args& a, const analysis::Product& p, const std::vector<i
 void refuse_repeated_inputs(const std::vector<std::string>& paths);
 
 /// Refuses the -o target before any work (an existing file without --force, a missing
-/// folder), as emit_product would after it.
+/// folder), as emit_product would after it, and --table with HDF5 output (a usage error).
 void check_output(const Args& a);
 
 /// The "Critical contacts" group: --eps, --mu, --mu-wall, --walls, --floor-grains.

@@ -72,6 +72,9 @@ analysis::RunSteps steps_from_series(const Series& s, bool include_walls, const 
 /// Output formats of the analysis tools.
 enum class Format { automatic, tsv, hdf5 };
 Format parse_format(const std::string& s);  ///< "auto", "tsv", "hdf5"
+/// The format `emit` writes: TSV without -o or to a .tsv/.txt/.dat name, HDF5 to '-' or
+/// another name, unless `format` says which.
+Format resolve_format(const std::string& output, Format format);
 
 /// Writes a product where the tool was told to: with no -o (`output` empty) TSV on
 /// standard output; with -o FILE, HDF5, unless FILE ends in .tsv, .txt or .dat or the
