@@ -3,6 +3,7 @@
 
 #include "cdpile/error.hpp"
 #include "cdpile/io/files.hpp"
+#include "cdpile/io/products.hpp"
 #include "cdpile/sim/common.hpp"
 
 #include <hdf5.h>
@@ -481,7 +482,10 @@ void validate(const TiltOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
   if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad("--rate must be > 0");
   if (!std::isfinite(o.from_deg)) bad("--from must be finite");
-  if (o.to_deg && !(*o.to_deg >= o.from_deg)) bad("--to must be >= --from");
+  // The start is --from, or with --branch-at the tilt of the frame branched from.
+  if (o.to_deg && !(*o.to_deg >= o.from_deg))
+    bad("--to " + io::format_number(*o.to_deg) + " is below the starting tilt " + io::format_number(o.from_deg) +
+        " deg (--from, or the frame of --branch-at)");
   if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= --from");
   if (!(o.margin_deg >= 0.0)) bad("--margin must be >= 0");
   if (!(o.avalanche_energy > 0.0)) bad("--avalanche-energy must be > 0");

@@ -6,7 +6,7 @@ expect_fail 1 "tilt-cd: text.txt: not an HDF5 file (no HDF5 signature)" tilt-cd 
 expect_fail 1 "tilt-cd: run.h5: /: is a 'run' file, expected a pile (made by deposit)" tilt-cd run.h5 -o out.h5
 expect_fail 2 "tilt-cd: --rate: expected a finite number in [1e-12, 90], got '-1' (out of range) (see 'tilt-cd --help')" \
   tilt-cd pile.h5 --rate -1 -o out.h5
-expect_fail 2 "tilt-cd: --to must be >= --from (see 'tilt-cd --help')" tilt-cd pile.h5 --from 2 --to 1 -o out.h5
+expect_fail 2 "tilt-cd: --to 1 is below the starting tilt 2 deg (--from, or the frame of --branch-at) (see 'tilt-cd --help')" tilt-cd pile.h5 --from 2 --to 1 -o out.h5
 expect_fail 2 "tilt-cd: --resume needs an output file (-o FILE), not standard output (see 'tilt-cd --help')" \
   tilt-cd pile.h5 --resume -o -
 expect_fail 1 "tilt-cd: run.h5: exists; not overwritten (use --force to replace it)" tilt-cd pile.h5 -o run.h5
