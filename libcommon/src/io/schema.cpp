@@ -241,7 +241,7 @@ RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
 void RunWriter::append_frame(const Frame& fr) { append_frames({fr}); }
 
 namespace {
-/// Appends the values of every frame's vector `member` one after another.
+/// The values of one vector member of every frame, one frame after another.
 template <class T, class Get>
 std::vector<T> gather(const std::vector<Frame>& frames, Get get) {
   std::vector<T> out;
@@ -251,15 +251,8 @@ std::vector<T> gather(const std::vector<Frame>& frames, Get get) {
   }
   return out;
 }
-std::vector<double> gather_xy(const std::vector<Frame>& frames, const std::vector<Vec2>& (*get)(const Frame&)) {
-  std::vector<double> out;
-  for (const Frame& fr : frames)
-    for (const Vec2& p : get(fr)) {
-      out.push_back(p.x());
-      out.push_back(p.y());
-    }
-  return out;
-}
+/// 2-vectors as the (x, y) doubles they are stored as.
+const double* flat(const std::vector<Vec2>& v) { return v.empty() ? nullptr : v[0].data(); }
 }  // namespace
 
 void RunWriter::append_frames(const std::vector<Frame>& frames) {
@@ -284,10 +277,10 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
   }
   h5::append(f, pos + "/step", step.data(), {nf}, {1024, 0});
   h5::append(f, pos + "/time", time.data(), {nf}, {1024, 0});
-  h5::append(f, pos + "/value", gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.grains.position; }).data(),
+  h5::append(f, pos + "/value", flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.grains.position; })),
              {nf, n, 2}, kFrameLayout);
   h5::append(f, grain_path("velocity") + "/value",
-             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.grains.velocity; }).data(),
+             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.grains.velocity; })),
              {nf, n, 2}, kFrameLayout);
   h5::append(f, grain_path("orientation") + "/value",
              gather<double>(frames, [](const Frame& x) -> const auto& { return x.grains.orientation; }).data(), {nf, n},
@@ -316,10 +309,10 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
   h5::append(f, cg + "/j", gather<std::int32_t>(frames, [](const Frame& x) -> const auto& { return x.contacts.j; }).data(), {k},
              kContactLayout);
   h5::append(f, cg + "/point",
-             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.contacts.point; }).data(), {k, 2},
+             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.contacts.point; })), {k, 2},
              kContactLayout);
   h5::append(f, cg + "/normal",
-             gather_xy(frames, [](const Frame& x) -> const std::vector<Vec2>& { return x.contacts.normal; }).data(), {k, 2},
+             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.contacts.normal; })), {k, 2},
              kContactLayout);
   h5::append(f, cg + "/fn", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.fn; }).data(), {k},
              kContactLayout);
