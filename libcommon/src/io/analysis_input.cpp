@@ -149,11 +149,8 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     // (its header has a '# kind: ...' line).
     if (in.text().find_first_not_of(" \t\r\n") == std::string::npos)
       throw Error(file, "", "empty: neither a run (HDF5) nor a contact table");
-    if (const auto at = in.text().find("\n# kind: "); at != std::string::npos && in.text().rfind("# tool: ", 0) == 0) {
-      const auto end = in.text().find('\n', at + 1);
-      throw Error(file, "", "is a '" + in.text().substr(at + 9, end - at - 9) +
-                                "' product, expected a run (HDF5) or a contact table");
-    }
+    if (const std::string kind = tsv_product_kind(in.text()); !kind.empty())
+      throw Error(file, "", "is a '" + kind + "' product, expected a run (HDF5) or a contact table");
     require_table_options(o, file);
     const ContactTable t = read_contact_table(in.text(), file);
     info.table = true;

@@ -364,6 +364,14 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
   return out;
 }
 
+std::string tsv_product_kind(const std::string& text) {
+  std::istringstream is(text);
+  std::string line;
+  while (std::getline(is, line) && line.rfind("#", 0) == 0)
+    if (line.rfind("# kind: ", 0) == 0) return line.substr(8);
+  return {};
+}
+
 ProductFile read_product(const Input& in, const std::string& expected_kind) {
   ProductFile p = in.is_hdf5() ? read_product_hdf5(in.hdf5()) : read_product_tsv(in.text(), in.name());
   p.product.source = in.name();

@@ -69,6 +69,10 @@ ProductFile read_product_hdf5(const h5::File& f);
 /// `kinetic_energy`. Error if `tilt_angle` or the contact count is missing.
 analysis::RunSteps steps_from_series(const Series& s, bool include_walls, const std::string& file);
 
+/// The kind of a TSV product ("critical", "localnu", ...) from the '# kind:' line of its
+/// comment header; empty if the text has none (a plain table).
+std::string tsv_product_kind(const std::string& text);
+
 /// Output formats of the analysis tools.
 enum class Format { automatic, tsv, hdf5 };
 Format parse_format(const std::string& s);  ///< "auto", "tsv", "hdf5"
