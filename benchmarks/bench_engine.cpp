@@ -114,19 +114,7 @@ void BM_TiltStep(benchmark::State& state) {
   Result res;
   {
     cd::Engine engine(pile.box, pile.grains, settings);
-    cd::EngineState es;
-    for (std::size_t k = 0; k < pile.contacts.size(); ++k) {
-      if (pile.contacts.fn[k] == 0.0 && pile.contacts.ft[k] == 0.0) continue;
-      es.impulses.push_back({pile.contacts.i[k], pile.contacts.j[k],
-                             pile.contacts.fn[k] * settings.time_step,
-                             pile.contacts.ft[k] * settings.time_step});
-    }
-    std::sort(es.impulses.begin(), es.impulses.end(),
-              [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
-                return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
-              });
-    engine.set_state(es);
-    es = {};
+    engine.set_state(sim::warm_start_state(pile.contacts, settings.time_step));
     engine.reset_profile();
 
     const double rate = 0.001 * std::numbers::pi / 180.0;  // tilt-cd's default, per step

@@ -372,3 +372,50 @@ TEST(Tilt, RunWarningsAtTheirThresholds) {
   EXPECT_EQ(io::as_int(io::RunReader(f).header().results, "warnings", "run"), 0);
   EXPECT_EQ(io::RunReader(f).header().results.count("warning_messages"), 0u);
 }
+
+// The settings a run records are the settings it is rebuilt with: every field survives
+// settings_parameters and settings_from_parameters, and a missing or bad one names the
+// file and what is wrong.
+TEST(Settings, ParametersRoundTripAndErrorsNameTheFile) {
+  namespace cd = cdpile::cd;
+  cd::Settings s;
+  s.time_step = 2.5e-5;
+  s.theta = 0.75;
+  s.gravity = 3.7;
+  s.mu_grain = 0.3;
+  s.mu_wall = 0.2;
+  s.alert_distance = 3e-5;
+  s.tolerance = 1e-6;
+  s.max_sweeps = 123;
+  s.symmetric_sweeps = false;
+  s.criterion = cd::Criterion::qm16;
+  const cd::Settings back = sim::settings_from_parameters(sim::settings_parameters(s), "run.h5");
+  EXPECT_EQ(back.time_step, s.time_step);
+  EXPECT_EQ(back.theta, s.theta);
+  EXPECT_EQ(back.gravity, s.gravity);
+  EXPECT_EQ(back.mu_grain, s.mu_grain);
+  EXPECT_EQ(back.mu_wall, s.mu_wall);
+  EXPECT_EQ(back.alert_distance, s.alert_distance);
+  EXPECT_EQ(back.tolerance, s.tolerance);
+  EXPECT_EQ(back.max_sweeps, s.max_sweeps);
+  EXPECT_EQ(back.symmetric_sweeps, s.symmetric_sweeps);
+  EXPECT_EQ(back.criterion, s.criterion);
+
+  auto message = [](const io::Values& v) {
+    try {
+      sim::settings_from_parameters(v, "run.h5");
+    } catch (const cdpile::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  io::Values v = sim::settings_parameters(s);
+  v.erase("tolerance");
+  EXPECT_EQ(message(v), "run.h5: /parameters: missing parameter 'tolerance'");
+  v = sim::settings_parameters(s);
+  v["criterion"] = std::string("fast");
+  EXPECT_EQ(message(v), "run.h5: /parameters: unknown convergence criterion 'fast' (maxm, quad or qm16)");
+  v = sim::settings_parameters(s);
+  v["theta"] = 0.2;
+  EXPECT_EQ(message(v), "run.h5: /parameters: engine settings: theta must be in [0.5, 1]");
+}

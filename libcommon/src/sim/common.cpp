@@ -1,6 +1,7 @@
 #include "cdpile/sim/common.hpp"
 
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/error.hpp"
 
 #include <cmath>
 
@@ -17,6 +18,29 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"max_sweeps", std::int64_t{s.max_sweeps}},
           {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}},
           {"criterion", std::string(cd::criterion_name(s.criterion))}};
+}
+
+cd::Settings settings_from_parameters(const io::Values& v, const std::string& file) {
+  cd::Settings s;
+  s.time_step = io::as_real(v, "time_step_s", file);
+  s.theta = io::as_real(v, "theta", file);
+  s.gravity = io::as_real(v, "gravity_m_s2", file);
+  s.mu_grain = io::as_real(v, "mu_grain", file);
+  s.mu_wall = io::as_real(v, "mu_wall", file);
+  s.alert_distance = io::as_real(v, "alert_distance_m", file);
+  s.tolerance = io::as_real(v, "tolerance", file);
+  s.max_sweeps = static_cast<int>(io::as_int(v, "max_sweeps", file));
+  s.symmetric_sweeps = io::as_int(v, "symmetric_sweeps", file) != 0;
+  const auto c = v.find("criterion");
+  const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
+  if (!name) throw Error(file, "/parameters", "missing text parameter 'criterion'");
+  try {
+    s.criterion = cd::criterion_from_name(*name);
+    cd::validate(s);
+  } catch (const UsageError& e) {
+    throw Error(file, "/parameters", e.what());
+  }
+  return s;
 }
 
 CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,

@@ -544,6 +544,18 @@ PileInput read_pile(const io::h5::File& f) {
   return start_from_frame(f, r, r.frame_count() - 1);
 }
 
+cd::EngineState warm_start_state(const Contacts& contacts, double time_step) {
+  cd::EngineState es;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (contacts.fn[k] == 0.0 && contacts.ft[k] == 0.0) continue;
+    es.impulses.push_back({contacts.i[k], contacts.j[k], contacts.fn[k] * time_step, contacts.ft[k] * time_step});
+  }
+  std::sort(es.impulses.begin(), es.impulses.end(), [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
+    return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
+  });
+  return es;
+}
+
 PileInput read_branch(const io::h5::File& f, double at_deg) {
   io::RunReader r(f);
   if (r.header().kind != "run")
@@ -608,18 +620,9 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
   h.provenance.push_back(prov);
 
   cd::Engine engine(pile.box, pile.grains, o.settings);
-  // Warm start from the pile's last contact forces (impulse = force x h): the first
-  // tilt step starts from the equilibrium the pile was left in.
-  cd::EngineState es;
-  for (std::size_t k = 0; k < pile.contacts.size(); ++k) {
-    if (pile.contacts.fn[k] == 0.0 && pile.contacts.ft[k] == 0.0) continue;
-    es.impulses.push_back({pile.contacts.i[k], pile.contacts.j[k], pile.contacts.fn[k] * o.settings.time_step,
-                           pile.contacts.ft[k] * o.settings.time_step});
-  }
-  std::sort(es.impulses.begin(), es.impulses.end(), [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
-    return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
-  });
-  engine.set_state(es);
+  // Warm start from the pile's last contact forces: the first tilt step starts from the
+  // equilibrium the pile was left in.
+  engine.set_state(warm_start_state(pile.contacts, o.settings.time_step));
 
   Pending pending;
   Frame f0;

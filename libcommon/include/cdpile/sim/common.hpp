@@ -30,6 +30,9 @@ class Random {
 
 /// The engine settings as parameters (names with unit suffixes, docs/schema.md).
 io::Values settings_parameters(const cd::Settings& s);
+/// The engine settings a run was made with, from its parameters (the inverse of
+/// settings_parameters); throws cdpile::Error naming `file` if one is missing or bad.
+cd::Settings settings_from_parameters(const io::Values& v, const std::string& file);
 
 /// Counts of critical contacts in one contact set (analysis::is_critical, tolerance
 /// eps): `all` over every active contact (walls and glued floor grains included, mu_wall

@@ -73,6 +73,11 @@ PileInput read_pile(const io::h5::File& f);
 /// such frame.
 PileInput read_branch(const io::h5::File& f, double at_deg);
 
+/// The engine state that warm-starts a first step from a frame's contact forces
+/// (impulse = force x `time_step`), sorted by pair as cd::Engine::set_state wants: how a
+/// tilt starts from a pile's equilibrium or from a branch's frame.
+cd::EngineState warm_start_state(const Contacts& contacts, double time_step);
+
 /// The side file of a run to `output` while it is not complete.
 std::string partial_path(const std::string& output);
 /// The partial run of `output` as a pile input: box, grains in their checkpointed
