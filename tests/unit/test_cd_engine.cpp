@@ -1,5 +1,6 @@
 // Physics validation of the CD engine on scenes with known answers (physics.md 3.1):
 // a block and a rolling disk on an incline, a column of disks, collisions with e = 0.
+#include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/error.hpp"
@@ -355,5 +356,61 @@ TEST(Engine, StateRoundTripContinuesBitForBit) {
     EXPECT_EQ(a.grains().position[i], b.grains().position[i]);
     EXPECT_EQ(a.grains().velocity[i], b.grains().velocity[i]);
     EXPECT_EQ(a.grains().angular_velocity[i], b.grains().angular_velocity[i]);
+  }
+}
+
+// --- the last step's problem in Delassus form --------------------------------------
+
+// A disk at rest on the floor tilted by theta: H maps (v, w) to u_n = v_y and
+// u_t = -v_x - w r (t = (-n_y, n_x) = (-1, 0) for the floor's normal (0, 1)), so
+// W = diag(1/m, 1/m + r^2/I) and the free local velocity is h g(theta) in that frame:
+// q = (-g h cos theta, -g h sin theta). The step's impulses solve it.
+TEST(DelassusExport, OneDiskOnTheFloorIsTheAnalyticProblem) {
+  const double deg = 20.0;
+  cd::Engine e(Box{0.1, 0.05}, one_disk(), settings());
+  e.step(deg * kDeg);  // settles nothing: the disk starts at rest with a zero gap
+  const cd::DelassusProblem p = e.delassus_problem();
+  ASSERT_EQ(p.contacts(), 1);
+  const double m = e.grains().mass[0], inertia = e.grains().inertia[0];
+  const double gh = 9.81 * e.settings().time_step;
+  EXPECT_DOUBLE_EQ(p.W.coeff(0, 0), 1.0 / m);
+  EXPECT_DOUBLE_EQ(p.W.coeff(1, 1), 1.0 / m + kR * kR / inertia);
+  EXPECT_EQ(p.W.coeff(0, 1), 0.0);
+  EXPECT_EQ(p.W.coeff(1, 0), 0.0);
+  EXPECT_NEAR(p.q[0], -gh * std::cos(deg * kDeg), 1e-15);
+  EXPECT_NEAR(p.q[1], -gh * std::sin(deg * kDeg), 1e-15);
+  EXPECT_EQ(p.mu[0], e.settings().mu_wall);
+  const Eigen::VectorXd r = e.local_impulses();
+  const auto c = e.contacts();
+  EXPECT_DOUBLE_EQ(r[0], c.fn[0] * e.settings().time_step);
+  EXPECT_DOUBLE_EQ(r[1], c.ft[0] * e.settings().time_step);
+  EXPECT_LT(cd::natural_map_residual(p, r), 1e-12);
+}
+
+// The problem of a column of disks (a chain of contacts: W couples each contact with its
+// neighbours through the disk they share) is the one the engine solved: its impulses
+// give a natural-map residual at the engine's tolerance, and solve_nsgs from zero finds
+// the same impulses, each contact carrying the disks above it (r_n = k m g h).
+TEST(DelassusExport, AColumnIsSolvedAgainToTheSameImpulses) {
+  const int k = 6;
+  Grains g;
+  for (int n = 0; n < k; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  cd::Engine e(Box{0.02, 0.02}, g, settings());
+  for (int step = 0; step < 5; ++step) e.step(0.0);
+  const cd::DelassusProblem p = e.delassus_problem();
+  ASSERT_EQ(p.contacts(), k);
+  EXPECT_EQ((Eigen::MatrixXd(p.W) - Eigen::MatrixXd(p.W).transpose()).norm(), 0.0);
+  const Eigen::VectorXd engine_r = e.local_impulses();
+  EXPECT_LT(cd::natural_map_residual(p, engine_r), 1e-9);
+  Eigen::VectorXd r;
+  const cd::NsgsReport rep = cd::solve_nsgs(p, r, {1e-12, 100000});
+  EXPECT_TRUE(rep.converged);
+  const double mgh = e.grains().mass[0] * 9.81 * e.settings().time_step;
+  const auto c = e.contacts();
+  for (Eigen::Index a = 0; a < k; ++a) {
+    const int carried = c.j[static_cast<std::size_t>(a)] < 0 ? k : k - 1 - c.i[static_cast<std::size_t>(a)];
+    EXPECT_NEAR(r[2 * a], carried * mgh, 1e-9 * k * mgh) << "contact " << a;
+    EXPECT_NEAR(r[2 * a], engine_r[2 * a], 1e-9 * k * mgh) << "contact " << a;
+    EXPECT_NEAR(r[2 * a + 1], 0.0, 1e-12 * mgh) << "contact " << a;
   }
 }

@@ -6,6 +6,7 @@
 #include "cdpile/error.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <algorithm>
 #include <fstream>
@@ -167,6 +168,41 @@ DelassusProblem read_siconos_fc2d(const std::string& path) {
   p.q = Eigen::Map<Eigen::VectorXd>(numbers.data(), 2 * m);
   p.mu = Eigen::Map<Eigen::VectorXd>(numbers.data() + 2 * m, m);
   return p;
+}
+
+void write_siconos_fc2d(std::ostream& out, const DelassusProblem& p) {
+  const Eigen::Index m = p.contacts();
+  if (p.W.rows() != 2 * m || p.W.cols() != 2 * m || p.q.size() != 2 * m)
+    throw Error("write_siconos_fc2d: W and q do not match the " + std::to_string(m) + " contacts");
+  const Eigen::SparseMatrix<double, Eigen::ColMajor> W = p.W;  // cs_print lists columns
+  char buf[64];
+  auto real = [&](double v) {
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+  };
+  double norm1 = 0.0;  // the largest column sum of |W|, as cs_print states it
+  for (Eigen::Index j = 0; j < W.outerSize(); ++j) {
+    double sum = 0.0;
+    for (Eigen::SparseMatrix<double, Eigen::ColMajor>::InnerIterator it(W, j); it; ++it)
+      sum += std::abs(it.value());
+    norm1 = std::max(norm1, sum);
+  }
+  out << 2 << '\n' << m << '\n' << 2 << '\n' << 2 * m << '\n' << 2 * m << '\n' << 2 << '\n';
+  out << "CSparse Version 3.1.9, written by cdpile (cs_print layout)\n";
+  out << 2 * m << "-by-" << 2 * m << ", nzmax: " << W.nonZeros() << " nnz: " << W.nonZeros()
+      << ", 1-norm: " << real(norm1) << '\n';
+  Eigen::Index location = 0;
+  for (Eigen::Index j = 0; j < W.outerSize(); ++j) {
+    const Eigen::Index count = W.outerIndexPtr()[j + 1] - W.outerIndexPtr()[j];
+    out << "    col " << j << " : locations " << location << " to " << location + count - 1 << '\n';
+    for (Eigen::SparseMatrix<double, Eigen::ColMajor>::InnerIterator it(W, j); it; ++it)
+      out << "      " << it.row() << " : " << real(it.value()) << '\n';
+    location += count;
+  }
+  for (Eigen::Index k = 0; k < 2 * m; ++k) out << real(p.q[k]) << (k + 1 < 2 * m ? " " : "\n");
+  for (Eigen::Index k = 0; k < m; ++k) out << real(p.mu[k]) << (k + 1 < m ? " " : "\n");
+  out.flush();
+  if (!out) throw Error("write_siconos_fc2d: the stream failed");
 }
 
 namespace {

@@ -1,8 +1,11 @@
 // The Contact Dynamics engine: one Moreau-Jean step as named stages (engine.hpp).
 #include "cdpile/cd/engine.hpp"
 
+#include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/error.hpp"
+
+#include <Eigen/SparseCore>
 
 #include <algorithm>
 #include <chrono>
@@ -448,6 +451,65 @@ Contacts Engine::contacts() const {
                 r.rn > 0.0 ? r.status : ContactStatus::open);
   }
   return c;
+}
+
+// The rows of H are those of the sweep: u_n = (v_i - v_j).n and
+// u_t = (v_i - v_j).t - w_i r_i - w_j r_j, with t = (-n_y, n_x); a grain that does not move
+// (glued, or the walls' static body) has a zero inverse mass and drops out of W.
+DelassusProblem Engine::delassus_problem() const {
+  const auto m = static_cast<Eigen::Index>(rows_.size());
+  const auto n = static_cast<Eigen::Index>(grains_.size());
+  std::vector<Eigen::Triplet<double>> h, hm;  // H and H M^-1
+  h.reserve(12 * rows_.size());
+  hm.reserve(12 * rows_.size());
+  auto add = [&](Eigen::Index row, std::int32_t body, double x, double y, double w, double sign) {
+    if (body == static_cast<std::int32_t>(n)) return;  // the walls
+    const Body& b = bodies_[static_cast<std::size_t>(body)];
+    const Eigen::Index c = 3 * static_cast<Eigen::Index>(body);
+    const double v[3] = {sign * x, sign * y, w};
+    const double inv[3] = {b.inv_m, b.inv_m, b.inv_i};
+    for (int k = 0; k < 3; ++k) {
+      if (v[k] == 0.0 || inv[k] == 0.0) continue;
+      h.emplace_back(row, c + k, v[k]);
+      hm.emplace_back(row, c + k, v[k] * inv[k]);
+    }
+  };
+  std::vector<double> mu(rows_.size());
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const Row& r = rows_[static_cast<std::size_t>(a)];
+    add(2 * a, r.bi, r.nx, r.ny, 0.0, 1.0);
+    add(2 * a, r.bj, r.nx, r.ny, 0.0, -1.0);
+    add(2 * a + 1, r.bi, -r.ny, r.nx, -r.ri, 1.0);
+    add(2 * a + 1, r.bj, -r.ny, r.nx, -r.rj, -1.0);
+    mu[static_cast<std::size_t>(a)] = r.mu;
+  }
+  DelassusProblem p;
+  p.mu = Eigen::Map<const Eigen::VectorXd>(mu.data(), m);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> H(2 * m, 3 * n), HM(2 * m, 3 * n);
+  H.setFromTriplets(h.begin(), h.end());
+  HM.setFromTriplets(hm.begin(), hm.end());
+  p.W = HM * Eigen::SparseMatrix<double, Eigen::RowMajor>(H.transpose());
+  // q = u - W r: the bodies hold v = v_free + M^-1 H R at the end of the step, so the
+  // local velocities of the solution less W r are the free ones (to rounding).
+  p.q = -(p.W * local_impulses());
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const Row& row = rows_[static_cast<std::size_t>(a)];
+    const Body& bi = bodies_[static_cast<std::size_t>(row.bi)];
+    const Body& bj = bodies_[static_cast<std::size_t>(row.bj)];
+    const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
+    p.q[2 * a] += dvx * row.nx + dvy * row.ny + row.gap_velocity;
+    p.q[2 * a + 1] += -dvx * row.ny + dvy * row.nx - bi.w * row.ri - bj.w * row.rj;
+  }
+  return p;
+}
+
+Eigen::VectorXd Engine::local_impulses() const {
+  Eigen::VectorXd r(2 * static_cast<Eigen::Index>(rows_.size()));
+  for (std::size_t a = 0; a < rows_.size(); ++a) {
+    r[static_cast<Eigen::Index>(2 * a)] = rows_[a].rn;
+    r[static_cast<Eigen::Index>(2 * a + 1)] = rows_[a].rt;
+  }
+  return r;
 }
 
 EngineState Engine::state() const {

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <ostream>
 #include <string>
 
 namespace cdpile::cd {
@@ -29,6 +30,13 @@ struct DelassusProblem {
 /// 3m values for q and mu), a column out of sequence, a duplicate entry, a token that is
 /// not a finite number, a negative mu, or anything after mu.
 DelassusProblem read_siconos_fc2d(const std::string& path);
+
+/// Writes `p` in the format read_siconos_fc2d reads, which is Siconos' own (its reader
+/// `frictionContact_new_from_filename` takes it): storage code 2, W as a CSparse
+/// `cs_print` listing in compressed columns, then q and mu on one line each. Values are
+/// written with 17 significant digits, so a problem read back is the same bit for bit.
+/// Throws cdpile::Error if the stream fails.
+void write_siconos_fc2d(std::ostream& out, const DelassusProblem& p);
 
 /// Siconos' natural-map residual (fc2d_compute_error, physics.md 2.2):
 ///   || r - Proj_K(r - u_hat) || / ||q||,   u = W r + q,  u_hat = (u_n + mu |u_t|, u_t),

@@ -25,6 +25,8 @@
 
 namespace cdpile::cd {
 
+struct DelassusProblem;  // delassus.hpp
+
 /// When the NSGS sweeps of a step stop (docs/method.md, "Convergence"). Each measures the
 /// velocity corrections W_aa dR_a that a full sweep made, relative to the velocity scale
 /// of StepReport::residual; the names are LMGC90's (physics.md 2.1).
@@ -125,6 +127,17 @@ class Engine {
   Contacts contacts() const;
   /// Time-independent checks of the last step's contact set.
   std::size_t contact_count() const { return rows_.size(); }
+
+  /// The frictional contact problem the last step solved, in Delassus form (delassus.hpp),
+  /// one contact per row of contacts() in the same order: u = W r + q with W = H M^-1 H^T
+  /// (H the local frames, M the grains' masses and inertias, a glued grain or a wall
+  /// contributing nothing) and q = H v_free + (max(0, gap/h), 0), the free local velocity
+  /// with the gap term of the Signorini condition (method.md). Another solver can then take
+  /// on exactly the problem NSGS met, from the same start or from local_impulses()
+  /// (docs/performance.md, "Newton on the capped steps").
+  DelassusProblem delassus_problem() const;
+  /// The impulses (R_n, R_t) the last step ended with, per row of contacts() [N s/m].
+  Eigen::VectorXd local_impulses() const;
 
   /// Locks (or unlocks) a grain's rotation: infinite inertia (validation tests).
   void lock_rotation(std::size_t grain, bool locked = true);
