@@ -1,0 +1,102 @@
+// Writes the frictional contact problems of real tilt steps in Siconos' fc2d text format,
+// so that other solvers (benchmarks/newton_on_steps.py runs Siconos' own) can take on
+// exactly the problems NSGS met: the steps that end at the sweep cap, where a paper run
+// spends most of its time (docs/performance.md, "Newton on the capped steps").
+//
+// The run is branched as `tilt-cd --branch-at DEG` does (its last frame at or below DEG,
+// warm-started from the frame's forces) and tilted on with the run's own solver settings
+// and rate. After each step whose NSGS hit the sweep cap (every step with --all), it
+// writes into OUTDIR, which must not exist:
+//   step-K.dat   the step's problem (cd::Engine::delassus_problem, cd::write_siconos_fc2d)
+//   step-K.r     the impulses the engine ended the step with, 2m values on one line
+// and prints one line per step on stdout (TSV): the step K after the branch, tilt [deg],
+// contact candidates m, active contacts, sweeps, the engine's residual (its maxm
+// measure, docs/method.md) and the natural-map residual of its impulses (Siconos'
+// measure, cd::natural_map_residual), and the file written (or '-').
+//
+// Usage: export_steps RUN DEG STEPS OUTDIR [--all]
+#include "cdpile/cd/delassus.hpp"
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/error.hpp"
+#include "cdpile/io/files.hpp"
+#include "cdpile/sim/common.hpp"
+#include "cdpile/sim/tilt.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+#include <string>
+
+namespace cd = cdpile::cd;
+namespace io = cdpile::io;
+namespace sim = cdpile::sim;
+
+namespace {
+
+int usage() {
+  std::cerr << "usage: export_steps RUN DEG STEPS OUTDIR [--all]\n";
+  return 2;
+}
+
+void write_text(const std::string& path, const auto& fill) {
+  io::Output out(path, false);
+  fill(out.text());
+  out.commit();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 5 && !(argc == 6 && std::string(argv[5]) == "--all")) return usage();
+  const std::string run = argv[1], dir = argv[4];
+  const bool all = argc == 6;
+  try {
+    const double at_deg = std::stod(argv[2]);
+    const long steps = std::stol(argv[3]);
+    if (steps < 1) return usage();
+    if (std::filesystem::exists(dir)) throw cdpile::Error(dir, "", "exists; give a new folder");
+
+    sim::PileInput pile;
+    {
+      io::Input in(run);
+      pile = sim::read_branch(in.hdf5(), at_deg);
+    }
+    const cd::Settings settings = sim::settings_from_parameters(pile.parameters, run);
+    const double rate_deg = io::as_real(pile.parameters, "tilt_rate_deg_per_step", run);
+    cd::Engine engine(pile.box, pile.grains, settings);
+    engine.set_state(sim::warm_start_state(pile.contacts, settings.time_step));
+    std::filesystem::create_directories(dir);
+
+    std::printf("step\ttilt_deg\tcandidates\tcontacts\tsweeps\tresidual\tnatural_map\tfile\n");
+    for (long k = 1; k <= steps; ++k) {
+      const double deg = pile.branch->tilt_deg + static_cast<double>(k) * rate_deg;
+      const cd::StepReport r = engine.step(deg * std::numbers::pi / 180.0);
+      const cd::DelassusProblem p = engine.delassus_problem();
+      const Eigen::VectorXd impulses = engine.local_impulses();
+      std::string file = "-";
+      if (all || !r.converged) {
+        char name[32];
+        std::snprintf(name, sizeof name, "step-%06ld", k);
+        file = std::string(name) + ".dat";
+        write_text(dir + "/" + file, [&](std::ostream& o) { cd::write_siconos_fc2d(o, p); });
+        write_text(dir + "/" + name + ".r", [&](std::ostream& o) {
+          char v[32];
+          for (Eigen::Index i = 0; i < impulses.size(); ++i) {
+            std::snprintf(v, sizeof v, "%.17g", impulses[i]);
+            o << v << (i + 1 < impulses.size() ? " " : "\n");
+          }
+        });
+      }
+      std::printf("%ld\t%.3f\t%d\t%d\t%d\t%.3e\t%.3e\t%s\n", k, deg, r.candidates, r.contacts,
+                  r.sweeps, r.residual, cd::natural_map_residual(p, impulses), file.c_str());
+      std::fflush(stdout);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "export_steps: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
