@@ -1,9 +1,10 @@
 // Cost of a tilt step of the Contact Dynamics engine against the number of grains N, on
 // settled piles made by the `deposit` tool (benchmarks/make_piles.sh writes them):
 // N = 500, 1000, 4000, 16000 free grains in boxes 15, 30, 120 and 480 mean diameters
-// wide, so every pile has the depth of the paper's (4000 grains, 120 D) and only the
-// width grows: the sweeps NSGS needs depend on the depth, and the cost per contact
-// update is what is compared across N.
+// wide, and 64000 in 1920 D (16 copies of the 4000-grain pile side by side, made by
+// benchmarks/tile_pile.cpp: a deposit of that size costs hours), so every pile has the
+// depth of the paper's (4000 grains, 120 D) and only the width grows: the sweeps NSGS
+// needs depend on the depth, and the cost per contact update is what is compared across N.
 //
 // Each benchmark rebuilds the engine from the pile as tilt-cd does (impulses warm-started
 // from the pile's forces) and times `steps` steps with gravity turning at the default
@@ -213,6 +214,7 @@ int main(int argc, char** argv) {
       ->Arg(1000)
       ->Arg(4000)
       ->Arg(16000)
+      ->Arg(64000)
       ->Iterations(g_steps)
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime();
