@@ -29,42 +29,12 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <utility>
 
 namespace cd = cdpile::cd;
 namespace io = cdpile::io;
 namespace sim = cdpile::sim;
 using cdpile::Contacts;
-using cdpile::Grains;
-
-namespace {
-
-/// K copies of `g` side by side, copy k shifted by k `width`; contacts renumbered, those
-/// with the side walls between copies dropped.
-void tile(const Grains& g, const Contacts& c, double width, int k_copies, Grains& out, Contacts& out_c) {
-  const auto n = static_cast<std::int32_t>(g.size());
-  for (int k = 0; k < k_copies; ++k) {
-    for (std::int32_t i = 0; i < n; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      out.radius.push_back(g.radius[u]);
-      out.mass.push_back(g.mass[u]);
-      out.inertia.push_back(g.inertia[u]);
-      out.species.push_back(g.species[u]);
-      out.position.push_back(g.position[u] + cdpile::Vec2(k * width, 0.0));
-      out.velocity.push_back(g.velocity[u]);
-      out.orientation.push_back(g.orientation[u]);
-      out.angular_velocity.push_back(g.angular_velocity[u]);
-    }
-    for (std::size_t q = 0; q < c.size(); ++q) {
-      if (c.j[q] == cdpile::wall_left && k > 0) continue;
-      if (c.j[q] == cdpile::wall_right && k < k_copies - 1) continue;
-      const std::int32_t j = c.j[q] < 0 ? c.j[q] : c.j[q] + k * n;
-      out_c.push_back(c.i[q] + k * n, j, c.point[q] + cdpile::Vec2(k * width, 0.0), c.normal[q], c.fn[q],
-                      c.ft[q], c.gap[q], c.status[q]);
-    }
-  }
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 5) {
@@ -84,11 +54,11 @@ int main(int argc, char** argv) {
       pile = sim::read_pile(in.hdf5());
     }
     const cd::Settings settings = sim::settings_from_parameters(pile.parameters, input);
-    const double width = pile.box.width;
+    sim::Tiling tiling = sim::tile_side_by_side(pile.box, pile.grains, pile.contacts, k_copies);
     sim::Pile tiled;
-    tiled.box = {k_copies * width, pile.box.height};
-    Contacts warm;
-    tile(pile.grains, pile.contacts, width, k_copies, tiled.grains, warm);
+    tiled.box = tiling.box;
+    tiled.grains = std::move(tiling.grains);
+    const Contacts warm = std::move(tiling.contacts);
 
     cd::Engine engine(tiled.box, tiled.grains, settings);
     engine.set_state(sim::warm_start_state(warm, settings.time_step));

@@ -289,3 +289,50 @@ TEST(Deposit, BadOptionsAreUsageErrors) {
   bad([](sim::DepositOptions& o) { o.settings.time_step = -1.0; });
   bad([](sim::DepositOptions& o) { o.settings.mu_grain = -0.1; });
 }
+
+TEST(Deposit, TilingSideBySideShiftsCopiesAndDropsTheInnerWalls) {
+  // Two grains in a box 3 mm wide: grain 0 leans on the left wall and the floor, grain 1
+  // on the right wall, and they touch each other.
+  const double w = 3e-3;
+  Grains g;
+  g.add_disk(0.5e-3, 2600, Vec2(0.5e-3, 0.5e-3));
+  g.add_disk(0.5e-3, 2600, Vec2(1.5e-3, 0.5e-3));
+  g.velocity[1] = Vec2(0.1, 0.0);
+  Contacts c;
+  using cdpile::ContactStatus;
+  c.push_back(0, cdpile::wall_left, Vec2(0, 0.5e-3), Vec2(1, 0), 1.0, 0.0, 0.0, ContactStatus::stick);
+  c.push_back(0, cdpile::wall_floor, Vec2(0.5e-3, 0), Vec2(0, 1), 2.0, 0.5, 0.0, ContactStatus::slide);
+  c.push_back(1, cdpile::wall_right, Vec2(w, 0.5e-3), Vec2(-1, 0), 3.0, 0.0, 0.0, ContactStatus::stick);
+  c.push_back(1, 0, Vec2(1e-3, 0.5e-3), Vec2(1, 0), 4.0, 0.0, -1e-9, ContactStatus::stick);
+  const sim::Tiling t = sim::tile_side_by_side(cdpile::Box{w, 0.01}, g, c, 3);
+
+  EXPECT_EQ(t.box.width, 3 * w);
+  EXPECT_EQ(t.box.height, 0.01);
+  ASSERT_EQ(t.grains.size(), 6u);
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(t.grains.position[2 * k + i], g.position[i] + Vec2(static_cast<double>(k) * w, 0.0));
+      EXPECT_EQ(t.grains.velocity[2 * k + i], g.velocity[i]);
+      EXPECT_EQ(t.grains.mass[2 * k + i], g.mass[i]);
+    }
+  // Kept: the left wall in copy 0 only, the right wall in copy 2 only, the floor and the
+  // grain pair in every copy, renumbered; forces, gaps and status unchanged.
+  ASSERT_EQ(t.contacts.size(), 8u);
+  const std::vector<std::int32_t> i{0, 0, 1, 2, 3, 4, 5, 5};
+  const std::vector<std::int32_t> j{cdpile::wall_left, cdpile::wall_floor, 0, cdpile::wall_floor, 2,
+                                    cdpile::wall_floor, cdpile::wall_right, 4};
+  const std::vector<double> fn{1.0, 2.0, 4.0, 2.0, 4.0, 2.0, 3.0, 4.0};
+  EXPECT_EQ(t.contacts.i, i);
+  EXPECT_EQ(t.contacts.j, j);
+  EXPECT_EQ(t.contacts.fn, fn);
+  EXPECT_EQ(t.contacts.point[7], Vec2(1e-3 + 2 * w, 0.5e-3));
+  EXPECT_EQ(t.contacts.gap[4], -1e-9);
+  EXPECT_EQ(t.contacts.status[3], cdpile::ContactStatus::slide);
+  EXPECT_EQ(t.contacts.ft[5], 0.5);
+
+  // One copy is the pile itself; no copy is an error.
+  const sim::Tiling one = sim::tile_side_by_side(cdpile::Box{w, 0.01}, g, c, 1);
+  EXPECT_EQ(one.contacts.j, c.j);
+  EXPECT_EQ(one.grains.position, g.position);
+  EXPECT_THROW(sim::tile_side_by_side(cdpile::Box{w, 0.01}, g, c, 0), cdpile::UsageError);
+}

@@ -118,6 +118,34 @@ double disk_area_in_slab(double c, double r, double a, double b) {
 
 }  // namespace
 
+Tiling tile_side_by_side(const Box& box, const Grains& g, const Contacts& c, int copies) {
+  if (copies < 1) throw UsageError("tiling: the number of copies must be >= 1");
+  Tiling t;
+  t.box = {copies * box.width, box.height};
+  const auto n = static_cast<std::int32_t>(g.size());
+  for (int k = 0; k < copies; ++k) {
+    const Vec2 shift(k * box.width, 0.0);
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      t.grains.radius.push_back(g.radius[i]);
+      t.grains.mass.push_back(g.mass[i]);
+      t.grains.inertia.push_back(g.inertia[i]);
+      t.grains.species.push_back(g.species[i]);
+      t.grains.position.push_back(g.position[i] + shift);
+      t.grains.velocity.push_back(g.velocity[i]);
+      t.grains.orientation.push_back(g.orientation[i]);
+      t.grains.angular_velocity.push_back(g.angular_velocity[i]);
+    }
+    for (std::size_t q = 0; q < c.size(); ++q) {
+      if (c.j[q] == wall_left && k > 0) continue;
+      if (c.j[q] == wall_right && k < copies - 1) continue;
+      const std::int32_t j = c.j[q] < 0 ? c.j[q] : c.j[q] + k * n;
+      t.contacts.push_back(c.i[q] + k * n, j, c.point[q] + shift, c.normal[q], c.fn[q], c.ft[q], c.gap[q],
+                           c.status[q]);
+    }
+  }
+  return t;
+}
+
 PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c) {
   PileMeasures m;
   const double D = analysis::mean_diameter(g);

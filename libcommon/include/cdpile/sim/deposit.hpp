@@ -66,6 +66,19 @@ struct DepositProgress {
 Pile deposit(const DepositOptions& o, const std::function<void(const DepositProgress&)>& progress = {},
              const std::function<bool()>& stop = {});
 
+/// K copies of a pile side by side, for piles too large to deposit (benchmarks/tile_pile.cpp,
+/// docs/performance.md "Large piles"): copy k is shifted by k box widths, and the side
+/// walls between copies are removed with the contacts that touched them, so a grain that
+/// leaned on such a wall now meets the next copy's grains (at most touching them: both
+/// were inside their boxes). Grain ids of copy k are offset by k N. The seams are not
+/// settled: run the engine on the result.
+struct Tiling {
+  Box box;
+  Grains grains;
+  Contacts contacts;
+};
+Tiling tile_side_by_side(const Box& box, const Grains& g, const Contacts& c, int copies);
+
 /// Static measures of a pile (docs/method.md, "Pile measures").
 struct PileMeasures {
   double bed_height = 0.0;        ///< mean over columns of width D of the highest grain top [m]
