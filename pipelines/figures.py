@@ -162,7 +162,7 @@ def fig2(crit, out):
     save(fig, out, "fig2_events")
 
 
-def fig3(loc, out):
+def fig3(loc, out, n_runs=None):
     pdf = loc.table("pdf")
     r = loc.parameters.get("pdf_radius_D", 6)
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -170,7 +170,8 @@ def fig3(loc, out):
     ax.plot(pdf["nu"], pdf["P_nc"], "o-", ms=3, mfc="white", color="k", label="non-critical contacts")
     ax.set_xlabel(rf"local state $\nu_i$(r = {r:g} D)")
     ax.set_ylabel("pdf")
-    ax.set_title(f"Fig 3: pdfs of the local state ({int(loc.results.get('frames', 0))} frames)", fontsize=9)
+    of_runs = f"{runs_label(n_runs)}, " if n_runs else ""
+    ax.set_title(f"Fig 3: pdfs of the local state ({of_runs}{int(loc.results.get('frames', 0))} frames)", fontsize=9)
     ax.legend()
     save(fig, out, "fig3_pdf")
 
@@ -248,7 +249,7 @@ def fig5(maps, run, out):
     save(fig, out, "fig5_maps")
 
 
-def fig6(fit, out):
+def fig6(fit, out, n_runs=None):
     f = fit.table("fits")
     ok = np.isfinite(f["r_c"])
     fig, ax = plt.subplots(figsize=(5, 4))
@@ -260,7 +261,8 @@ def fig6(fit, out):
     ax.errorbar(f["theta"][ok], f["r_c"][ok], yerr=np.nan_to_num(f["r_c_se"][ok]), fmt="o", ms=3, color="k")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$r_c$ (D)")
-    ax.set_title("Fig 6: mean size of clusters of critical contacts", fontsize=9)
+    of_runs = f" ({runs_label(n_runs)})" if n_runs else ""
+    ax.set_title(f"Fig 6: mean size of clusters of critical contacts{of_runs}", fontsize=9)
     beta, tc = fit.results.get("beta"), fit.results.get("theta_c_deg")
     if beta is not None and tc is not None:
         inset = ax.inset_axes([0.15, 0.5, 0.4, 0.4])
@@ -289,8 +291,10 @@ def main():
     if crit is not None:
         fig1(crit, out)
         fig2(crit, out)
+    # Figs 3 and 6 are made from products that do not count runs; critical's count says.
+    n_runs = crit.results.get("runs") if crit is not None else None
     if loc is not None:
-        fig3(loc, out)
+        fig3(loc, out, n_runs)
     if cor is not None:
         fig4(cor, fit, out)
     maps = sorted(glob.glob(os.path.join(a.study, "map-*.h5")))
@@ -298,7 +302,7 @@ def main():
         print(f"figures.py: {a.study}: no map-*.h5, Fig 5 is skipped", file=sys.stderr)
     fig5([(os.path.basename(m), Product(m)) for m in maps], first_run(crit) if crit is not None else "the first run", out)
     if fit is not None:
-        fig6(fit, out)
+        fig6(fit, out, n_runs)
 
 
 if __name__ == "__main__":
