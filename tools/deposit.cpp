@@ -75,7 +75,13 @@ static void run(const cli::Args& a) {
   o.rest_speed = a.real("rest-speed");
   o.rest_steps = a.integer("rest-steps");
   o.max_steps = a.integer("max-steps");
-  o.settings = tools::solver_settings(a, o.diameter);
+  {
+    // The mean mass per unit thickness of disks with diameters uniform in [Dmin, Dmax]:
+    // rho pi <D^2> / 4, <D^2> = (Dmin^2 + Dmin Dmax + Dmax^2) / 3.
+    const double ratio = a.real("ratio"), d_min = 2.0 * o.diameter / (1.0 + ratio), d_max = ratio * d_min;
+    const double mass = a.real("density") * M_PI / 4.0 * (d_min * d_min + d_min * d_max + d_max * d_max) / 3.0;
+    o.settings = tools::solver_settings(a, o.diameter, mass, a.real("gravity"));
+  }
   o.settings.mu_grain = a.real("mu-grain");
   o.settings.mu_wall = a.real("mu-wall");
   o.settings.gravity = a.real("gravity");

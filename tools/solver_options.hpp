@@ -23,13 +23,22 @@ inline void declare_solver_options(cli::Usage& u) {
   u.text("criterion", cd::criterion_name(d.criterion),
          "when NSGS stops: 'maxm', every contact's velocity correction <= tolerance; "
          "'quad', their root mean square <= tolerance; 'qm16', quad and every correction "
-         "<= 16.66 tolerance (LMGC90's names; docs/method.md)",
-         {"maxm", "quad", "qm16"});
+         "<= 16.66 tolerance (LMGC90's names); 'law', the contact law's residual "
+         "<= tolerance g h, whatever the solver (docs/method.md)",
+         {"maxm", "quad", "qm16", "law"});
+  u.integer("check-every", d.check_every, "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
+  u.text("solver", cd::solver_name(d.solver), "contact solver ('nsgs': non-smooth Gauss-Seidel)", {"nsgs"});
+  u.real("stiffness", 0.0,
+         "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
+         "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "
+         "impulses picks the step's forces near the previous ones; 0 for rigid contacts "
+         "(docs/method.md, \"Force selection\")", "m g/D", 0.0, 1e300);
   u.real("alert", 0.1, "alert distance: contact candidates within this gap", "D", 0.0, 10.0);
 }
 
-/// The settings from the options; `diameter` [m] converts the alert distance.
-inline cd::Settings solver_settings(const cli::Args& a, double diameter) {
+/// The settings from the options; `diameter` [m] converts the alert distance, and with
+/// `mass` [kg/m] (the mean grain mass per unit thickness) the stiffness, m g / D -> N/m^2.
+inline cd::Settings solver_settings(const cli::Args& a, double diameter, double mass, double gravity) {
   cd::Settings s;
   s.time_step = a.real("time-step");
   s.theta = a.real("theta");
@@ -37,6 +46,9 @@ inline cd::Settings solver_settings(const cli::Args& a, double diameter) {
   s.max_sweeps = static_cast<int>(a.integer("max-sweeps"));
   s.criterion = cd::criterion_from_name(a.text("criterion"));
   s.alert_distance = a.real("alert") * diameter;
+  s.check_every = static_cast<int>(a.integer("check-every"));
+  s.solver = cd::solver_from_name(a.text("solver"));
+  s.contact_stiffness = a.real("stiffness") * mass * gravity / diameter;
   return s;
 }
 

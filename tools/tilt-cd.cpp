@@ -94,9 +94,10 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
     return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
   };
   const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
+  const double gravity = param("gravity_m_s2", cd::Settings{}.gravity);
   sim::TiltOptions o;
-  o.settings = tools::solver_settings(a, diameter);
-  o.settings.gravity = param("gravity_m_s2", o.settings.gravity);
+  o.settings = tools::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
+  o.settings.gravity = gravity;
   o.settings.mu_grain = a.real_opt("mu-grain").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
   o.rate_deg = a.real("rate");

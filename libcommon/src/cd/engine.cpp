@@ -8,6 +8,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -30,30 +31,20 @@ bool is_fixed(const Grains& g, std::size_t i) { return g.species[i] == Species::
 
 }  // namespace
 
-const char* criterion_name(Criterion c) {
-  switch (c) {
-    case Criterion::maxm: return "maxm";
-    case Criterion::quad: return "quad";
-    case Criterion::qm16: return "qm16";
-  }
-  return "?";
-}
-
-Criterion criterion_from_name(const std::string& name) {
-  for (const Criterion c : {Criterion::maxm, Criterion::quad, Criterion::qm16})
-    if (name == criterion_name(c)) return c;
-  throw UsageError("unknown convergence criterion '" + name + "' (maxm, quad or qm16)");
-}
-
-void validate(const Settings& s) {
+void validate(const TimeStepping& s) {
   auto bad = [](const std::string& what) { throw UsageError("engine settings: " + what); };
   if (!(s.time_step > 0.0) || !std::isfinite(s.time_step)) bad("time step must be > 0");
   if (!(s.theta >= 0.5 && s.theta <= 1.0)) bad("theta must be in [0.5, 1]");
   if (!(s.gravity >= 0.0) || !std::isfinite(s.gravity)) bad("gravity must be >= 0");
   if (!(s.mu_grain >= 0.0) || !(s.mu_wall >= 0.0)) bad("friction coefficients must be >= 0");
   if (!(s.alert_distance >= 0.0)) bad("alert distance must be >= 0");
-  if (!(s.tolerance > 0.0)) bad("tolerance must be > 0");
-  if (s.max_sweeps < 1) bad("the sweep cap must be >= 1");
+  if (!(s.contact_stiffness >= 0.0) || !std::isfinite(s.contact_stiffness))
+    bad("contact stiffness must be >= 0 and finite (0: rigid contacts)");
+}
+
+void validate(const Settings& s) {
+  validate(static_cast<const TimeStepping&>(s));
+  validate(static_cast<const SolverSettings&>(s));
 }
 
 Engine::Engine(Box box, Grains grains, Settings settings)
@@ -78,8 +69,16 @@ Engine::Engine(Box box, Grains grains, Settings settings)
       grains_.angular_velocity[i] = 0.0;
     }
   }
-  bodies_.resize(n + 1);
-  bodies_[n] = {0.0, 0.0, 0.0, 0.0, 0.0};  // the walls: one static body
+  system_.bodies.resize(n + 1);
+  system_.bodies[n] = {0.0, 0.0, 0.0, 0.0, 0.0};  // the walls: one static body
+  // The compliance of the force-selection rule (docs/method.md, "Force selection"): an
+  // implicit spring of stiffness k on the step's displacement h u, R - R0 = -k h^2 u.
+  if (settings_.contact_stiffness > 0.0) {
+    const double h = settings_.time_step;
+    system_.compliance_n = 1.0 / (settings_.contact_stiffness * h * h);
+    system_.compliance_t = system_.compliance_n;
+  }
+  solver_ = make_solver(settings_);
 }
 
 void Engine::lock_rotation(std::size_t grain, bool locked) {
@@ -90,6 +89,7 @@ void Engine::lock_rotation(std::size_t grain, bool locked) {
 }
 
 StepReport Engine::step(double tilt_angle) {
+  last_tilt_angle_ = tilt_angle;
   const Vec2 g = tilted_gravity(settings_.gravity, tilt_angle);
   StepReport report;
   auto t = Clock::now();
@@ -103,6 +103,7 @@ StepReport Engine::step(double tilt_angle) {
   lap(t, profile_.warm_start);
   solve(report);
   lap(t, profile_.solve);
+  assert_velocities_match_impulses();
   update_velocities();
   lap(t, profile_.update_velocities);
   update_positions();
@@ -119,7 +120,7 @@ StepReport Engine::step(double tilt_angle) {
   profile_.steps += 1;
   profile_.sweeps += report.sweeps;
   profile_.contact_updates += static_cast<std::int64_t>(report.sweeps) *
-                              static_cast<std::int64_t>(rows_.size());
+                              static_cast<std::int64_t>(system_.rows.size());
   return report;
 }
 
@@ -147,7 +148,7 @@ void Engine::detect(const Vec2& g) {
     const bool fixed = inv_mass_[i] == 0.0;
     // Free velocity v_free = v + h g (stage 1); a fixed grain has none.
     const Vec2 vf = fixed ? Vec2::Zero() : Vec2(v + h * g);
-    bodies_[i] = {vf.x(), vf.y(), grains_.angular_velocity[i], inv_mass_[i], inv_inertia_[i]};
+    system_.bodies[i] = {vf.x(), vf.y(), grains_.angular_velocity[i], inv_mass_[i], inv_inertia_[i]};
     predicted_[i] = grains_.position[i] + lead * v;
     margin_[i] = fixed ? 0.0 : h * (v.norm() + g_norm * h);
     r_max = std::max(r_max, grains_.radius[i]);
@@ -155,7 +156,8 @@ void Engine::detect(const Vec2& g) {
     lo = lo.cwiseMin(predicted_[i]);
     hi = hi.cwiseMax(predicted_[i]);
   }
-  rows_.clear();
+  std::vector<ContactRow>& rows = system_.rows;
+  rows.clear();
   if (n == 0) return;
 
   // Cell grid: a cell is at least as wide as the largest interaction range, so pairs
@@ -192,7 +194,7 @@ void Engine::detect(const Vec2& g) {
 
   const double alert = settings_.alert_distance;
   auto add_row = [&](std::int32_t i, std::int32_t j, double gap, const Vec2& normal) {
-    Row r{};
+    ContactRow r{};
     r.i = i;
     r.j = j;
     r.bi = i;
@@ -200,7 +202,7 @@ void Engine::detect(const Vec2& g) {
     r.nx = normal.x();
     r.ny = normal.y();
     r.gap = gap;
-    rows_.push_back(r);
+    rows.push_back(r);
   };
   for (std::size_t ui = 0; ui < n; ++ui) {
     const auto i = static_cast<std::int32_t>(ui);
@@ -247,7 +249,7 @@ void Engine::detect(const Vec2& g) {
 // (the contact point is at -r_i n from i and +r_j n from j).
 void Engine::compute_frames() {
   const double inv_h = 1.0 / settings_.time_step;
-  for (Row& r : rows_) {
+  for (ContactRow& r : system_.rows) {
     r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
     r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
     r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
@@ -258,22 +260,29 @@ void Engine::compute_frames() {
   }
 }
 
-// Stage 4. The diagonal blocks of W = H^T M^-1 H. For disks the normal passes through
-// both centres, so W_nt = 0 (physics.md 2.1, "2D local solver").
+// Stage 4. The diagonal blocks of W = H M^-1 H^T, plus the compliances of the
+// force-selection rule (zero for rigid contacts). For disks the normal passes through
+// both centres, so W_nt = 0 (docs/method.md, "The local solve").
 void Engine::compute_delassus() {
-  for (Row& r : rows_) {
-    const Body& a = bodies_[static_cast<std::size_t>(r.bi)];
-    const Body& b = bodies_[static_cast<std::size_t>(r.bj)];
+  const double c_n = system_.compliance_n, c_t = system_.compliance_t;
+  for (ContactRow& r : system_.rows) {
+    const Body& a = system_.bodies[static_cast<std::size_t>(r.bi)];
+    const Body& b = system_.bodies[static_cast<std::size_t>(r.bj)];
     r.w_nn = a.inv_m + b.inv_m;
     r.w_tt = a.inv_m + b.inv_m + r.ri * r.ri * a.inv_i + r.rj * r.rj * b.inv_i;
+    if (c_n != 0.0 || c_t != 0.0) {
+      r.w_nn += c_n;
+      r.w_tt += c_t;
+    }
   }
 }
 
 // Stage 5. Impulses of the previous step, matched by pair (both lists are sorted by
-// pair_key), then applied to the free velocities: v = v_free + M^-1 H R.
+// pair_key), then applied to the free velocities: v = v_free + M^-1 H^T R. They are also
+// the anchor R0 of the compliance.
 void Engine::warm_start() {
   std::size_t k = 0;
-  for (Row& r : rows_) {
+  for (ContactRow& r : system_.rows) {
     const std::uint64_t key = pair_key(r.i, r.j);
     while (k < stored_keys_.size() && stored_keys_[k] < key) ++k;
     if (k < stored_keys_.size() && stored_keys_[k] == key) {
@@ -283,112 +292,65 @@ void Engine::warm_start() {
       r.rn = 0.0;
       r.rt = 0.0;
     }
+    r.rn0 = r.rn;
+    r.rt0 = r.rt;
     r.status = r.rn > 0.0 ? ContactStatus::stick : ContactStatus::open;
     if (r.rn == 0.0 && r.rt == 0.0) continue;
-    Body& a = bodies_[static_cast<std::size_t>(r.bi)];
-    Body& b = bodies_[static_cast<std::size_t>(r.bj)];
-    const double px = r.rn * r.nx - r.rt * r.ny;  // R = R_n n + R_t t
-    const double py = r.rn * r.ny + r.rt * r.nx;
-    a.vx += a.inv_m * px;
-    a.vy += a.inv_m * py;
-    a.w -= a.inv_i * r.ri * r.rt;
-    b.vx -= b.inv_m * px;
-    b.vy -= b.inv_m * py;
-    b.w -= b.inv_i * r.rj * r.rt;
+    system_.apply_impulse(r, r.rn, r.rt);
   }
 }
 
-// One non-smooth Gauss-Seidel sweep (ELG layout: the bodies carry v = v_free + M^-1 H R,
-// so each contact's free local velocity is read from them in O(1)). Returns the sums the
-// convergence criteria need (SweepSums).
-Engine::SweepSums Engine::sweep(bool backward) {
-  SweepSums sums;
-  const std::size_t m = rows_.size();
-  for (std::size_t q = 0; q < m; ++q) {
-    Row& r = rows_[backward ? m - 1 - q : q];
-    Body& a = bodies_[static_cast<std::size_t>(r.bi)];
-    Body& b = bodies_[static_cast<std::size_t>(r.bj)];
-    const double dvx = a.vx - b.vx, dvy = a.vy - b.vy;
-    const double u_n = dvx * r.nx + dvy * r.ny;
-    const double u_t = -dvx * r.ny + dvy * r.nx - a.w * r.ri - b.w * r.rj;
-    // Free local velocity of this contact: remove its own impulse, add the gap term.
-    const double b_n = u_n - r.w_nn * r.rn + r.gap_velocity;
-    const double b_t = u_t - r.w_tt * r.rt;
-    const LocalImpulse s = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
-    const double dn = s.rn - r.rn, dt = s.rt - r.rt;
-    r.rn = s.rn;
-    r.rt = s.rt;
-    r.status = s.status;
-    const double correction = std::max(std::abs(r.w_nn * dn), std::abs(r.w_tt * dt));
-    if (s.rn > 0.0) {
-      sums.scale_sum += r.w_nn * s.rn;
-      sums.square_sum += correction * correction;
-      ++sums.active;
-    }
-    if (dn == 0.0 && dt == 0.0) continue;
-    sums.largest = std::max(sums.largest, correction);
-    const double px = dn * r.nx - dt * r.ny;
-    const double py = dn * r.ny + dt * r.nx;
-    a.vx += a.inv_m * px;
-    a.vy += a.inv_m * py;
-    a.w -= a.inv_i * r.ri * dt;
-    b.vx -= b.inv_m * px;
-    b.vy -= b.inv_m * py;
-    b.w -= b.inv_i * r.rj * dt;
-  }
-  return sums;
-}
-
-// Stage 6. Sweeps until the criterion (Settings::criterion) is met. Both measures are
-// relative to one velocity scale: the mean normal velocity jump of the active contacts,
-// bounded below by g h, the velocity gravity adds in one step. 'maxm' bounds every
-// contact, so a contact that has just formed is converged on its own and cannot hide in
-// an average (LMGC90's "newcomer syndrome", physics.md 2.1); 'quad' bounds the root mean
-// square, which a few slowly converging contacts barely move; 'qm16' is LMGC90's
-// compromise between the two (a mean bound, and a max bound 16.66 times looser).
+// Stage 6. The settings' solver (NSGS by default) from the warm start, then the contact
+// law's residual, measured the same way whatever the solver and its stopping rule.
 void Engine::solve(StepReport& report) {
-  report.sweeps = 0;
-  report.residual = 0.0;
-  report.residual_rms = 0.0;
-  report.converged = true;
-  if (rows_.empty()) return;
-  const double floor_scale = settings_.gravity * settings_.time_step;
-  const double tol = settings_.tolerance;
-  for (int k = 0; k < settings_.max_sweeps; ++k) {
-    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    const SweepSums s = sweep(backward);
-    const double scale =
-        std::max(floor_scale, s.active > 0 ? s.scale_sum / static_cast<double>(s.active) : 0.0);
-    report.sweeps = k + 1;
-    // Without gravity and without an active contact there is no velocity scale: the
-    // measures are then absolute [m/s].
-    const double unit = scale > 0.0 ? scale : 1.0;
-    report.residual = s.largest / unit;
-    report.residual_rms =
-        s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
-    if (!std::isfinite(report.residual))
-      throw Error("engine: NSGS diverged (non-finite impulse) at step " +
-                  std::to_string(step_ + 1));
-    if (converged(report.residual, report.residual_rms, tol)) return;
+  const double gh = settings_.gravity * settings_.time_step;
+  SolveReport s;
+  try {
+    s = solver_->solve(system_, gh);
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + " at step " + std::to_string(step_ + 1));
   }
-  report.converged = false;
+  report.sweeps = s.sweeps;
+  report.residual = s.residual;
+  report.residual_rms = s.residual_rms;
+  report.converged = s.converged;
+  const LawResidual law = law_residual(system_, gh);
+  report.law_residual = law.max;
+  report.law_residual_rms = law.rms;
 }
 
-bool Engine::converged(double max_residual, double rms_residual, double tol) const {
-  switch (settings_.criterion) {
-    case Criterion::maxm: return max_residual <= tol;
-    case Criterion::quad: return rms_residual <= tol;
-    case Criterion::qm16: return rms_residual <= tol && max_residual <= qm16_max_factor * tol;
+// Invariant of every solver (debug builds): the bodies hold v = v_free + M^-1 H^T R, the
+// velocities the impulses make. Checked by rebuilding them from the step's start.
+void Engine::assert_velocities_match_impulses() const {
+#ifndef NDEBUG
+  const Vec2 g = tilted_gravity(settings_.gravity, last_tilt_angle_);
+  ContactSystem check;
+  check.bodies.resize(system_.bodies.size());
+  const double h = settings_.time_step;
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    const bool fixed = inv_mass_[i] == 0.0;
+    const Vec2 vf = fixed ? Vec2::Zero() : Vec2(velocity_begin_[i] + h * g);
+    check.bodies[i] = {vf.x(), vf.y(), omega_begin_[i], inv_mass_[i], inv_inertia_[i]};
   }
-  return false;
+  check.bodies.back() = {0.0, 0.0, 0.0, 0.0, 0.0};
+  for (const ContactRow& r : system_.rows) check.apply_impulse(r, r.rn, r.rt);
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    const Body& a = system_.bodies[i];
+    const Body& b = check.bodies[i];
+    const double scale = 1.0 + std::abs(b.vx) + std::abs(b.vy) + std::abs(b.w);
+    assert(std::abs(a.vx - b.vx) + std::abs(a.vy - b.vy) + std::abs(a.w - b.w) <= 1e-9 * scale &&
+           "solver broke v = v_free + M^-1 H^T R");
+  }
+#endif
 }
 
 // Stage 7. The bodies hold v = v_free + M^-1 H R; copy it to the grains.
 void Engine::update_velocities() {
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
-    grains_.velocity[i] = Vec2(bodies_[i].vx, bodies_[i].vy);
-    grains_.angular_velocity[i] = inv_inertia_[i] == 0.0 ? 0.0 : bodies_[i].w;
+    const Body& b = system_.bodies[i];
+    grains_.velocity[i] = Vec2(b.vx, b.vy);
+    grains_.angular_velocity[i] = inv_inertia_[i] == 0.0 ? 0.0 : b.w;
   }
 }
 
@@ -408,7 +370,7 @@ void Engine::store_impulses() {
   stored_keys_.clear();
   stored_rn_.clear();
   stored_rt_.clear();
-  for (const Row& r : rows_) {
+  for (const ContactRow& r : system_.rows) {
     if (r.rn == 0.0 && r.rt == 0.0) continue;
     stored_keys_.push_back(pair_key(r.i, r.j));
     stored_rn_.push_back(r.rn);
@@ -417,8 +379,8 @@ void Engine::store_impulses() {
 }
 
 void Engine::measure(StepReport& report) const {
-  report.candidates = static_cast<int>(rows_.size());
-  for (const Row& r : rows_) {
+  report.candidates = static_cast<int>(system_.rows.size());
+  for (const ContactRow& r : system_.rows) {
     report.max_overlap = std::max(report.max_overlap, -r.gap);
     if (!(r.rn > 0.0)) continue;
     ++report.contacts;
@@ -439,9 +401,9 @@ void Engine::measure(StepReport& report) const {
 
 Contacts Engine::contacts() const {
   Contacts c;
-  c.reserve(rows_.size());
+  c.reserve(system_.rows.size());
   const double inv_h = 1.0 / settings_.time_step;
-  for (const Row& r : rows_) {
+  for (const ContactRow& r : system_.rows) {
     const Vec2 n(r.nx, r.ny);
     const Vec2& xi = predicted_[static_cast<std::size_t>(r.i)];
     // Contact point: middle of the gap (or overlap) between the two surfaces, on the
@@ -457,14 +419,14 @@ Contacts Engine::contacts() const {
 // u_t = (v_i - v_j).t - w_i r_i - w_j r_j, with t = (-n_y, n_x); a grain that does not move
 // (glued, or the walls' static body) has a zero inverse mass and drops out of W.
 DelassusProblem Engine::delassus_problem() const {
-  const auto m = static_cast<Eigen::Index>(rows_.size());
+  const auto m = static_cast<Eigen::Index>(system_.rows.size());
   const auto n = static_cast<Eigen::Index>(grains_.size());
   std::vector<Eigen::Triplet<double>> h, hm;  // H and H M^-1
-  h.reserve(12 * rows_.size());
-  hm.reserve(12 * rows_.size());
+  h.reserve(12 * system_.rows.size());
+  hm.reserve(12 * system_.rows.size());
   auto add = [&](Eigen::Index row, std::int32_t body, double x, double y, double w, double sign) {
     if (body == static_cast<std::int32_t>(n)) return;  // the walls
-    const Body& b = bodies_[static_cast<std::size_t>(body)];
+    const Body& b = system_.bodies[static_cast<std::size_t>(body)];
     const Eigen::Index c = 3 * static_cast<Eigen::Index>(body);
     const double v[3] = {sign * x, sign * y, w};
     const double inv[3] = {b.inv_m, b.inv_m, b.inv_i};
@@ -474,9 +436,9 @@ DelassusProblem Engine::delassus_problem() const {
       hm.emplace_back(row, c + k, v[k] * inv[k]);
     }
   };
-  std::vector<double> mu(rows_.size());
+  std::vector<double> mu(system_.rows.size());
   for (Eigen::Index a = 0; a < m; ++a) {
-    const Row& r = rows_[static_cast<std::size_t>(a)];
+    const ContactRow& r = system_.rows[static_cast<std::size_t>(a)];
     add(2 * a, r.bi, r.nx, r.ny, 0.0, 1.0);
     add(2 * a, r.bj, r.nx, r.ny, 0.0, -1.0);
     add(2 * a + 1, r.bi, -r.ny, r.nx, -r.ri, 1.0);
@@ -493,21 +455,31 @@ DelassusProblem Engine::delassus_problem() const {
   // local velocities of the solution less W r are the free ones (to rounding).
   p.q = -(p.W * local_impulses());
   for (Eigen::Index a = 0; a < m; ++a) {
-    const Row& row = rows_[static_cast<std::size_t>(a)];
-    const Body& bi = bodies_[static_cast<std::size_t>(row.bi)];
-    const Body& bj = bodies_[static_cast<std::size_t>(row.bj)];
+    const ContactRow& row = system_.rows[static_cast<std::size_t>(a)];
+    const Body& bi = system_.bodies[static_cast<std::size_t>(row.bi)];
+    const Body& bj = system_.bodies[static_cast<std::size_t>(row.bj)];
     const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
     p.q[2 * a] += dvx * row.nx + dvy * row.ny + row.gap_velocity;
     p.q[2 * a + 1] += -dvx * row.ny + dvy * row.nx - bi.w * row.ri - bj.w * row.rj;
+  }
+  // The compliance of the force-selection rule: C on the diagonal, -C R0 in q.
+  if (system_.compliant()) {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const ContactRow& row = system_.rows[static_cast<std::size_t>(a)];
+      p.q[2 * a] -= system_.compliance_n * row.rn0;
+      p.q[2 * a + 1] -= system_.compliance_t * row.rt0;
+      p.W.coeffRef(2 * a, 2 * a) += system_.compliance_n;
+      p.W.coeffRef(2 * a + 1, 2 * a + 1) += system_.compliance_t;
+    }
   }
   return p;
 }
 
 Eigen::VectorXd Engine::local_impulses() const {
-  Eigen::VectorXd r(2 * static_cast<Eigen::Index>(rows_.size()));
-  for (std::size_t a = 0; a < rows_.size(); ++a) {
-    r[static_cast<Eigen::Index>(2 * a)] = rows_[a].rn;
-    r[static_cast<Eigen::Index>(2 * a + 1)] = rows_[a].rt;
+  Eigen::VectorXd r(2 * static_cast<Eigen::Index>(system_.rows.size()));
+  for (std::size_t a = 0; a < system_.rows.size(); ++a) {
+    r[static_cast<Eigen::Index>(2 * a)] = system_.rows[a].rn;
+    r[static_cast<Eigen::Index>(2 * a + 1)] = system_.rows[a].rt;
   }
   return r;
 }

@@ -17,10 +17,25 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"tolerance", s.tolerance},
           {"max_sweeps", std::int64_t{s.max_sweeps}},
           {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}},
-          {"criterion", std::string(cd::criterion_name(s.criterion))}};
+          {"criterion", std::string(cd::criterion_name(s.criterion))},
+          {"solver", std::string(cd::solver_name(s.solver))},
+          {"check_every", std::int64_t{s.check_every}},
+          {"contact_stiffness_N_m2", s.contact_stiffness}};
 }
 
-cd::Settings settings_from_parameters(const io::Values& v, const std::string& file) {
+io::Values pre_seam_settings() {
+  return {{"solver", std::string("nsgs")},
+          {"check_every", std::int64_t{1}},
+          {"contact_stiffness_N_m2", 0.0}};
+}
+
+io::Values with_pre_seam_settings(io::Values v) {
+  for (const auto& [k, value] : pre_seam_settings()) v.insert({k, value});  // keeps what v has
+  return v;
+}
+
+cd::Settings settings_from_parameters(const io::Values& given, const std::string& file) {
+  const io::Values v = with_pre_seam_settings(given);
   cd::Settings s;
   s.time_step = io::as_real(v, "time_step_s", file);
   s.theta = io::as_real(v, "theta", file);
@@ -31,11 +46,18 @@ cd::Settings settings_from_parameters(const io::Values& v, const std::string& fi
   s.tolerance = io::as_real(v, "tolerance", file);
   s.max_sweeps = static_cast<int>(io::as_int(v, "max_sweeps", file));
   s.symmetric_sweeps = io::as_int(v, "symmetric_sweeps", file) != 0;
-  const auto c = v.find("criterion");
-  const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
-  if (!name) throw Error(file, "/parameters", "missing text parameter 'criterion'");
+  s.check_every = static_cast<int>(io::as_int(v, "check_every", file));
+  s.contact_stiffness = io::as_real(v, "contact_stiffness_N_m2", file);
+  auto text = [&](const char* key) {
+    const auto c = v.find(key);
+    const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
+    if (!name) throw Error(file, "/parameters", std::string("missing text parameter '") + key + "'");
+    return *name;
+  };
+  const std::string criterion = text("criterion"), solver = text("solver");
   try {
-    s.criterion = cd::criterion_from_name(*name);
+    s.criterion = cd::criterion_from_name(criterion);
+    s.solver = cd::solver_from_name(solver);
     cd::validate(s);
   } catch (const UsageError& e) {
     throw Error(file, "/parameters", e.what());
@@ -62,13 +84,14 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
 io::Series observables_series() {
   io::Series s;
   for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
-                        "max_overlap"})
+                        "law_residual", "law_residual_rms", "max_overlap"})
     s.real[n] = {};
   for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
                         "critical_grain"})
     s.integer[n] = {};
   s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
-            {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},         {"contacts", ""},
+            {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},
+            {"law_residual", ""}, {"law_residual_rms", ""},         {"contacts", ""},
             {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},
             {"converged", ""},    {"critical", ""},             {"critical_grain", ""}};
   return s;
@@ -82,6 +105,8 @@ void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCo
   s.real["rotational_energy"].push_back(r.rotational_energy);
   s.real["residual"].push_back(r.residual);
   s.real["residual_rms"].push_back(r.residual_rms);
+  s.real["law_residual"].push_back(r.law_residual);
+  s.real["law_residual_rms"].push_back(r.law_residual_rms);
   s.real["max_overlap"].push_back(r.max_overlap);
   s.integer["contacts"].push_back(r.contacts);
   s.integer["contacts_grain"].push_back(r.contacts_grain);

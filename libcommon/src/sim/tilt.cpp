@@ -655,7 +655,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
     h5::File f = h5::open_read(partial, partial);
     io::RunReader r(f);
     if (r.header().kind != "run") throw Error(partial, "/", "is not a partial tilt run");
-    const io::Values& stored = r.header().parameters;
+    const io::Values stored = with_pre_seam_settings(r.header().parameters);
     for (const auto& [k, v] : tilt_parameters(o)) {
       auto it = stored.find(k);
       if (it == stored.end()) throw Error(partial, "/parameters", "missing parameter '" + k + "'");

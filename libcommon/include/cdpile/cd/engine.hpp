@@ -9,17 +9,22 @@
 ///   3. frames              normal, tangent, lever arms and gap of each contact at q_m
 ///   4. Delassus diagonal   W_nn = sum 1/m, W_tt = sum (1/m + r^2/I) (disk blocks are diagonal)
 ///   5. warm start          impulses of the previous step, matched by the pair (i, j)
-///   6. NSGS sweeps         exact local solves until residual < tolerance or the cap
+///   6. solve               the contact system (contact_system.hpp) by the solver of the
+///                          settings (solver.hpp; NSGS: exact local solves until the criterion
+///                          or the cap), then the law's residual, whatever the solver
 ///   7. update velocities   v = v_free + M^-1 H R (already held by the bodies, ELG style)
 ///   8. update positions    q = q_m + theta_s h v
 ///   9. store impulses      for the next warm start
 /// theta_s is the theta-method parameter (Settings::theta).
 #pragma once
 
+#include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/solver.hpp"
 #include "cdpile/model.hpp"
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,35 +32,27 @@ namespace cdpile::cd {
 
 struct DelassusProblem;  // delassus.hpp
 
-/// When the NSGS sweeps of a step stop (docs/method.md, "Convergence"). Each measures the
-/// velocity corrections W_aa dR_a that a full sweep made, relative to the velocity scale
-/// of StepReport::residual; the names are LMGC90's (physics.md 2.1).
-enum class Criterion {
-  maxm,  ///< every contact's correction <= tolerance
-  quad,  ///< root mean square of the corrections over the active contacts <= tolerance
-  qm16,  ///< quad, and every contact's correction <= 16.66 tolerance (LMGC90 'QM/16')
-};
-/// The criterion's name as on the command line and in files ("maxm", "quad", "qm16").
-const char* criterion_name(Criterion c);
-/// The criterion of a name; throws cdpile::UsageError on another name.
-Criterion criterion_from_name(const std::string& name);
-
-/// Numerical and physical settings of the engine. SI units. Defaults are for a mean
-/// grain diameter D = 1e-3 m (docs/method.md gives the reason for each).
-struct Settings {
+/// How a step advances the pile: the time stepping and the contact law. SI units;
+/// defaults are for a mean grain diameter D = 1e-3 m (docs/method.md gives the reason for
+/// each). Nothing here is a solver choice (SolverSettings, solver.hpp).
+struct TimeStepping {
   double time_step = 1e-4;       ///< h [s]; h sqrt(g/D) = 0.0099 for D = 1 mm
   double theta = 0.5;            ///< theta-method parameter, in [0.5, 1]
   double gravity = 9.81;         ///< |g| [m/s^2]
   double mu_grain = 0.5;         ///< grain-grain friction (glued floor grains included)
   double mu_wall = 0.5;          ///< grain-wall friction (floor plane and side walls)
   double alert_distance = 1e-4;  ///< contact candidates within this gap [m] (0.1 D)
-  double tolerance = 1e-4;       ///< NSGS convergence threshold on the residual (see Report)
-  int max_sweeps = 2000;         ///< NSGS sweep cap per step; hitting it is reported
-  bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
-  Criterion criterion = Criterion::maxm;  ///< when the sweeps stop (see Criterion)
+  /// Contact stiffness k [N/m per metre of thickness, N/m^2] of the force-selection rule
+  /// (docs/method.md, "Force selection"): the compliance 1/(k h^2) on the normal and
+  /// tangential diagonal of W, anchored at the previous step's impulses. 0: rigid contacts.
+  double contact_stiffness = 0.0;
 };
 
+/// Engine settings: the time stepping and the solver's (solver.hpp).
+struct Settings : TimeStepping, SolverSettings {};
+
 /// Checks a settings value range; throws cdpile::UsageError naming the bad field.
+void validate(const TimeStepping& s);
 void validate(const Settings& s);
 
 /// What one step did. Energies per unit thickness [J/m].
@@ -72,6 +69,10 @@ struct StepReport {
   /// component of each), divided by the same scale: the 'quad' measure.
   double residual_rms = 0.0;
   bool converged = true;      ///< the criterion was met before the sweep cap
+  /// The contact law's residual at the step's end (LawResidual, relative to g h):
+  /// solver-independent, so steps of any solver and stopping rule compare.
+  double law_residual = 0.0;
+  double law_residual_rms = 0.0;
   int candidates = 0;         ///< contacts detected (within the alert distance)
   int contacts = 0;           ///< active contacts (R_n > 0), walls included
   int contacts_grain = 0;     ///< active contacts between two free grains
@@ -107,9 +108,6 @@ struct EngineState {
   std::vector<StoredImpulse> impulses;
 };
 
-/// LMGC90's 'QM/16' bound on the largest correction, in tolerances (physics.md 2.1).
-inline constexpr double qm16_max_factor = 16.66;
-
 class Engine {
  public:
   /// Grains of Species::floor are fixed (glued); the others are free. Throws
@@ -126,7 +124,7 @@ class Engine {
   /// candidates included (status open, zero force).
   Contacts contacts() const;
   /// Time-independent checks of the last step's contact set.
-  std::size_t contact_count() const { return rows_.size(); }
+  std::size_t contact_count() const { return system_.rows.size(); }
 
   /// The frictional contact problem the last step solved, in Delassus form (delassus.hpp),
   /// one contact per row of contacts() in the same order: u = W r + q with W = H M^-1 H^T
@@ -149,36 +147,12 @@ class Engine {
   void reset_profile() { profile_ = {}; }
 
  private:
-  struct Body {
-    double vx, vy, w;  // velocity being solved for (free velocity + M^-1 H R)
-    double inv_m, inv_i;
-  };
-  struct Row {  // one contact, as the solver sees it (contiguous for the sweeps)
-    std::int32_t i, j;    // grains; j < 0 is a wall
-    std::int32_t bi, bj;  // body indices (a wall is the static body N)
-    double nx, ny;        // unit normal from j to i
-    double ri, rj;        // lever arms (radii; 0 for a wall)
-    double w_nn, w_tt;    // diagonal Delassus block
-    double mu;
-    double gap;           // at the predicted configuration [m]
-    double gap_velocity;  // max(0, gap / h) [m/s], LMGC90 IQS_CLB
-    double rn, rt;        // impulses [N s/m]
-    ContactStatus status;
-  };
-
   void detect(const Vec2& g);
   void compute_frames();
   void compute_delassus();
   void warm_start();
   void solve(StepReport& report);
-  struct SweepSums {
-    double largest = 0.0;     // max_a |W_aa dR_a|
-    double square_sum = 0.0;  // sum over active contacts of the same, squared
-    double scale_sum = 0.0;   // sum over active contacts of W_nn R_n
-    int active = 0;           // contacts with R_n > 0 after the sweep
-  };
-  SweepSums sweep(bool backward);
-  bool converged(double max_residual, double rms_residual, double tol) const;
+  void assert_velocities_match_impulses() const;
   void update_velocities();
   void update_positions();
   void store_impulses();
@@ -188,8 +162,8 @@ class Engine {
   Grains grains_;
   Settings settings_;
   std::vector<double> inv_mass_, inv_inertia_;
-  std::vector<Body> bodies_;
-  std::vector<Row> rows_;
+  ContactSystem system_;  // bodies and rows: what the solver works on
+  std::shared_ptr<const ContactSolver> solver_;  // stateless: copies of an engine share it
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
   std::vector<std::int32_t> cell_start_, cell_items_, neighbours_;
@@ -197,6 +171,7 @@ class Engine {
   std::vector<double> stored_rn_, stored_rt_;
   std::int64_t step_ = 0;
   double time_ = 0.0;
+  double last_tilt_angle_ = 0.0;
   StepProfile profile_;
 };
 

@@ -30,6 +30,11 @@ class Random {
 
 /// The engine settings as parameters (names with unit suffixes, docs/schema.md).
 io::Values settings_parameters(const cd::Settings& s);
+/// The settings files made before the solver seam hold implicitly: NSGS, a convergence
+/// check every sweep, rigid contacts. Such files are read, resumed and branched as today's.
+io::Values pre_seam_settings();
+/// `v` with every pre-seam setting it lacks added.
+io::Values with_pre_seam_settings(io::Values v);
 /// The engine settings a run was made with, from its parameters (the inverse of
 /// settings_parameters); throws cdpile::Error naming `file` if one is missing or bad.
 cd::Settings settings_from_parameters(const io::Values& v, const std::string& file);

@@ -1,0 +1,78 @@
+/// The solver seam: what a contact solver is told (SolverSettings), what it reports
+/// (SolveReport), and the interface every solver implements over the solver-neutral
+/// ContactSystem (contact_system.hpp). docs/method.md, "Convergence" and "The residual".
+#pragma once
+
+#include "cdpile/cd/contact_system.hpp"
+
+#include <memory>
+#include <string>
+
+namespace cdpile::cd {
+
+/// The solvers behind the seam.
+enum class SolverKind {
+  nsgs,  ///< non-smooth Gauss-Seidel with the exact 2D local solve (nsgs.hpp)
+};
+const char* solver_name(SolverKind k);
+/// The solver of a name; throws cdpile::UsageError on another name.
+SolverKind solver_from_name(const std::string& name);
+
+/// When the sweeps of a step stop (docs/method.md, "Convergence"). maxm, quad and qm16
+/// measure the velocity corrections W_aa dR_a that a full sweep made, relative to the
+/// velocity scale of SolveReport::residual; the names are LMGC90's. `law` bounds the
+/// solver-independent residual of the contact law (LawResidual::max, relative to g h).
+enum class Criterion {
+  maxm,  ///< every contact's correction <= tolerance
+  quad,  ///< root mean square of the corrections over the active contacts <= tolerance
+  qm16,  ///< quad, and every correction <= 16.66 tolerance (LMGC90 'QM/16')
+  law,   ///< LawResidual::max <= tolerance (any solver's iterate, measured alike)
+};
+/// The criterion's name as on the command line and in files ("maxm", "quad", "qm16", "law").
+const char* criterion_name(Criterion c);
+/// The criterion of a name; throws cdpile::UsageError on another name.
+Criterion criterion_from_name(const std::string& name);
+
+/// LMGC90's 'QM/16' bound on the largest correction, in tolerances.
+inline constexpr double qm16_max_factor = 16.66;
+
+/// How a step's contact system is solved; none of these changes the law being solved.
+struct SolverSettings {
+  SolverKind solver = SolverKind::nsgs;
+  double tolerance = 1e-4;       ///< threshold of the criterion (see Criterion)
+  int max_sweeps = 2000;         ///< sweep cap per step; hitting it is reported
+  bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
+  Criterion criterion = Criterion::maxm;  ///< when the sweeps stop
+  int check_every = 1;           ///< sweeps between two tests of the criterion (LMGC90: 50)
+};
+
+/// Checks a settings value range; throws cdpile::UsageError naming the bad field.
+void validate(const SolverSettings& s);
+
+/// What one solve did.
+struct SolveReport {
+  int sweeps = 0;  ///< sweeps done
+  /// The largest velocity correction max_a |W_aa dR_a| made by the last sweep, divided by
+  /// max(g h, mean W_nn R_n over active contacts). Zero when no contact.
+  double residual = 0.0;
+  /// The same corrections' root mean square over the active contacts (the larger
+  /// component of each), divided by the same scale: the 'quad' measure.
+  double residual_rms = 0.0;
+  bool converged = true;  ///< the criterion was met before the sweep cap
+};
+
+/// A contact solver: finds the impulses of a ContactSystem from the ones it holds (the
+/// warm start), keeping body velocities equal to v_free + M^-1 H^T R on return.
+class ContactSolver {
+ public:
+  virtual ~ContactSolver() = default;
+  virtual SolverKind kind() const = 0;
+  /// Solvers hold settings only, no state between steps: solve is const.
+  /// `gravity_velocity` is g h [m/s], the floor of the velocity scale of the measures.
+  virtual SolveReport solve(ContactSystem& system, double gravity_velocity) const = 0;
+};
+
+/// The solver the settings name (validated).
+std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s);
+
+}  // namespace cdpile::cd

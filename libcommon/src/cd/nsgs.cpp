@@ -1,0 +1,81 @@
+// Non-smooth Gauss-Seidel over the solver-neutral contact system (nsgs.hpp).
+#include "cdpile/cd/nsgs.hpp"
+
+#include "cdpile/cd/local_solver.hpp"
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace cdpile::cd {
+
+SweepSums nsgs_sweep(ContactSystem& s, bool backward) {
+  SweepSums sums;
+  const std::size_t m = s.rows.size();
+  for (std::size_t q = 0; q < m; ++q) {
+    ContactRow& r = s.rows[backward ? m - 1 - q : q];
+    double b_n, b_t;
+    s.free_local_velocity(r, b_n, b_t);
+    const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
+    const double dn = l.rn - r.rn, dt = l.rt - r.rt;
+    r.rn = l.rn;
+    r.rt = l.rt;
+    r.status = l.status;
+    const double correction = std::max(std::abs(r.w_nn * dn), std::abs(r.w_tt * dt));
+    if (l.rn > 0.0) {
+      sums.scale_sum += r.w_nn * l.rn;
+      sums.square_sum += correction * correction;
+      ++sums.active;
+    }
+    if (dn == 0.0 && dt == 0.0) continue;
+    sums.largest = std::max(sums.largest, correction);
+    s.apply_impulse(r, dn, dt);
+  }
+  return sums;
+}
+
+// Sweeps until the criterion is met. maxm, quad and qm16 are relative to one velocity
+// scale: the mean normal velocity jump of the active contacts, bounded below by g h, the
+// velocity gravity adds in one step. 'maxm' bounds every contact, so a contact that has
+// just formed is converged on its own and cannot hide in an average (LMGC90's "newcomer
+// syndrome", docs/method.md "Convergence"); 'quad' bounds the root mean square, which a
+// few slowly converging contacts barely move; 'qm16' is LMGC90's compromise between the
+// two; 'law' bounds the residual of the law itself, whatever the sweeps did last.
+SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) const {
+  SolveReport report;
+  if (system.rows.empty()) return report;
+  const int every = settings_.check_every;
+  for (int k = 0; k < settings_.max_sweeps; ++k) {
+    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
+    const SweepSums s = nsgs_sweep(system, backward);
+    const double scale = std::max(
+        gravity_velocity, s.active > 0 ? s.scale_sum / static_cast<double>(s.active) : 0.0);
+    report.sweeps = k + 1;
+    // Without gravity and without an active contact there is no velocity scale: the
+    // measures are then absolute [m/s].
+    const double unit = scale > 0.0 ? scale : 1.0;
+    report.residual = s.largest / unit;
+    report.residual_rms =
+        s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
+    if (!std::isfinite(report.residual))
+      throw Error("engine: NSGS diverged (non-finite impulse)");
+    if ((k + 1) % every == 0 && converged(report, system, gravity_velocity)) return report;
+  }
+  report.converged = false;
+  return report;
+}
+
+bool NsgsSolver::converged(const SolveReport& r, const ContactSystem& s,
+                           double gravity_velocity) const {
+  const double tol = settings_.tolerance;
+  switch (settings_.criterion) {
+    case Criterion::maxm: return r.residual <= tol;
+    case Criterion::quad: return r.residual_rms <= tol;
+    case Criterion::qm16: return r.residual_rms <= tol && r.residual <= qm16_max_factor * tol;
+    case Criterion::law: return law_residual(s, gravity_velocity).max <= tol;
+  }
+  return false;
+}
+
+}  // namespace cdpile::cd

@@ -1,0 +1,78 @@
+// The solver seam: names, settings checks, the solver factory and the solver-independent
+// residual of the contact law (solver.hpp, contact_system.hpp).
+#include "cdpile/cd/solver.hpp"
+
+#include "cdpile/cd/local_solver.hpp"
+#include "cdpile/cd/nsgs.hpp"
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdpile::cd {
+
+const char* solver_name(SolverKind k) {
+  switch (k) {
+    case SolverKind::nsgs: return "nsgs";
+  }
+  return "?";
+}
+
+SolverKind solver_from_name(const std::string& name) {
+  for (const SolverKind k : {SolverKind::nsgs})
+    if (name == solver_name(k)) return k;
+  throw UsageError("unknown contact solver '" + name + "' (nsgs)");
+}
+
+const char* criterion_name(Criterion c) {
+  switch (c) {
+    case Criterion::maxm: return "maxm";
+    case Criterion::quad: return "quad";
+    case Criterion::qm16: return "qm16";
+    case Criterion::law: return "law";
+  }
+  return "?";
+}
+
+Criterion criterion_from_name(const std::string& name) {
+  for (const Criterion c : {Criterion::maxm, Criterion::quad, Criterion::qm16, Criterion::law})
+    if (name == criterion_name(c)) return c;
+  throw UsageError("unknown convergence criterion '" + name + "' (maxm, quad, qm16 or law)");
+}
+
+void validate(const SolverSettings& s) {
+  auto bad = [](const std::string& what) { throw UsageError("engine settings: " + what); };
+  if (!(s.tolerance > 0.0)) bad("tolerance must be > 0");
+  if (s.max_sweeps < 1) bad("the sweep cap must be >= 1");
+  if (s.check_every < 1) bad("the sweeps between convergence checks must be >= 1");
+}
+
+std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
+  validate(s);
+  switch (s.solver) {
+    case SolverKind::nsgs: return std::make_shared<const NsgsSolver>(s);
+  }
+  throw UsageError("unknown contact solver");
+}
+
+LawResidual law_residual(const ContactSystem& s, double velocity_scale) {
+  LawResidual out;
+  double square_sum = 0.0;
+  int counted = 0;
+  for (const ContactRow& r : s.rows) {
+    double b_n, b_t;
+    s.free_local_velocity(r, b_n, b_t);
+    const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
+    if (!(r.rn > 0.0) && !(l.rn > 0.0)) continue;  // open and staying open: no violation
+    const double e = std::max(std::abs(r.w_nn * (l.rn - r.rn)), std::abs(r.w_tt * (l.rt - r.rt)));
+    out.max = std::max(out.max, e);
+    square_sum += e * e;
+    ++counted;
+  }
+  const double unit = velocity_scale > 0.0 ? velocity_scale : 1.0;
+  out.max /= unit;
+  out.rms = counted > 0 ? std::sqrt(square_sum / counted) / unit : 0.0;
+  return out;
+}
+
+}  // namespace cdpile::cd
