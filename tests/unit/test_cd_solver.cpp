@@ -1,0 +1,268 @@
+// The solver seam, the solver-independent residual of the contact law, and the
+// force-selection rule (docs/method.md, "Force selection", "The residual"): scenes whose
+// answers are computed by hand, run through every solver behind the seam.
+#include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/delassus.hpp"
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/cd/nsgs.hpp"
+#include "cdpile/cd/solver.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace cd = cdpile::cd;
+using cdpile::Box;
+using cdpile::ContactStatus;
+using cdpile::Grains;
+using cdpile::Vec2;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kR = 0.5e-3;    // disk radius [m]
+constexpr double kRho = 2500.0;  // [kg/m^3]
+constexpr double kG = 9.81, kH = 1e-4;
+
+const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs};
+
+cd::Settings tight(cd::SolverKind solver) {
+  cd::Settings s;
+  s.solver = solver;
+  s.tolerance = 1e-10;
+  return s;
+}
+
+/// A disk of radius kR wedged between the two side walls of a box 2 kR wide, far above
+/// the floor, at rest under gravity g = (0, -g): two contacts, no floor. Rows in pair
+/// order: the right wall (j = -1, n = (-1, 0)) then the left wall (j = -2, n = (1, 0)).
+/// Impulses start at (rn, rt) = start for both rows (rt signed so that both hold the
+/// disk up), anchored at `anchor` the same way.
+struct Wedge {
+  cd::ContactSystem system;
+  double m = 0.0;
+};
+
+Wedge wedged_disk(double start_n, double anchor_n, double anchor_t, double stiffness) {
+  Wedge w;
+  w.m = kRho * std::numbers::pi * kR * kR;
+  const double inv_m = 1.0 / w.m, inv_i = 2.0 / (w.m * kR * kR);
+  cd::ContactSystem& s = w.system;
+  s.bodies = {{0.0, -kG * kH, 0.0, inv_m, inv_i}, {0.0, 0.0, 0.0, 0.0, 0.0}};
+  if (stiffness > 0.0) s.compliance_n = s.compliance_t = 1.0 / (stiffness * kH * kH);
+  // Tangent t = (-n_y, n_x): (0, -1) on the right wall, (0, 1) on the left one, so a
+  // supporting friction impulse is -a on the right and +a on the left.
+  for (const double nx : {-1.0, 1.0}) {
+    cd::ContactRow r{};
+    r.i = 0;
+    r.j = nx < 0 ? cdpile::wall_right : cdpile::wall_left;
+    r.bi = 0;
+    r.bj = 1;
+    r.nx = nx;
+    r.ny = 0.0;
+    r.ri = kR;
+    r.rj = 0.0;
+    r.mu = 0.5;
+    r.gap = 0.0;
+    r.gap_velocity = 0.0;
+    r.w_nn = inv_m + s.compliance_n;
+    r.w_tt = inv_m + kR * kR * inv_i + s.compliance_t;
+    const double sign = nx < 0 ? -1.0 : 1.0;
+    r.rn0 = anchor_n;
+    r.rt0 = sign * anchor_t;
+    r.rn = start_n;
+    r.rt = sign * anchor_t;
+    s.rows.push_back(r);
+  }
+  for (const cd::ContactRow& r : s.rows) s.apply_impulse(r, r.rn, r.rt);
+  return w;
+}
+
+}  // namespace
+
+// The seam: a solver named in the settings is the one the engine runs, and its names
+// round-trip; an unknown name is a usage error.
+TEST(Seam, SolverNamesRoundTripAndTheEngineRunsTheNamedSolver) {
+  for (const cd::SolverKind k : kAllSolvers) {
+    EXPECT_EQ(cd::solver_from_name(cd::solver_name(k)), k);
+    EXPECT_EQ(cd::make_solver(tight(k))->kind(), k);
+  }
+  EXPECT_THROW(cd::solver_from_name("pgs"), cdpile::UsageError);
+  for (const cd::Criterion c : {cd::Criterion::maxm, cd::Criterion::quad, cd::Criterion::qm16,
+                                cd::Criterion::law})
+    EXPECT_EQ(cd::criterion_from_name(cd::criterion_name(c)), c);
+  cd::SolverSettings bad;
+  bad.check_every = 0;
+  EXPECT_THROW(cd::make_solver(bad), cdpile::UsageError);
+}
+
+// Every solver, rigid and with the compliance: a locked disk on a 20-degree incline sticks
+// with f = m g (cos, sin); a free disk at 30 degrees rolls without slip at (2/3) g sin theta.
+TEST(Seam, InclineThroughEverySolver) {
+  for (const cd::SolverKind k : kAllSolvers)
+    for (const double stiffness : {0.0, 1e6}) {
+      Grains g;
+      g.add_disk(kR, kRho, Vec2(0.05, kR));
+      const double m = g.mass[0];
+      cd::Settings s = tight(k);
+      s.contact_stiffness = stiffness * m * kG / (2 * kR);  // in m g / D
+      {
+        cd::Engine e(Box{0.1, 0.05}, g, s);
+        e.lock_rotation(0);
+        for (int n = 0; n < 300; ++n) e.step(20 * kDeg);
+        const auto c = e.contacts();
+        ASSERT_EQ(c.size(), 1u);
+        EXPECT_NEAR(c.fn[0], m * kG * std::cos(20 * kDeg), 1e-8 * m * kG) << stiffness;
+        EXPECT_NEAR(std::abs(c.ft[0]), m * kG * std::sin(20 * kDeg), 1e-8 * m * kG) << stiffness;
+        EXPECT_EQ(c.status[0], ContactStatus::stick);
+      }
+      cd::Engine e(Box{0.5, 0.05}, g, s);
+      for (int n = 0; n < 100; ++n) e.step(30 * kDeg);
+      // From rest the compliant contact takes a few steps to load (its spring starts at
+      // zero); the acceleration is then the rigid one, so the velocity lags by at most that.
+      const double v = e.grains().velocity[0].x(), t = 100 * kH;
+      const double lag = stiffness > 0.0 ? 3 * kG * kH : 0.0;
+      EXPECT_NEAR(v, 2.0 / 3.0 * kG * std::sin(30 * kDeg) * t, 1e-12 + lag) << stiffness;
+      EXPECT_NEAR(v + e.grains().angular_velocity[0] * kR, 0.0, 1e-10) << stiffness;
+    }
+}
+
+// Every solver: a column of 10 disks, the contact under the n-th disk from the top carries
+// n m g, rigid and compliant (the compliance changes how the load builds up, not the
+// static answer).
+TEST(Seam, ColumnThroughEverySolver) {
+  const int k = 10;
+  Grains g;
+  for (int n = 0; n < k; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  for (const cd::SolverKind kind : kAllSolvers)
+    for (const double stiffness : {0.0, 1e5}) {
+      cd::Settings s = tight(kind);
+      s.contact_stiffness = stiffness * g.mass[0] * kG / (2 * kR);
+      s.max_sweeps = 100000;
+      cd::Engine e(Box{0.02, 0.02}, g, s);
+      cd::StepReport rep;
+      for (int step = 0; step < 400; ++step) rep = e.step(0.0);
+      EXPECT_TRUE(rep.converged);
+      const double mg = g.mass[0] * kG;
+      const auto c = e.contacts();
+      ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+      for (std::size_t q = 0; q < c.size(); ++q) {
+        const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+        EXPECT_NEAR(c.fn[q], carried * mg, 1e-6 * k * mg) << "contact " << q << " k " << stiffness;
+      }
+      // The law's residual of a converged step is at the solver's tolerance.
+      EXPECT_LT(rep.law_residual, 1e-6);
+    }
+}
+
+// The residual of the law: zero at a solution, and a hand-computed value away from it.
+// One disk resting on the floor: the solution is R_n = m g h, R_t = 0. With R_n off by
+// delta the exact local solve corrects the velocity by W_nn delta = delta / m: the
+// residual is delta / (m g h) in units of g h.
+TEST(LawResidual, ZeroAtTheSolutionAndTheLocalCorrectionAway) {
+  const double m = kRho * std::numbers::pi * kR * kR;
+  for (const double delta_in_mgh : {0.0, 0.25, -0.5}) {
+    cd::ContactSystem s;
+    s.bodies = {{0.0, -kG * kH, 0.0, 1.0 / m, 2.0 / (m * kR * kR)}, {0.0, 0.0, 0.0, 0.0, 0.0}};
+    cd::ContactRow r{};
+    r.i = 0;
+    r.j = cdpile::wall_floor;
+    r.bj = 1;
+    r.ny = 1.0;
+    r.ri = kR;
+    r.mu = 0.5;
+    r.w_nn = 1.0 / m;
+    r.w_tt = 3.0 / m;
+    r.rn = m * kG * kH * (1.0 + delta_in_mgh);
+    s.rows.push_back(r);
+    s.apply_impulse(r, r.rn, r.rt);
+    const cd::LawResidual law = cd::law_residual(s, kG * kH);
+    EXPECT_NEAR(law.max, std::abs(delta_in_mgh), 1e-12) << delta_in_mgh;
+    EXPECT_NEAR(law.rms, std::abs(delta_in_mgh), 1e-12);
+  }
+}
+
+// The force-selection rule on a hyperstatic scene (docs/method.md, "Force selection"). A
+// disk wedged between two walls, held up by friction alone: for rigid grains the normal
+// impulses are indeterminate, any R_n = s on both walls with s >= m g h / (2 mu) and
+// R_t = m g h / 2 holding the disk is a solution, and NSGS returns whichever s it
+// starts from. With the compliance c = 1/(k h^2) anchored at the previous impulses R0 the
+// step's problem is (W + c I) R = c R0 - q on the stick set, W + c I positive definite,
+// so its solution is unique: by hand, R_n = R0_n on both walls (the normal rows of W
+// cancel for equal impulses, leaving c R_n = c R0_n) and R_t = m g h / 2 (the tangent
+// rows give (2/m + c) R_t = (2/m + c) m g h / 2 with R0_t = m g h / 2). Every solver, from
+// any start, must return it.
+TEST(ForceSelection, HyperstaticWedgeIsIndeterminateRigidAndUniqueWithTheCompliance) {
+  const double m = kRho * std::numbers::pi * kR * kR, mgh = m * kG * kH;
+  for (const cd::SolverKind kind : kAllSolvers) {
+    const auto solver = cd::make_solver(tight(kind));
+    // Rigid: two starts, two different solutions, both with a zero residual.
+    for (const double start : {1.0, 5.0}) {
+      Wedge w = wedged_disk(start * mgh, start * mgh, 0.5 * mgh, 0.0);
+      const cd::SolveReport rep = solver->solve(w.system, kG * kH);
+      EXPECT_TRUE(rep.converged);
+      for (const cd::ContactRow& r : w.system.rows) {
+        EXPECT_NEAR(r.rn, start * mgh, 1e-9 * mgh) << "rigid keeps its start " << start;
+        EXPECT_NEAR(std::abs(r.rt), 0.5 * mgh, 1e-9 * mgh);
+      }
+      EXPECT_LT(cd::law_residual(w.system, kG * kH).max, 1e-9);
+      EXPECT_NEAR(w.system.bodies[0].vy, 0.0, 1e-12 * kG * kH);
+    }
+    // Compliant (k = 1e5 m g / D), anchored at R0_n = 2 m g h: from starts 1 and 5 m g h
+    // alike, the unique solution R_n = 2 m g h.
+    const double k = 1e5 * m * kG / (2 * kR);
+    for (const double start : {1.0, 5.0}) {
+      Wedge w = wedged_disk(start * mgh, 2.0 * mgh, 0.5 * mgh, k);
+      const cd::SolveReport rep = solver->solve(w.system, kG * kH);
+      EXPECT_TRUE(rep.converged);
+      for (const cd::ContactRow& r : w.system.rows) {
+        EXPECT_NEAR(r.rn, 2.0 * mgh, 1e-8 * mgh) << "compliant, start " << start;
+        EXPECT_NEAR(std::abs(r.rt), 0.5 * mgh, 1e-8 * mgh);
+        EXPECT_EQ(r.status, ContactStatus::stick);
+      }
+      EXPECT_LT(cd::law_residual(w.system, kG * kH).max, 1e-8);
+    }
+  }
+}
+
+// The engine's compliance is 1/(k h^2) on both diagonal entries of each contact's block,
+// with -c R0 in q: the exported Delassus problem of a compliant step differs from the
+// rigid one by exactly that, and the step's impulses solve it.
+TEST(ForceSelection, ExportedProblemCarriesTheCompliance) {
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.05, kR));
+  cd::Settings rigid = tight(cd::SolverKind::nsgs), soft = rigid;
+  soft.contact_stiffness = 1e5 * g.mass[0] * kG / (2 * kR);
+  cd::Engine a(Box{0.1, 0.05}, g, rigid), b(Box{0.1, 0.05}, g, soft);
+  for (int n = 0; n < 50; ++n) {
+    a.step(0.0);
+    b.step(0.0);
+  }
+  const cd::DelassusProblem pa = a.delassus_problem(), pb = b.delassus_problem();
+  const double c = 1.0 / (soft.contact_stiffness * kH * kH);
+  EXPECT_NEAR(pb.W.coeff(0, 0) - pa.W.coeff(0, 0), c, 1e-12 * c);
+  EXPECT_NEAR(pb.W.coeff(1, 1) - pa.W.coeff(1, 1), c, 1e-12 * c);
+  Eigen::VectorXd r = b.local_impulses();
+  EXPECT_LT(cd::natural_map_residual(pb, r), 1e-8);
+  // At rest the spring holds the weight: R_n = m g h in both.
+  EXPECT_NEAR(r[0], g.mass[0] * kG * kH, 1e-8 * g.mass[0] * kG * kH);
+}
+
+// check_every: the criterion is tested only every K sweeps, so a converging step stops at
+// a multiple of K, never earlier than with K = 1.
+TEST(Seam, CheckEveryStopsOnAMultiple) {
+  const int k = 10;
+  Grains g;
+  for (int n = 0; n < k; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  cd::Settings s = tight(cd::SolverKind::nsgs);
+  s.tolerance = 1e-6;
+  const int every1 = cd::Engine(Box{0.02, 0.02}, g, s).step(0.0).sweeps;
+  s.check_every = 7;
+  const cd::StepReport rep = cd::Engine(Box{0.02, 0.02}, g, s).step(0.0);
+  EXPECT_TRUE(rep.converged);
+  EXPECT_EQ(rep.sweeps % 7, 0);
+  EXPECT_GE(rep.sweeps, every1);
+  EXPECT_LT(rep.sweeps, every1 + 7);
+}
