@@ -49,6 +49,15 @@ static void usage(cli::Usage& u) {
       "and mu, mu_wall with --walls, no --floor-grains grain without --walls), else frames, with a "
       "note naming the difference; the per-step Nc, nu and lambda of such a run are then NA. "
       "--series steps with another rule is a usage error.",
+      "Static bound (McNamara & Herrmann 2004): a static packing of rigid frictional disks has at "
+      "most B = 2M - 3N critical contacts, M the active contacts of the N load-bearing free grains "
+      "(walls and glued grains included, whatever --walls says; rattlers, free grains with fewer "
+      "than 2 active contacts, removed repeatedly). Per frame: contacts_load_bearing (M), "
+      "grains_load_bearing (N), critical_load_bearing (Nc among the M, by --eps), static_bound (B) "
+      "and above_static_bound (1 when Nc > B: the frame is moving or its forces unconverged). "
+      "When nu_c is reported, each run's maximum in each fitted envelope window is judged at the "
+      "run's last frame at or before it in the same window; if any is above its bound, a warning "
+      "(stderr and a '# note: warning:' line) says how many, and how many frames are above theirs.",
       "theta_c of a run: the first step where Ek/(m g D) (m the mean grain mass) reaches "
       "--avalanche-ek and stays there for --avalanche-hold degrees or to the end of the run; "
       "the ensemble theta_c is the mean over runs with its standard error. The simulator's own "
@@ -133,6 +142,7 @@ static void run(const cli::Args& a) {
     runs.push_back(std::move(r));
   }
   analysis::Product p = analysis::critical_study(runs, opt);
+  for (const std::string& w : analysis::product_warnings(p)) cli::warn(w);
   std::vector<io::Provenance> history = io::merge_histories(histories);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
   cli::emit_product(a, p, history);

@@ -141,3 +141,117 @@ TEST(Critical, MeanKineticEnergyPerFreeGrain) {
   g.velocity.clear();
   EXPECT_FALSE(mean_kinetic_energy(g));
 }
+
+// The static bound Nc <= 2M - 3N (McNamara & Herrmann 2004; docs/analysis.md, "Static bound").
+namespace {
+// Grains 0..5 free, 6 glued to the floor; mu_grain 0.5, mu_wall 0.3.
+//
+//   row  contact          fn   ft    critical?
+//   0    0 - floor plane  1    0.3   yes (mu_wall: 0.3 >= 0.3)
+//   1    0 - 1            1    0.5   yes
+//   2    1 - 6 (glued)    1    0.4   no  (glued grain: mu_grain 0.5; mu_wall would say yes)
+//   3    1 - 2            1    0.5   yes
+//   4    2 - left wall    1    0.0   no
+//   5    0 - 2            1   -0.5   yes
+//   6    3 - 2            1    0.5   yes, but 3 has no other active contact: a rattler
+//   7    3 - 4            0    0.0   inactive
+//   8    4 - 5            1    0.5   yes, but 4 is a rattler (one contact) and, once it goes,
+//   9    5 - right wall   1    0.0         5 is left with one contact: a rattler too
+//   10   6 - floor plane  5    5.0   two fixed bodies: no unknown of the free grains
+//
+// Load-bearing: grains 0 (rows 0, 1, 5), 1 (1, 2, 3), 2 (3, 4, 5): N = 3, M = 6 (rows 0-5),
+// Nc = 4 (rows 0, 1, 3, 5), B = 2 * 6 - 3 * 3 = 3: Nc > B, above the bound.
+const std::vector<Species> bound_species = {Species::free, Species::free, Species::free, Species::free,
+                                            Species::free, Species::free, Species::floor};
+Contacts bound_contacts() {
+  using S = ContactStatus;
+  return make({{0, wall_floor, 1.0, 0.3, S::slide},
+               {0, 1, 1.0, 0.5, S::slide},
+               {1, 6, 1.0, 0.4, S::stick},
+               {1, 2, 1.0, 0.5, S::slide},
+               {2, wall_left, 1.0, 0.0, S::stick},
+               {0, 2, 1.0, -0.5, S::slide},
+               {3, 2, 1.0, 0.5, S::slide},
+               {3, 4, 0.0, 0.0, S::open},
+               {4, 5, 1.0, 0.5, S::slide},
+               {5, wall_right, 1.0, 0.0, S::stick},
+               {6, wall_floor, 5.0, 5.0, S::slide}});
+}
+}  // namespace
+
+TEST(StaticBound, WallsGluedGrainAndRattlersByHand) {
+  const StaticBound b = static_bound(bound_contacts(), bound_species, Friction{0.5, 0.3}, 0.0);
+  EXPECT_EQ(b.contacts, 6);
+  EXPECT_EQ(b.grains, 3);
+  EXPECT_EQ(b.critical, 4);
+  EXPECT_EQ(b.bound(), 3);
+  EXPECT_TRUE(b.above());
+}
+
+TEST(StaticBound, AtOrBelowTheBoundIsStatic) {
+  // Row 3 (1 - 2) made sticking: Nc = 3 = B, which a static packing may reach.
+  Contacts c = bound_contacts();
+  c.ft[3] = 0.1;
+  StaticBound b = static_bound(c, bound_species, Friction{0.5, 0.3}, 0.0);
+  EXPECT_EQ(b.critical, 3);
+  EXPECT_EQ(b.bound(), 3);
+  EXPECT_FALSE(b.above());
+  // and row 1 too: Nc = 2 < B
+  c.ft[1] = 0.1;
+  b = static_bound(c, bound_species, Friction{0.5, 0.3}, 0.0);
+  EXPECT_EQ(b.critical, 2);
+  EXPECT_FALSE(b.above());
+}
+
+TEST(StaticBound, RattlersAreRemovedRepeatedly) {
+  // A chain hanging off a load-bearing triangle: 0-1-2 a triangle, 2-3, 3-4, 4-5. Grain 5
+  // has one contact; once it goes 4 has one, then 3: all three are rattlers. N = 3, M = 3
+  // (the triangle), B = 6 - 9 = -3: even with no critical contact, a triangle of free
+  // grains touching nothing else cannot be static (it has no support), so Nc = 0 > -3.
+  using S = ContactStatus;
+  Contacts c = make({{0, 1, 1.0, 0.0, S::stick}, {1, 2, 1.0, 0.0, S::stick}, {0, 2, 1.0, 0.0, S::stick},
+                     {2, 3, 1.0, 0.5, S::slide}, {3, 4, 1.0, 0.5, S::slide}, {4, 5, 1.0, 0.5, S::slide}});
+  StaticBound b = static_bound(c, {}, Friction{}, default_eps);
+  EXPECT_EQ(b.grains, 3);
+  EXPECT_EQ(b.contacts, 3);
+  EXPECT_EQ(b.critical, 0);  // the critical contacts were all on the chain
+  EXPECT_EQ(b.bound(), -3);
+  EXPECT_TRUE(b.above());
+  // A chain between two walls is load-bearing all along: wall-0-1-2-wall, N = 3, M = 4, B = -1.
+  Contacts chain = make({{0, wall_left, 1.0, 0.0, S::stick}, {0, 1, 1.0, 0.0, S::stick},
+                         {1, 2, 1.0, 0.0, S::stick}, {2, wall_right, 1.0, 0.0, S::stick}});
+  b = static_bound(chain, {}, Friction{}, default_eps);
+  EXPECT_EQ(b.grains, 3);
+  EXPECT_EQ(b.contacts, 4);
+  EXPECT_EQ(b.bound(), -1);
+}
+
+TEST(StaticBound, DiskInACorner) {
+  // One disk on the floor against the left wall: N = 1, M = 2, B = 1. Gravity and the two
+  // reactions (4 unknowns, 3 equations): one contact may slide, not both.
+  using S = ContactStatus;
+  Contacts c = make({{0, wall_floor, 2.0, 1.0, S::slide}, {0, wall_left, 1.0, 0.2, S::stick}});
+  StaticBound b = static_bound(c, {}, Friction{0.5, 0.5}, default_eps);
+  EXPECT_EQ(b.contacts, 2);
+  EXPECT_EQ(b.grains, 1);
+  EXPECT_EQ(b.critical, 1);
+  EXPECT_EQ(b.bound(), 1);
+  EXPECT_FALSE(b.above());
+  c.ft[1] = 0.5;  // both on the cone
+  b = static_bound(c, {}, Friction{0.5, 0.5}, default_eps);
+  EXPECT_EQ(b.critical, 2);
+  EXPECT_TRUE(b.above());
+}
+
+TEST(StaticBound, EmptyAndBadInput) {
+  const StaticBound b = static_bound(Contacts{}, {}, Friction{}, default_eps);
+  EXPECT_EQ(b.contacts, 0);
+  EXPECT_EQ(b.grains, 0);
+  EXPECT_EQ(b.bound(), 0);
+  EXPECT_FALSE(b.above());
+  Contacts c = make({{0, 1, 1.0, 0.5, ContactStatus::stick}});
+  EXPECT_THROW(static_bound(c, {}, Friction{0.0, 0.5}, default_eps), Error);
+  EXPECT_THROW(static_bound(c, {}, Friction{}, 1.0), Error);
+  c.ft[0] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(static_bound(c, {}, Friction{}, default_eps), Error);
+}

@@ -498,3 +498,73 @@ TEST(ClusterFit, NothingToFitIsADocumentedEmptyResult) {
   EXPECT_THROW(clusterfit(c2, nullptr, [] { ClusterFitOptions x; x.nu_inf = NuInfSource::ensemble; return x; }()),
                Error);
 }
+
+namespace {
+// One run whose per-step nu has, in each 0.5 deg envelope window (50 steps), its maximum at
+// step 50 b + 25 on a saturating envelope; frames every 10 steps (steps 0 to 1999, theta 0 to 19.99 deg). `above(step)` says which
+// frames are above their static bound.
+RunRecord bound_run(const std::function<bool(std::int64_t)>& above) {
+  RunRecord run;
+  run.name = "r";
+  run.free_grains = 4000;
+  run.diameter = 1;
+  run.recorded_rule = {default_eps, 0.5, 0.5};
+  for (std::int64_t k = 0; k < 2000; ++k) {
+    const double th = 0.01 * static_cast<double>(k);
+    const double env = 0.08 - 0.07 * std::exp(-th / 4.0);
+    run.steps.step.push_back(k);
+    run.steps.theta.push_back(th);
+    run.steps.contacts.push_back(7200);
+    run.steps.critical.push_back(std::llround((k % 50 == 25 ? 1.0 : 0.5) * env * 7200));
+    if (k % 10 == 0) {
+      FrameRecord f{k / 10, k, th, state(7200, 0), std::nullopt, StaticBound{}};
+      f.bound->contacts = 7200;
+      f.bound->grains = 4000;                       // B = 14400 - 12000 = 2400
+      f.bound->critical = above(k) ? 2401 : 2400;   // at the bound is static
+      run.frames.push_back(f);
+    }
+  }
+  return run;
+}
+}  // namespace
+
+TEST(CriticalStudy, StaticBoundColumnsAndNuCWarning) {
+  CriticalOptions o;
+  o.step_table = false;
+  // The maxima are at steps 50 b + 25; the frame judged is the last at or before: 50 b + 20.
+  Product p = critical_study({bound_run([](std::int64_t k) { return k % 50 == 20; })}, o);
+  ASSERT_TRUE(p.result("nu_c")) << (p.notes.empty() ? "" : p.notes.back());
+  const Table& fr = p.table("frames");
+  ASSERT_EQ(fr.rows(), 200u);
+  EXPECT_EQ(*fr.column("contacts_load_bearing").get(2), 7200);
+  EXPECT_EQ(*fr.column("grains_load_bearing").get(2), 4000);
+  EXPECT_EQ(*fr.column("critical_load_bearing").get(2), 2401);  // step 20
+  EXPECT_EQ(*fr.column("static_bound").get(2), 2400);
+  EXPECT_EQ(*fr.column("above_static_bound").get(2), 1);
+  EXPECT_EQ(*fr.column("above_static_bound").get(3), 0);
+  EXPECT_EQ(*p.result("static_bound_frames"), 200);
+  EXPECT_EQ(*p.result("static_bound_frames_above"), 40);  // steps 20, 70, ..., 1970
+  // 40 windows [0.5 b, 0.5 (b + 1)), every one in the fit, each judged above
+  EXPECT_EQ(*p.result("nu_c_maxima_judged"), 40);
+  EXPECT_EQ(*p.result("nu_c_maxima_above_static_bound"), 40);
+  const auto w = product_warnings(p);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("nu_c comes from frames above the static bound: 40 of the 40"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("40 of 200 frames"), std::string::npos) << w[0];
+
+  // Frames just after the maxima above their bound do not make nu_c's maxima suspect.
+  Product q = critical_study({bound_run([](std::int64_t k) { return k % 50 == 30; })}, o);
+  ASSERT_TRUE(q.result("nu_c"));
+  EXPECT_EQ(*q.result("static_bound_frames_above"), 40);
+  EXPECT_EQ(*q.result("nu_c_maxima_above_static_bound"), 0);
+  EXPECT_TRUE(product_warnings(q).empty());
+
+  // Frames without a bound (e.g. built by hand): NA columns, nothing judged, no warning.
+  RunRecord r = bound_run([](std::int64_t) { return true; });
+  for (FrameRecord& f : r.frames) f.bound.reset();
+  Product u = critical_study({r}, o);
+  EXPECT_FALSE(u.table("frames").column("static_bound").get(0));
+  EXPECT_FALSE(u.result("static_bound_frames"));
+  EXPECT_EQ(*u.result("nu_c_maxima_judged"), 0);
+  EXPECT_TRUE(product_warnings(u).empty());
+}

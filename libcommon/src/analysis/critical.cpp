@@ -111,6 +111,84 @@ PileState pile_state(const ContactSet& set, std::span<const Species> species,
   return p;
 }
 
+StaticBound static_bound(const Contacts& c, std::span<const Species> species, const Friction& mu,
+                         double eps) {
+  CriticalRule rule;
+  rule.eps = eps;
+  validate(rule, mu);
+  auto fixed = [&](std::int32_t id) { return id < 0 || is_floor_grain(id, species); };
+
+  // The active contacts that involve at least one free grain (two fixed bodies touching
+  // carry no unknown of the free grains' equilibrium).
+  std::vector<std::size_t> active;
+  std::vector<std::int32_t> ids;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const double fn = c.fn[k], ft = c.ft[k];
+    if (!std::isfinite(fn) || !std::isfinite(ft))
+      throw Error("", "contact " + std::to_string(k), "force is not finite");
+    if (!(fn > 0.0)) continue;
+    if (fixed(c.i[k]) && fixed(c.j[k])) continue;
+    active.push_back(k);
+    for (std::int32_t id : {c.i[k], c.j[k]})
+      if (!fixed(id)) ids.push_back(id);
+  }
+  // Free grains by index in the sorted ids (ids may be sparse), their contacts as lists.
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  auto index = [&](std::int32_t id) {
+    return static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+  };
+  std::vector<std::size_t> first(ids.size() + 1, 0), list;
+  for (std::size_t a : active)
+    for (std::int32_t id : {c.i[a], c.j[a]})
+      if (!fixed(id)) ++first[index(id) + 1];
+  for (std::size_t g = 0; g < ids.size(); ++g) first[g + 1] += first[g];
+  list.resize(first.back());
+  {
+    std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t n = 0; n < active.size(); ++n)
+      for (std::int32_t id : {c.i[active[n]], c.j[active[n]]})
+        if (!fixed(id)) list[fill[index(id)]++] = n;
+  }
+
+  // Remove the rattlers: a grain with fewer than 2 remaining contacts goes, with its
+  // contacts, which may leave a neighbour with fewer than 2 in turn.
+  std::vector<std::int64_t> degree(ids.size());
+  std::vector<std::uint8_t> grain_on(ids.size(), 1), contact_on(active.size(), 1);
+  std::vector<std::size_t> queue;
+  for (std::size_t g = 0; g < ids.size(); ++g) {
+    degree[g] = static_cast<std::int64_t>(first[g + 1] - first[g]);
+    if (degree[g] < 2) queue.push_back(g);
+  }
+  while (!queue.empty()) {
+    const std::size_t g = queue.back();
+    queue.pop_back();
+    if (!grain_on[g]) continue;
+    grain_on[g] = 0;
+    for (std::size_t q = first[g]; q < first[g + 1]; ++q) {
+      const std::size_t n = list[q];
+      if (!contact_on[n]) continue;
+      contact_on[n] = 0;
+      for (std::int32_t id : {c.i[active[n]], c.j[active[n]]}) {
+        if (fixed(id)) continue;
+        const std::size_t h = index(id);
+        if (h != g && grain_on[h] && --degree[h] < 2) queue.push_back(h);
+      }
+    }
+  }
+
+  StaticBound b;
+  for (std::size_t g = 0; g < ids.size(); ++g) b.grains += grain_on[g];
+  for (std::size_t n = 0; n < active.size(); ++n) {
+    if (!contact_on[n]) continue;
+    const std::size_t k = active[n];
+    ++b.contacts;
+    const double m = c.j[k] < 0 ? mu.wall : mu.grain;  // glued grains: grain friction
+    if (is_critical(c.fn[k], c.ft[k], m, eps)) ++b.critical;
+  }
+  return b;
+}
+
 namespace {
 template <class F>
 double mean_over_free(const Grains& g, F value) {

@@ -102,7 +102,52 @@ void note_step_series(Product& p, const std::vector<RunRecord>& runs,
   }
 }
 
+// Whether nu_c comes from frames above their static bound (docs/analysis.md, "Static
+// bound"). nu_c is the limit of the envelope fitted over `windows` of grid `w`; each of its
+// points is a mean over runs of the maximum of the run's nu in the window. The frame behind
+// a run's maximum is the run's last frame at or before the maximum's step inside the same
+// window: the maximum itself with --series frames, the state just before it otherwise (as
+// an event's nu_before). A maximum with no such frame, or one whose frame has no bound, is
+// not judged. Records the counts and, when any judged frame is above its bound, a warning.
+void judge_static_bound(Product& p, const std::vector<RunRecord>& runs, const std::vector<Curve>& curves,
+                        const std::vector<std::vector<std::int64_t>>& steps, const Grid& w,
+                        const std::vector<std::size_t>& windows, std::int64_t frames, std::int64_t above) {
+  std::int64_t judged = 0, judged_above = 0;
+  for (std::size_t ri = 0; ri < runs.size(); ++ri) {
+    const Curve& cv = curves[ri];
+    for (std::size_t b : windows) {
+      std::optional<std::size_t> at;  // the first maximum, as bin_max
+      for (std::size_t k = 0; k < cv.theta.size(); ++k)
+        if (w.bin(cv.theta[k]) == b && (!at || cv.nu[k] > cv.nu[*at])) at = k;
+      if (!at) continue;
+      const FrameRecord* frame = nullptr;
+      for (const FrameRecord& f : runs[ri].frames)
+        if (f.step <= steps[ri][*at] && w.bin(f.theta) == b && (!frame || f.step > frame->step)) frame = &f;
+      if (!frame || !frame->bound) continue;
+      ++judged;
+      judged_above += frame->bound->above();
+    }
+  }
+  p.results["nu_c_maxima_judged"] = judged;
+  p.results["nu_c_maxima_above_static_bound"] = judged_above;
+  if (judged_above == 0) return;
+  p.notes.push_back(std::string(warning_prefix) + "nu_c comes from frames above the static bound: " +
+                    std::to_string(judged_above) + " of the " + std::to_string(judged) +
+                    " envelope maxima in the fit [" + format_short(w.lower(windows.front())) + ", " +
+                    format_short(w.upper(windows.back())) + "] deg are at frames with Nc > 2M - 3N (moving "
+                    "or unconverged, not static); " + std::to_string(above) + " of " + std::to_string(frames) +
+                    " frames of the runs are above their bound");
+}
+
 }  // namespace
+
+std::vector<std::string> product_warnings(const Product& p) {
+  std::vector<std::string> out;
+  const std::string prefix = warning_prefix;
+  for (const std::string& n : p.notes)
+    if (n.rfind(prefix, 0) == 0) out.push_back(n.substr(prefix.size()));
+  return out;
+}
 
 std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, const CriticalRule& rule,
                                                    const Friction& mu) {
@@ -244,7 +289,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"nu_sliding", "", ColumnKind::real}, {"z", "", ColumnKind::real},
            {"z_all", "", ColumnKind::real}, {"loaded_grains", "", ColumnKind::integer},
            {"lambda", "D", ColumnKind::real}, {"Ek", "J m-1", ColumnKind::real},
-           {"ek_norm", "", ColumnKind::real}, {"loading", "", ColumnKind::integer}})
+           {"ek_norm", "", ColumnKind::real}, {"loading", "", ColumnKind::integer},
+           {"contacts_load_bearing", "", ColumnKind::integer}, {"grains_load_bearing", "", ColumnKind::integer},
+           {"critical_load_bearing", "", ColumnKind::integer}, {"static_bound", "", ColumnKind::integer},
+           {"above_static_bound", "", ColumnKind::integer}})
     frames_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
@@ -257,7 +305,9 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     events_t.add_column(n, u, k);
 
   std::vector<Curve> curves(runs.size());
+  std::vector<std::vector<std::int64_t>> curve_steps(runs.size());  // step of each point of curves
   std::vector<double> theta_cs;
+  std::int64_t bound_frames = 0, bound_above = 0;  // frames with a static bound, and above it
   double z_sum = 0.0;
   std::int64_t z_n = 0;
 
@@ -324,6 +374,14 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       const bool loading = f.theta <= cut;
       frames_t.column("loading").add_int(loading);
       if (loading && st.z) { z_sum += *st.z; ++z_n; }
+      // McNamara & Herrmann 2004 (docs/analysis.md, "Static bound")
+      auto count = [&](auto get) { return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt; };
+      frames_t.column("contacts_load_bearing").add(count([](const StaticBound& b) { return b.contacts; }));
+      frames_t.column("grains_load_bearing").add(count([](const StaticBound& b) { return b.grains; }));
+      frames_t.column("critical_load_bearing").add(count([](const StaticBound& b) { return b.critical; }));
+      frames_t.column("static_bound").add(count([](const StaticBound& b) { return b.bound(); }));
+      frames_t.column("above_static_bound").add(count([](const StaticBound& b) { return std::int64_t{b.above()}; }));
+      if (f.bound) { ++bound_frames; bound_above += f.bound->above(); }
     }
 
     // The run's nu(theta) series by the chosen source.
@@ -375,6 +433,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       if (cv.theta[k] > cut) continue;
       kept.theta.push_back(cv.theta[k]);
       kept.nu.push_back(cv.nu[k]);
+      curve_steps[ri].push_back(cv_step[k]);
       nu_max = std::isfinite(nu_max) ? std::max(nu_max, cv.nu[k]) : cv.nu[k];
     }
     cv = std::move(kept);
@@ -415,6 +474,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     if (s.se) p.results["theta_c_se_deg"] = *s.se;
   }
   if (z_n > 0) p.results["z_loading_mean"] = z_sum / static_cast<double>(z_n);
+  if (bound_frames > 0) {
+    p.results["static_bound_frames"] = bound_frames;
+    p.results["static_bound_frames_above"] = bound_above;
+  }
 
   if (tmin <= tmax) {
     auto grid_of = [&](double step) {
@@ -443,7 +506,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     const auto env_at = across_runs(argmax, w.count);
     const auto nruns = static_cast<std::int64_t>(runs.size());
     std::vector<double> ft, fv, fs;
-    std::vector<std::size_t> rows_in_fit;
+    std::vector<std::size_t> rows_in_fit, windows_in_fit;
     bool all_se = true;
     for (std::size_t b = 0; b < w.count; ++b) {
       if (env[b].n == 0) continue;
@@ -459,6 +522,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       env_t.column("envelope_se").add(env[b].se);
       env_t.column("in_fit").add_int(in);
       if (in) {
+        windows_in_fit.push_back(b);
         rows_in_fit.push_back(ft.size());
         ft.push_back(c);
         fv.push_back(*env[b].mean);
@@ -505,6 +569,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
           if (z_n > 0 && ef.nu_c() > 0)
             if (auto l = critical_spacing(z_sum / static_cast<double>(z_n), ef.nu_c(), 1.0))
               p.results["lambda_c_D"] = *l;
+          judge_static_bound(p, runs, curves, curve_steps, w, windows_in_fit, bound_frames, bound_above);
         } else if (!ef.fit.converged) {
           p.notes.push_back("envelope fit did not converge: " + ef.fit.status);
         }

@@ -127,6 +127,11 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
     f.state = analysis::pile_state(classify(fr, k, mu, rule, file), fr.grains.species, r.free_grains,
                                    r.diameter, rattlers);
     f.kinetic_energy = analysis::mean_kinetic_energy(fr.grains);
+    try {
+      f.bound = analysis::static_bound(fr.contacts, fr.grains.species, mu, rule.eps);
+    } catch (const Error& e) {
+      throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
+    }
     r.frames.push_back(std::move(f));
   }
   return r;

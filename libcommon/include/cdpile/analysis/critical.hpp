@@ -102,6 +102,36 @@ struct PileState {
 PileState pile_state(const ContactSet& set, std::span<const Species> species,
                      std::int64_t free_grains, double diameter, RattlerRule rattlers);
 
+/// The static bound on critical contacts (McNamara & Herrmann 2004, PRE 70, 061303;
+/// docs/analysis.md, "Static bound"). The admissible forces of a static packing of rigid
+/// frictional disks form a convex set; when it is a single point, each of the 2M force
+/// unknowns is fixed by one of the 3N equilibrium equations or by a contact held at the
+/// Coulomb threshold, so a static packing has at most
+///
+///     Nc <= B = 2M - 3N
+///
+/// critical contacts. M and N are over the load-bearing part of the pile: a free grain bears
+/// load when it has >= 2 active contacts, found by removing grains with fewer repeatedly
+/// (removing a rattler removes its contacts, which can make a neighbour one). Walls and
+/// grains glued to the floor are fixed bodies: no unknowns of their own, but their active
+/// contacts with load-bearing grains count in M. A frame with Nc > B is not a static state:
+/// the pile is moving there, or its forces are unconverged.
+struct StaticBound {
+  std::int64_t contacts = 0;  ///< M, active contacts of load-bearing grains (walls included)
+  std::int64_t grains = 0;    ///< N, load-bearing free grains
+  std::int64_t critical = 0;  ///< Nc, critical contacts among the M
+  std::int64_t bound() const { return 2 * contacts - 3 * grains; }  ///< B = 2M - 3N
+  bool above() const { return critical > bound(); }                 ///< Nc > B: not static
+};
+
+/// The static bound of one instant. Every active contact is considered, whatever rule
+/// says about walls (a wall's reaction is an unknown of the grain's equilibrium); critical
+/// by is_critical with `eps`, mu_wall against a wall plane and mu_grain otherwise (glued
+/// grains too, as select_contacts). `species` may be empty (every grain free). Throws
+/// cdpile::Error if a force is not finite, or mu or eps is invalid.
+StaticBound static_bound(const Contacts& c, std::span<const Species> species, const Friction& mu,
+                         double eps);
+
 /// lambda = sqrt(2 / (z nu)) D (eq 2); empty if z nu <= 0.
 std::optional<double> critical_spacing(double z, double nu, double diameter);
 

@@ -102,6 +102,7 @@ struct FrameRecord {
   double theta = 0.0;  ///< [deg]
   PileState state;
   std::optional<double> kinetic_energy;  ///< Ek, mean per free grain (mean_kinetic_energy) [J/m]
+  std::optional<StaticBound> bound{};    ///< Nc against 2M - 3N (static_bound); empty: unknown
 };
 
 struct RunRecord {
@@ -118,6 +119,12 @@ struct RunRecord {
 };
 
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
+
+/// Notes of a product that are warnings start with this; a tool also says them on stderr.
+inline constexpr const char* warning_prefix = "warning: ";
+
+/// The warnings among a product's notes, without the prefix.
+std::vector<std::string> product_warnings(const Product& p);
 
 /// The tables critical_study makes with these options, in order (so that a tool can refuse
 /// an unknown --table before it reads anything).
