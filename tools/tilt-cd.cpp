@@ -25,7 +25,8 @@ static void usage(cli::Usage& u) {
       "stops --margin degrees after the avalanche is confirmed (or at --max-angle); with --to it runs "
       "to that angle whatever happens. The first step is warm-started from the pile's contact forces.",
       "Every step records the observables of docs/schema.md: tilt_angle, kinetic_energy, "
-      "rotational_energy, contacts, contacts_grain, sliding, sweeps, residual, converged, max_overlap, "
+      "rotational_energy, contacts, contacts_grain, sliding, sweeps, residual, residual_rms, law_residual, "
+      "law_residual_rms, converged, max_overlap, "
       "and the critical-contact counts critical (all active contacts) and critical_grain (between two "
       "free grains), critical meaning |f_t| >= (1 - --eps) mu f_n. Full frames (grains and contacts "
       "with forces and solver status) are written at step 0, every --frame-every steps (or "
@@ -50,7 +51,7 @@ static void usage(cli::Usage& u) {
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
       "tilt_max_deg, avalanche_margin_deg, avalanche_energy, avalanche_hold_deg, frame_every_steps, "
       "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
-      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion). Results: steps, final_angle_deg, "
+      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, solver, check_every, contact_stiffness_N_m2). Results: steps, final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
       "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle), warnings and "
       "warning_messages.",

@@ -419,3 +419,27 @@ TEST(Settings, ParametersRoundTripAndErrorsNameTheFile) {
   v["theta"] = 0.2;
   EXPECT_EQ(message(v), "run.h5: /parameters: engine settings: theta must be in [0.5, 1]");
 }
+
+// Files written before the solver seam have no solver, check_every or contact stiffness:
+// they are read as NSGS, checked every sweep, rigid, so their resumes and branches go on
+// as the run began; today's files round-trip all three.
+TEST(Settings, PreSeamFilesReadAsRigidNsgsCheckedEverySweep) {
+  namespace cd = cdpile::cd;
+  cd::Settings s;
+  s.contact_stiffness = 1.5e6;
+  s.check_every = 50;
+  s.criterion = cd::Criterion::law;
+  const cd::Settings back = sim::settings_from_parameters(sim::settings_parameters(s), "run.h5");
+  EXPECT_EQ(back.contact_stiffness, 1.5e6);
+  EXPECT_EQ(back.check_every, 50);
+  EXPECT_EQ(back.criterion, cd::Criterion::law);
+  EXPECT_EQ(back.solver, cd::SolverKind::nsgs);
+
+  io::Values old = sim::settings_parameters(cd::Settings{});
+  for (const char* k : {"solver", "check_every", "contact_stiffness_N_m2"}) old.erase(k);
+  const cd::Settings legacy = sim::settings_from_parameters(old, "old.h5");
+  EXPECT_EQ(legacy.solver, cd::SolverKind::nsgs);
+  EXPECT_EQ(legacy.check_every, 1);
+  EXPECT_EQ(legacy.contact_stiffness, 0.0);
+  EXPECT_EQ(sim::with_pre_seam_settings(old), sim::settings_parameters(cd::Settings{}));
+}
