@@ -7,7 +7,8 @@
 # diameters wide, D = 1 mm, Dmax/Dmin = 1.5, mu = 0.5 grain-grain and
 # grain-wall) and exported to Siconos and LAMMPS (benchmarks/peers/pile_to_peers.py),
 # so the three codes tilt the same packing at 10 degrees per second:
-#   cdpile   tilt-cd, h = 1e-4 s, 0.001 degree per step, defaults otherwise;
+#   cdpile   tilt-cd, h = 1e-4 s, 0.001 degree per step, defaults otherwise
+#            (CDPILE_OPTIONS adds tilt-cd options, e.g. "--stiffness 1e6");
 #   Siconos  Moreau-Jean + 2D NSGS (benchmarks/peers/siconos/siconos_pile.py),
 #            h = 1e-4 s, 0.001 degree per step, tolerance 1e-4, cap 1000;
 #   LAMMPS   gran/hooke/history soft disks (benchmarks/peers/lammps/), serial,
@@ -24,6 +25,7 @@
 # cdpile's full run. It runs beside the comparison (PARALLEL_REG=1) on the
 # second core, or after it (PARALLEL_REG=0).
 #
+# SICONOS=0 skips Siconos (its window takes SICONOS_BUDGET s and a package few have).
 # Needs: the cdpile tools (BIN, default build/bin of this checkout), Debian's
 # python3-siconos, lammps, python3-h5py, python3-numpy, /usr/bin/time.
 # Results: OUTDIR/results.tsv, OUTDIR/ratios.tsv, OUTDIR/regularisation.tsv
@@ -39,7 +41,9 @@ N=${N:-1000}
 WIDTH=${WIDTH:-30}
 SEED=${SEED:-1}
 WINDOW=${WINDOW:-300}
+SICONOS=${SICONOS:-1}
 SICONOS_BUDGET=${SICONOS_BUDGET:-420}
+CDPILE_OPTIONS=${CDPILE_OPTIONS:-}
 MAX_ANGLE=${MAX_ANGLE:-40}
 REG=${REG:-1}
 PARALLEL_REG=${PARALLEL_REG:-1}
@@ -67,7 +71,7 @@ wind=$(awk -v w="$WINDOW" 'BEGIN { printf "%.6g", w * 0.001 }')
   for p in python3-siconos lammps; do
     echo "$p	$(dpkg-query -W -f '${Version}' "$p" 2>/dev/null || echo missing)"
   done
-  echo "settings	N=$N WIDTH=$WIDTH SEED=$SEED WINDOW=$WINDOW SICONOS_BUDGET=$SICONOS_BUDGET REG=$REG REG_KNHAT=$REG_KNHAT REG_EN=$REG_EN REG_TO=$REG_TO REG_EVERY=$REG_EVERY"
+  echo "settings	N=$N WIDTH=$WIDTH SEED=$SEED WINDOW=$WINDOW CDPILE_OPTIONS=$CDPILE_OPTIONS SICONOS=$SICONOS SICONOS_BUDGET=$SICONOS_BUDGET REG=$REG REG_KNHAT=$REG_KNHAT REG_EN=$REG_EN REG_TO=$REG_TO REG_EVERY=$REG_EVERY"
 } > env.tsv
 cat env.tsv
 
@@ -75,7 +79,7 @@ echo "== pile: deposit --grains $N --width $WIDTH --smooth-floor --seed $SEED"
 rm -f pile.h5
 timed cdpile_deposit "$BIN/deposit" --grains "$N" --width "$WIDTH" --smooth-floor \
   --seed "$SEED" -o pile.h5 --quiet
-$PY "$peers/pile_to_peers.py" siconos pile.h5 pile.npz
+[ "$SICONOS" = 1 ] && $PY "$peers/pile_to_peers.py" siconos pile.h5 pile.npz
 $PY "$peers/pile_to_peers.py" lammps pile.h5 pile.data
 
 lammps_settle() {  # DIR [lmp -var ...]: settle the exported pile with LAMMPS in DIR
@@ -120,13 +124,17 @@ fi
 
 echo "== cdpile: tilt-cd, window of $WINDOW steps (to $wind deg)"
 rm -f cdpile_window.h5 cdpile_full.h5
-timed cdpile_window "$BIN/tilt-cd" pile.h5 --to "$wind" -o cdpile_window.h5 --quiet
+# shellcheck disable=SC2086 # CDPILE_OPTIONS is a list of options
+timed cdpile_window "$BIN/tilt-cd" pile.h5 --to "$wind" -o cdpile_window.h5 --quiet $CDPILE_OPTIONS
 
-echo "== Siconos: $WINDOW tilt steps (wall budget $SICONOS_BUDGET s)"
-timed siconos_window $PY "$peers/siconos/siconos_pile.py" --load pile.npz --deposit-max-steps 0 \
-  --tilt-steps "$WINDOW" --wall-budget "$SICONOS_BUDGET" --report-every 50 \
-  --json siconos_window.json --trace siconos_window.csv > siconos_window.log 2>&1
-grep '^tilt step' siconos_window.log | tail -1
+rm -f siconos_window.json siconos_window.csv siconos_window.time
+if [ "$SICONOS" = 1 ]; then
+  echo "== Siconos: $WINDOW tilt steps (wall budget $SICONOS_BUDGET s)"
+  timed siconos_window $PY "$peers/siconos/siconos_pile.py" --load pile.npz --deposit-max-steps 0 \
+    --tilt-steps "$WINDOW" --wall-budget "$SICONOS_BUDGET" --report-every 50 \
+    --json siconos_window.json --trace siconos_window.csv > siconos_window.log 2>&1
+  grep '^tilt step' siconos_window.log | tail -1
+fi
 
 echo "== LAMMPS: settle the exported pile, then a window to $wind deg"
 lammps_settle lammps
@@ -134,7 +142,8 @@ lammps_settle lammps
    -var rate 10 -var thmax "$wind" -var thout 0.01 -log log.window -screen none)
 
 echo "== cdpile: tilt-cd to the avalanche (--margin 0, at most $MAX_ANGLE deg)"
-timed cdpile_full "$BIN/tilt-cd" pile.h5 --margin 0 --max-angle "$MAX_ANGLE" -o cdpile_full.h5 --quiet
+# shellcheck disable=SC2086
+timed cdpile_full "$BIN/tilt-cd" pile.h5 --margin 0 --max-angle "$MAX_ANGLE" -o cdpile_full.h5 --quiet $CDPILE_OPTIONS
 
 echo "== LAMMPS: tilt to the avalanche (stop at KE/(N m g D) > 0.01 or $MAX_ANGLE deg)"
 (cd lammps && timed full lmp -in in.tilt -var N "$N" -var Wd "$WIDTH" -var pile pile.restart \

@@ -27,7 +27,9 @@ inline void declare_solver_options(cli::Usage& u) {
          "<= tolerance g h, whatever the solver (docs/method.md)",
          {"maxm", "quad", "qm16", "law"});
   u.integer("check-every", d.check_every, "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
-  u.text("solver", cd::solver_name(d.solver), "contact solver ('nsgs': non-smooth Gauss-Seidel)", {"nsgs"});
+  u.text("solver", cd::solver_name(d.solver),
+         "contact solver: 'nsgs', non-smooth Gauss-Seidel; 'nncg', NSGS with a nonlinear "
+         "conjugate-gradient step after each sweep (docs/method.md)", {"nsgs", "nncg"});
   u.real("stiffness", 0.0,
          "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "

@@ -125,36 +125,38 @@ else:
     thc = steps_thc = cd_growth = None
 
 # ---------------- Siconos ----------------
-cpu_s, wall_s, _ = timefile(P("siconos_window.time"))
-sj = json.load(open(P("siconos_window.json")))
-t = sj["tilt"]["timing"]
-n_s = t["steps"]
-rows = list(csv.DictReader(open(P("siconos_window.csv"))))
-half = [r for r in rows if r["phase"] == "tilt"][n_s // 2:]
-cpu_half = sum(float(r["cpu_s"]) for r in half) / max(1, len(half))
-it_half = sum(int(r["iters"]) for r in half) / max(1, len(half))
-res.append(dict(code="Siconos", N=sj["N"], phase="window", steps=n_s, sim_s=n_s * H_CD,
-                theta_end=sj["tilt"]["final_angle_deg"], cpu_s=t["cpu_s"], wall_s=t["wall_s"],
-                how="measured (steps only: Python set-up excluded)",
-                note=f"{t['iters_mean']:.0f} sweeps/step (cap 1000; second half: {it_half:.0f} "
-                f"sweeps, {1e3 * cpu_half:.0f} ms CPU/step), {t['contacts_mean']:.0f} contacts; "
-                f"cold start (no warm start from the pile's forces); process total "
-                f"{cpu_s:.1f} s CPU, {wall_s:.1f} s wall"))
-sic_step = t["cpu_s"] / n_s
-sic_wall_step = t["wall_s"] / n_s
-if steps_thc:
-    res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
-                    theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
-                    cpu_to_theta_c=sic_step * steps_thc, wall_to_theta_c=sic_wall_step * steps_thc,
-                    how="extrapolated, window cost x cdpile's steps to theta_c",
-                    note="not run: theta_c not measured"))
-    capf = 1000.0 / t["iters_mean"]  # every step at Siconos' 1000-sweep cap, cost ~ sweeps
-    res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
-                    theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
-                    cpu_to_theta_c=sic_step * steps_thc * capf,
-                    wall_to_theta_c=sic_wall_step * steps_thc * capf,
-                    how=f"extrapolated, every step at the cap (x{capf:.2f})",
-                    note="upper estimate: the window's cost per sweep (overhead included) times 1000 sweeps"))
+sicw = None
+if os.path.exists(P("siconos_window.json")):  # SICONOS=0 skips it
+    cpu_s, wall_s, _ = timefile(P("siconos_window.time"))
+    sj = json.load(open(P("siconos_window.json")))
+    t = sj["tilt"]["timing"]
+    n_s = t["steps"]
+    rows = list(csv.DictReader(open(P("siconos_window.csv"))))
+    half = [r for r in rows if r["phase"] == "tilt"][n_s // 2:]
+    cpu_half = sum(float(r["cpu_s"]) for r in half) / max(1, len(half))
+    it_half = sum(int(r["iters"]) for r in half) / max(1, len(half))
+    res.append(dict(code="Siconos", N=sj["N"], phase="window", steps=n_s, sim_s=n_s * H_CD,
+                    theta_end=sj["tilt"]["final_angle_deg"], cpu_s=t["cpu_s"], wall_s=t["wall_s"],
+                    how="measured (steps only: Python set-up excluded)",
+                    note=f"{t['iters_mean']:.0f} sweeps/step (cap 1000; second half: {it_half:.0f} "
+                    f"sweeps, {1e3 * cpu_half:.0f} ms CPU/step), {t['contacts_mean']:.0f} contacts; "
+                    f"cold start (no warm start from the pile's forces); process total "
+                    f"{cpu_s:.1f} s CPU, {wall_s:.1f} s wall"))
+    sic_step = t["cpu_s"] / n_s
+    sic_wall_step = t["wall_s"] / n_s
+    if steps_thc:
+        res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
+                        theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
+                        cpu_to_theta_c=sic_step * steps_thc, wall_to_theta_c=sic_wall_step * steps_thc,
+                        how="extrapolated, window cost x cdpile's steps to theta_c",
+                        note="not run: theta_c not measured"))
+        capf = 1000.0 / t["iters_mean"]  # every step at Siconos' 1000-sweep cap, cost ~ sweeps
+        res.append(dict(code="Siconos", N=sj["N"], phase="full", steps=steps_thc, sim_s=steps_thc * H_CD,
+                        theta_end=steps_thc * 0.001, theta_c=None, cpu_s=None, wall_s=None,
+                        cpu_to_theta_c=sic_step * steps_thc * capf,
+                        wall_to_theta_c=sic_wall_step * steps_thc * capf,
+                        how=f"extrapolated, every step at the cap (x{capf:.2f})",
+                        note="upper estimate: the window's cost per sweep (overhead included) times 1000 sweeps"))
 
 # ---------------- LAMMPS ----------------
 for phase, log, tf in (("window", "log.window", "window.time"), ("full", "log.full", "full.time")):
@@ -187,10 +189,11 @@ for d in res:
         d["cpu_s_per_sim_s"] = d["cpu_s"] / d["sim_s"]
     elif d["code"] == "Siconos" and d["phase"] == "window":
         pass
-sicw = [d for d in res if d["code"] == "Siconos" and d["phase"] == "window"][0]
-sicw["cpu_ms_per_step"] = 1e3 * sic_step
-sicw["wall_ms_per_step"] = 1e3 * sic_wall_step
-sicw["cpu_s_per_sim_s"] = sic_step / H_CD
+sicw = [d for d in res if d["code"] == "Siconos" and d["phase"] == "window"]
+if sicw:
+    sicw[0]["cpu_ms_per_step"] = 1e3 * sic_step
+    sicw[0]["wall_ms_per_step"] = 1e3 * sic_wall_step
+    sicw[0]["cpu_s_per_sim_s"] = sic_step / H_CD
 
 cols = ["code", "N", "phase", "steps", "sim_s", "theta_end", "cpu_s", "wall_s", "cpu_ms_per_step",
         "wall_ms_per_step", "cpu_s_per_sim_s", "theta_c", "cpu_to_theta_c", "wall_to_theta_c",

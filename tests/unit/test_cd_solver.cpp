@@ -26,7 +26,7 @@ constexpr double kR = 0.5e-3;    // disk radius [m]
 constexpr double kRho = 2500.0;  // [kg/m^3]
 constexpr double kG = 9.81, kH = 1e-4;
 
-const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs};
+const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg};
 
 cd::Settings tight(cd::SolverKind solver) {
   cd::Settings s;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace cdpile::cd {
 
@@ -42,40 +43,90 @@ SweepSums nsgs_sweep(ContactSystem& s, bool backward) {
 // syndrome", docs/method.md "Convergence"); 'quad' bounds the root mean square, which a
 // few slowly converging contacts barely move; 'qm16' is LMGC90's compromise between the
 // two; 'law' bounds the residual of the law itself, whatever the sweeps did last.
-SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) const {
-  SolveReport report;
-  if (system.rows.empty()) return report;
-  const int every = settings_.check_every;
-  for (int k = 0; k < settings_.max_sweeps; ++k) {
-    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    const SweepSums s = nsgs_sweep(system, backward);
-    const double scale = std::max(
-        gravity_velocity, s.active > 0 ? s.scale_sum / static_cast<double>(s.active) : 0.0);
-    report.sweeps = k + 1;
-    // Without gravity and without an active contact there is no velocity scale: the
-    // measures are then absolute [m/s].
-    const double unit = scale > 0.0 ? scale : 1.0;
-    report.residual = s.largest / unit;
-    report.residual_rms =
-        s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
-    if (!std::isfinite(report.residual))
-      throw Error("engine: NSGS diverged (non-finite impulse)");
-    if ((k + 1) % every == 0 && converged(report, system, gravity_velocity)) return report;
-  }
-  report.converged = false;
-  return report;
+void measure_sweep(const SweepSums& s, double gravity_velocity, SolveReport& report) {
+  const double scale =
+      std::max(gravity_velocity, s.active > 0 ? s.scale_sum / static_cast<double>(s.active) : 0.0);
+  // Without gravity and without an active contact there is no velocity scale: the
+  // measures are then absolute [m/s].
+  const double unit = scale > 0.0 ? scale : 1.0;
+  report.residual = s.largest / unit;
+  report.residual_rms =
+      s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
+  if (!std::isfinite(report.residual)) throw Error("engine: the solver diverged (non-finite impulse)");
 }
 
-bool NsgsSolver::converged(const SolveReport& r, const ContactSystem& s,
-                           double gravity_velocity) const {
-  const double tol = settings_.tolerance;
-  switch (settings_.criterion) {
+bool criterion_met(const SolverSettings& settings, const SolveReport& r, const ContactSystem& s,
+                   double gravity_velocity) {
+  const double tol = settings.tolerance;
+  switch (settings.criterion) {
     case Criterion::maxm: return r.residual <= tol;
     case Criterion::quad: return r.residual_rms <= tol;
     case Criterion::qm16: return r.residual_rms <= tol && r.residual <= qm16_max_factor * tol;
     case Criterion::law: return law_residual(s, gravity_velocity).max <= tol;
   }
   return false;
+}
+
+SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) const {
+  SolveReport report;
+  if (system.rows.empty()) return report;
+  const int every = settings_.check_every;
+  for (int k = 0; k < settings_.max_sweeps; ++k) {
+    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
+    measure_sweep(nsgs_sweep(system, backward), gravity_velocity, report);
+    report.sweeps = k + 1;
+    if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
+      return report;
+  }
+  report.converged = false;
+  return report;
+}
+
+SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) const {
+  SolveReport report;
+  const std::size_t m = system.rows.size();
+  if (m == 0) return report;
+  std::vector<double> before(2 * m), p(2 * m, 0.0);
+  double d2_previous = 0.0;
+  const int every = settings_.check_every;
+  for (int k = 0; k < settings_.max_sweeps; ++k) {
+    for (std::size_t a = 0; a < m; ++a) {
+      before[2 * a] = system.rows[a].rn;
+      before[2 * a + 1] = system.rows[a].rt;
+    }
+    const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
+    measure_sweep(nsgs_sweep(system, backward), gravity_velocity, report);
+    report.sweeps = k + 1;
+    if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
+      return report;
+    if (k + 1 == settings_.max_sweeps) break;  // end on a sweep's impulses
+    double d2 = 0.0;
+    for (std::size_t a = 0; a < m; ++a) {
+      const double dn = system.rows[a].rn - before[2 * a], dt = system.rows[a].rt - before[2 * a + 1];
+      d2 += dn * dn + dt * dt;
+    }
+    const double beta = d2_previous > 0.0 ? d2 / d2_previous : 2.0;
+    d2_previous = d2;
+    if (beta > 1.0) {  // restart: the sweep's change is the new direction
+      for (std::size_t a = 0; a < m; ++a) {
+        p[2 * a] = system.rows[a].rn - before[2 * a];
+        p[2 * a + 1] = system.rows[a].rt - before[2 * a + 1];
+      }
+      continue;
+    }
+    for (std::size_t a = 0; a < m; ++a) {
+      ContactRow& r = system.rows[a];
+      const double sn = beta * p[2 * a], st = beta * p[2 * a + 1];
+      p[2 * a] = sn + (r.rn - before[2 * a]);
+      p[2 * a + 1] = st + (r.rt - before[2 * a + 1]);
+      if (sn == 0.0 && st == 0.0) continue;
+      r.rn += sn;
+      r.rt += st;
+      system.apply_impulse(r, sn, st);
+    }
+  }
+  report.converged = false;
+  return report;
 }
 
 }  // namespace cdpile::cd

@@ -14,14 +14,15 @@ namespace cdpile::cd {
 const char* solver_name(SolverKind k) {
   switch (k) {
     case SolverKind::nsgs: return "nsgs";
+    case SolverKind::nncg: return "nncg";
   }
   return "?";
 }
 
 SolverKind solver_from_name(const std::string& name) {
-  for (const SolverKind k : {SolverKind::nsgs})
+  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg})
     if (name == solver_name(k)) return k;
-  throw UsageError("unknown contact solver '" + name + "' (nsgs)");
+  throw UsageError("unknown contact solver '" + name + "' (nsgs or nncg)");
 }
 
 const char* criterion_name(Criterion c) {
@@ -51,6 +52,7 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
   validate(s);
   switch (s.solver) {
     case SolverKind::nsgs: return std::make_shared<const NsgsSolver>(s);
+    case SolverKind::nncg: return std::make_shared<const NncgSolver>(s);
   }
   throw UsageError("unknown contact solver");
 }

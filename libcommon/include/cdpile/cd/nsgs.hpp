@@ -19,6 +19,12 @@ struct SweepSums {
 /// One sweep over the rows, forward or backward.
 SweepSums nsgs_sweep(ContactSystem& s, bool backward);
 
+/// The convergence measures of a sweep (SolveReport::residual, residual_rms) and whether
+/// the settings' criterion is met by them (or, for Criterion::law, by the system).
+void measure_sweep(const SweepSums& sums, double gravity_velocity, SolveReport& report);
+bool criterion_met(const SolverSettings& settings, const SolveReport& report,
+                   const ContactSystem& system, double gravity_velocity);
+
 class NsgsSolver final : public ContactSolver {
  public:
   explicit NsgsSolver(const SolverSettings& settings) : settings_(settings) {}
@@ -26,7 +32,23 @@ class NsgsSolver final : public ContactSolver {
   SolveReport solve(ContactSystem& system, double gravity_velocity) const override;
 
  private:
-  bool converged(const SolveReport& r, const ContactSystem& s, double gravity_velocity) const;
+  SolverSettings settings_;
+};
+
+/// NSGS with a nonlinear conjugate-gradient step after each sweep (NNCG: Silcowitz-Hansen,
+/// Niebe and Erleben, The Visual Computer 26:893, 2010). With d_k the change a sweep made
+/// to the impulses and beta_k = |d_k|^2 / |d_{k-1}|^2, the impulses are moved on by
+/// beta_k p_{k-1} and p_k = beta_k p_{k-1} + d_k; beta_k > 1 restarts (p_k = 0). The
+/// local solves are NSGS's, so the law is exact wherever a sweep leaves it; the step
+/// only accelerates the slow, nearly linear modes between status changes. The returned
+/// impulses are always those of a sweep.
+class NncgSolver final : public ContactSolver {
+ public:
+  explicit NncgSolver(const SolverSettings& settings) : settings_(settings) {}
+  SolverKind kind() const override { return SolverKind::nncg; }
+  SolveReport solve(ContactSystem& system, double gravity_velocity) const override;
+
+ private:
   SolverSettings settings_;
 };
 

@@ -13,6 +13,7 @@ namespace cdpile::cd {
 /// The solvers behind the seam.
 enum class SolverKind {
   nsgs,  ///< non-smooth Gauss-Seidel with the exact 2D local solve (nsgs.hpp)
+  nncg,  ///< NSGS with a nonlinear conjugate-gradient step after each sweep (nsgs.hpp)
 };
 const char* solver_name(SolverKind k);
 /// The solver of a name; throws cdpile::UsageError on another name.
