@@ -365,6 +365,11 @@ TEST(Tilt, RunWarningsAtTheirThresholds) {
   EXPECT_EQ(overlap[0], "the largest overlap, 0.0025 D, exceeds 1e-3 D; the time step is too large for these "
                         "speeds (lower --time-step)");
   EXPECT_EQ(sim::run_warnings(1000, 500, 1e-5, 1e-3).size(), 2u);
+  // With a contact stiffness the overlap is the compliance f / k, not a time-step error.
+  const auto soft = sim::run_warnings(1000, 0, 2.5e-6, 1e-3, 2e7);
+  ASSERT_EQ(soft.size(), 1u);
+  EXPECT_EQ(soft[0], "the largest overlap, 0.0025 D, exceeds 1e-3 D: the compliance of the contact "
+                     "stiffness (overlap = force / k; a stiffer k makes it smaller)");
   Scratch s;
   const auto out = sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
   EXPECT_TRUE(out.warnings.empty());

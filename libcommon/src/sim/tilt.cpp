@@ -381,7 +381,8 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   };
   // Flagged in the file as well as on stderr: a number of warnings and their text.
   out.warnings = settings_warnings(o.settings, agitation.diameter());
-  for (auto& w : run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter()))
+  for (auto& w : run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter(),
+                              o.settings.contact_stiffness))
     out.warnings.push_back(std::move(w));
   results["warnings"] = static_cast<std::int64_t>(out.warnings.size());
   if (!out.warnings.empty()) {
@@ -401,7 +402,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
 }  // namespace
 
 std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged, double max_overlap_m,
-                                      double diameter_m) {
+                                      double diameter_m, double contact_stiffness) {
   std::vector<std::string> w;
   char line[300];
   // 1 %: a few isolated cap hits during impacts are expected and harmless; beyond that the
@@ -417,11 +418,19 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
   }
   // 1e-3 D: the documented bound of the overlaps (docs/method.md); larger ones mean grains
   // travel too far in one step for the velocity-level contact law to hold them apart.
+  // With a contact stiffness k the overlap f / k is the contact's compliance, chosen with k
+  // (docs/method.md, "Force selection"): the warning then says so instead of blaming h.
   if (diameter_m > 0.0 && max_overlap_m > 1e-3 * diameter_m) {
-    std::snprintf(line, sizeof line,
-                  "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
-                  "speeds (lower --time-step)",
-                  max_overlap_m / diameter_m);
+    if (contact_stiffness > 0.0)
+      std::snprintf(line, sizeof line,
+                    "the largest overlap, %.2g D, exceeds 1e-3 D: the compliance of the contact "
+                    "stiffness (overlap = force / k; a stiffer k makes it smaller)",
+                    max_overlap_m / diameter_m);
+    else
+      std::snprintf(line, sizeof line,
+                    "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
+                    "speeds (lower --time-step)",
+                    max_overlap_m / diameter_m);
     w.emplace_back(line);
   }
   return w;
