@@ -262,17 +262,17 @@ void Engine::compute_frames() {
 
 // Stage 4. The diagonal blocks of W = H M^-1 H^T, plus the compliances of the
 // force-selection rule (zero for rigid contacts). For disks the normal passes through
-// both centres, so W_nt = 0 (docs/method.md, "The local solve").
+// both centres, so W_nt = 0 (docs/method.md, "The scheme", step 3).
 void Engine::compute_delassus() {
-  const double c_n = system_.compliance_n, c_t = system_.compliance_t;
+  const bool compliant = system_.compliant();
   for (ContactRow& r : system_.rows) {
     const Body& a = system_.bodies[static_cast<std::size_t>(r.bi)];
     const Body& b = system_.bodies[static_cast<std::size_t>(r.bj)];
     r.w_nn = a.inv_m + b.inv_m;
     r.w_tt = a.inv_m + b.inv_m + r.ri * r.ri * a.inv_i + r.rj * r.rj * b.inv_i;
-    if (c_n != 0.0 || c_t != 0.0) {
-      r.w_nn += c_n;
-      r.w_tt += c_t;
+    if (compliant) {
+      r.w_nn += system_.compliance_n;
+      r.w_tt += system_.compliance_t;
     }
   }
 }
