@@ -179,6 +179,27 @@ TEST(Column, ContactUnderTheNthDiskCarriesNmg) {
   }
 }
 
+// A step is static only when no grain is in flight (docs/analysis.md, "Static and
+// moving states"): a disk released 2 D above a resting one has no contact while it
+// falls (free fall for sqrt(2 * 2D / g) = 20 ms, 200 steps of 0.1 ms) and its largest speed is
+// g t; once it has landed, both rest on contacts and the count is 0.
+TEST(Column, AFallingDiskIsCountedWithoutContactUntilItLands) {
+  Grains g;
+  g.add_disk(kR, kRho, Vec2(0.01, kR));
+  g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR + 2e-3));
+  cd::Engine e(Box{0.02, 0.02}, g, settings());
+  const double h = e.settings().time_step;
+  cd::StepReport rep = e.step(0.0);
+  EXPECT_EQ(rep.grains_without_contact, 1);
+  EXPECT_NEAR(rep.max_speed, 9.81 * h, 1e-9);
+  for (int step = 0; step < 150; ++step) rep = e.step(0.0);
+  EXPECT_EQ(rep.grains_without_contact, 1);  // still in flight at 15 ms
+  for (int step = 0; step < 400; ++step) rep = e.step(0.0);
+  EXPECT_EQ(rep.grains_without_contact, 0);
+  EXPECT_EQ(rep.contacts, 2);
+  EXPECT_LT(rep.max_speed, 1e-8);
+}
+
 // Hitting the sweep cap is reported, never silent: a column of 10 disks starting from
 // rest without a warm start needs its weight carried down 10 contacts, which 3 sweeps
 // cannot do; the report says so (converged false, the cap's sweeps, the residual above

@@ -380,10 +380,13 @@ void Engine::store_impulses() {
 
 void Engine::measure(StepReport& report) const {
   report.candidates = static_cast<int>(system_.rows.size());
+  std::vector<char> touched(grains_.size(), 0);
   for (const ContactRow& r : system_.rows) {
     report.max_overlap = std::max(report.max_overlap, -r.gap);
     if (!(r.rn > 0.0)) continue;
     ++report.contacts;
+    touched[static_cast<std::size_t>(r.i)] = 1;
+    if (r.j >= 0) touched[static_cast<std::size_t>(r.j)] = 1;
     if (r.status == ContactStatus::slide) ++report.sliding;
     if (r.j >= 0 && inv_mass_[static_cast<std::size_t>(r.i)] != 0.0 &&
         inv_mass_[static_cast<std::size_t>(r.j)] != 0.0)
@@ -391,6 +394,7 @@ void Engine::measure(StepReport& report) const {
   }
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
+    if (!touched[i]) ++report.grains_without_contact;
     const double v2 = grains_.velocity[i].squaredNorm();
     const double w = grains_.angular_velocity[i];
     report.kinetic_energy += 0.5 * grains_.mass[i] * v2;

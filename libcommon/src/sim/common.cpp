@@ -84,16 +84,17 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
 io::Series observables_series() {
   io::Series s;
   for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
-                        "law_residual", "law_residual_rms", "max_overlap"})
+                        "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
     s.real[n] = {};
   for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
-                        "critical_grain"})
+                        "critical_grain", "grains_without_contact"})
     s.integer[n] = {};
   s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
             {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},
             {"law_residual", ""}, {"law_residual_rms", ""},         {"contacts", ""},
             {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},
-            {"converged", ""},    {"critical", ""},             {"critical_grain", ""}};
+            {"converged", ""},    {"critical", ""},             {"critical_grain", ""},
+            {"max_speed", "m s-1"}, {"grains_without_contact", ""}};
   return s;
 }
 
@@ -108,6 +109,7 @@ void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCo
   s.real["law_residual"].push_back(r.law_residual);
   s.real["law_residual_rms"].push_back(r.law_residual_rms);
   s.real["max_overlap"].push_back(r.max_overlap);
+  s.real["max_speed"].push_back(r.max_speed);
   s.integer["contacts"].push_back(r.contacts);
   s.integer["contacts_grain"].push_back(r.contacts_grain);
   s.integer["sliding"].push_back(r.sliding);
@@ -115,6 +117,7 @@ void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCo
   s.integer["converged"].push_back(r.converged ? 1 : 0);
   s.integer["critical"].push_back(c.all);
   s.integer["critical_grain"].push_back(c.grain);
+  s.integer["grains_without_contact"].push_back(r.grains_without_contact);
 }
 
 Agitation::Agitation(const Grains& g, double gravity) {

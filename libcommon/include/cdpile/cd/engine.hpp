@@ -81,6 +81,9 @@ struct StepReport {
   double rotational_energy = 0.0;  ///< sum over free grains
   double max_overlap = 0.0;   ///< largest overlap (-gap) at the predicted configuration [m]
   double max_speed = 0.0;     ///< largest grain speed |v| at the end of the step [m/s]
+  /// Free grains with no active contact at the end of the step: under gravity such a grain
+  /// is in flight, so a step with any is not a static state (docs/analysis.md).
+  int grains_without_contact = 0;
 };
 
 /// Cumulated wall-clock time per stage [s], for benchmarks.
