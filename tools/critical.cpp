@@ -58,12 +58,30 @@ static void usage(cli::Usage& u) {
       "When nu_c is reported, each run's maximum in each fitted envelope window is judged at the "
       "run's last frame at or before it in the same window; if any is above its bound, a warning "
       "(stderr and a '# note: warning:' line) says how many, and how many frames are above theirs.",
+      "Static and moving states: a step is static when it converged (observable converged), its "
+      "grains are at rest by deposit's rest criterion ((Ek + Erot) per free grain below "
+      "--rest-energy m g D, every grain slower than --rest-speed sqrt(g D)) and no free grain is "
+      "without an active contact (in flight); a frame by the same rule from its grains and "
+      "contacts and its step's convergence. Column static in the steps and frames tables (NA when "
+      "a run lacks an observable the rule needs). nu(theta), the envelope and nu_c are read twice: "
+      "over every state (nu_c, today's reading) and over static states only (nu_c_static, "
+      "columns *_static of the ensemble and envelope tables); the paper's reading, nu at the "
+      "avalanche, is nu_theta_c: per run the mean nu of its static states in the last "
+      "--envelope-window degrees before theta_c, then mean and standard error over runs.",
+      "Per frame also: z_paper, the paper's coordination (active contacts of the free grains, "
+      "walls and glued grains included, per free grain, rattlers included), the contacts that "
+      "slip (tangential relative velocity above --slip-speed sqrt(g D): motion, where critical "
+      "is force) and the critical ones among them. Per window of --mobilisation-window degrees "
+      "of the loading phase, pooled over runs: the distribution of |f_t|/(mu f_n) of the counted "
+      "contacts (table mobilisation, 20 bins on [0, 1]) and nu, the slipping fraction and the "
+      "fraction of critical contacts that slip (table windows), over all frames and static ones.",
       "theta_c of a run: the first step where Ek/(m g D) (m the mean grain mass) reaches "
       "--avalanche-ek and stays there for --avalanche-hold degrees or to the end of the run; "
       "the ensemble theta_c is the mean over runs with its standard error. The simulator's own "
       "avalanche_angle_deg is reported alongside (theta_c_recorded). By default each run "
       "enters the ensemble and envelope only up to its theta_c (--no-cut keeps everything).",
       "Output: TSV on standard output (tables runs, steps, frames, events, ensemble, envelope, "
+      "mobilisation, windows, "
       "each a block with a '# table:' line, separated by two blank lines for gnuplot's index; "
       "--table picks some), or an HDF5 product with -o FILE (-o - for a pipe; a name ending in "
       ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
@@ -79,6 +97,12 @@ static void usage(cli::Usage& u) {
   u.real("envelope-window", 0.5, "window of the maxima of the envelope", "deg", 1e-6, 90);
   u.real_opt("envelope-from", "fit the envelope from this angle (default: windows where every run contributes)", "deg");
   u.real_opt("envelope-to", "fit the envelope up to this angle", "deg");
+  u.group("Static states, slip and mobilisation");
+  u.real("rest-energy", 1e-6, "a state is at rest below this (Ek + Erot) per free grain, in m g D", "", 0, 1e300);
+  u.real("rest-speed", 1e-2, "... and with every grain slower than this, in sqrt(g D)", "", 0, 1e300);
+  u.real("slip-speed", analysis::default_slip_speed,
+         "a contact slips above this tangential relative velocity, in sqrt(g D)", "", 0, 1e300);
+  u.real("mobilisation-window", 2.0, "tilt windows of the mobilisation and windows tables", "deg", 1e-3, 90);
   u.group("Events and avalanche");
   u.integer("event-hysteresis", 1, "contacts by which N must move back to confirm a turning point", 1, 1000000);
   u.integer("event-min-drop", 1, "keep events losing at least this many contacts", 1, 1000000000);
@@ -112,6 +136,10 @@ static void run(const cli::Args& a) {
     if (r.lo >= r.hi) throw UsageError("--envelope-from must be below --envelope-to");
     opt.envelope_fit = r;
   }
+  opt.rest.energy = a.real("rest-energy");
+  opt.rest.speed = a.real("rest-speed");
+  opt.slip_speed = a.real("slip-speed");
+  opt.mobilisation_window = a.real("mobilisation-window");
   opt.events.hysteresis = a.integer("event-hysteresis");
   opt.events.min_drop = a.integer("event-min-drop");
   opt.avalanche.threshold = a.real("avalanche-ek");
@@ -136,7 +164,7 @@ static void run(const cli::Args& a) {
     // --series steps with another rule than the run's: refused before its frames are read
     if (opt.source == analysis::SeriesSource::steps)
       analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule, mu);
-    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers);
+    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
     runs.push_back(std::move(r));

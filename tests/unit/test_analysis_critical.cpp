@@ -255,3 +255,62 @@ TEST(StaticBound, EmptyAndBadInput) {
   c.ft[0] = std::numeric_limits<double>::infinity();
   EXPECT_THROW(static_bound(c, {}, Friction{}, default_eps), Error);
 }
+
+// Static and moving states (docs/analysis.md): how a frame's grains move, counted by hand.
+TEST(FrameMotion, AgitationSpeedGrainsInFlightAndThePapersZ) {
+  // Grains 0..5 free, 6 glued, with the contacts of the static-bound scene above: active
+  // contacts per free grain 0: 3 (rows 0, 1, 5), 1: 3 (1, 2, 3), 2: 4 (3, 4, 5, 6),
+  // 3: 1 (6), 4: 1 (8), 5: 2 (8, 9): 14 over 6 free grains, rattlers included.
+  Grains g;
+  for (int k = 0; k < 7; ++k) g.add_disk(0.5, 1.0, Vec2(k, 0.5), bound_species[static_cast<std::size_t>(k)]);
+  g.mass.assign(7, 2.0);
+  g.inertia.assign(7, 0.25);
+  g.velocity.assign(7, Vec2(0, 0));
+  g.angular_velocity.assign(7, 0.0);
+  g.velocity[1] = Vec2(3, 4);      // |v| = 5, Ek = 25
+  g.angular_velocity[2] = 2.0;     // Erot = 0.5 0.25 4 = 0.5
+  g.velocity[6] = Vec2(100, 0);    // glued: not counted
+  const FrameMotion m = frame_motion(g, bound_contacts());
+  EXPECT_EQ(m.grains_without_contact, 0);
+  ASSERT_TRUE(m.agitation && m.max_speed && m.contacts_per_grain);
+  EXPECT_DOUBLE_EQ(*m.agitation, 25.5 / 6.0);
+  EXPECT_DOUBLE_EQ(*m.max_speed, 5.0);
+  EXPECT_DOUBLE_EQ(*m.contacts_per_grain, 14.0 / 6.0);
+  // Grain 3 loses its only active contact (row 6 opens): it is in flight.
+  Contacts c = bound_contacts();
+  c.fn[6] = 0.0;
+  EXPECT_EQ(frame_motion(g, c).grains_without_contact, 1);
+  EXPECT_DOUBLE_EQ(*frame_motion(g, c).contacts_per_grain, 12.0 / 6.0);  // grains 2 and 3 lose one each
+  g.velocity.clear();
+  EXPECT_FALSE(frame_motion(g, c).agitation);
+}
+
+// Slip is kinematics: u_t = ((v_i + w_i x r_i) - (v_j + w_j x r_j)) . t at the contact point.
+TEST(FrameMotion, SlipSpeedOfTwoDisksAndAWall) {
+  Grains g;
+  g.add_disk(0.5, 1.0, Vec2(0.0, 0.5));
+  g.add_disk(0.5, 1.0, Vec2(1.0, 0.5));
+  g.velocity = {Vec2(0.0, 2.0), Vec2(0.0, -1.0)};
+  g.angular_velocity = {4.0, 0.0};
+  Contacts c;
+  // 0-1 touching at (0.5, 0.5), normal from 1 to 0 = (-1, 0), tangent (0, -1):
+  // v_0 at the point = (0, 2) + 4 (-(0), 0.5) = (0, 4); v_1 = (0, -1): u = (0, 5), |u_t| = 5.
+  c.push_back(0, 1, Vec2(0.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, ContactStatus::slide);
+  // 0 on the floor at (0, 0), normal (0, 1): v_0 there = (0, 2) + 4 (0.5, 0) = (2, 2), u_t = 2.
+  c.push_back(0, wall_floor, Vec2(0.0, 0.0), Vec2(0.0, 1.0), 1.0, 0.1, 0.0, ContactStatus::stick);
+  const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
+  ASSERT_EQ(set.size(), 2u);
+  const std::vector<double> u = slip_speeds(c, set, g);
+  EXPECT_DOUBLE_EQ(u[0], 5.0);
+  EXPECT_DOUBLE_EQ(u[1], 2.0);
+}
+
+TEST(FrameMotion, MobilisationHistogramBinsByHand) {
+  using S = ContactStatus;
+  // mu = 0.5: mobilisations 0, 0.2, 0.5, 0.999, 1 (on the cone) over 4 bins of 0.25
+  const Contacts c = make({{0, 1, 1.0, 0.0, S::stick}, {0, 2, 1.0, 0.1, S::stick}, {1, 2, 1.0, -0.25, S::stick},
+                           {1, 3, 1.0, 0.4995, S::stick}, {2, 3, 1.0, 0.5, S::slide}, {3, 4, 0.0, 0.0, S::open}});
+  const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{});
+  const std::vector<std::int64_t> h = mobilisation_histogram(set, 4);
+  EXPECT_EQ(h, (std::vector<std::int64_t>{2, 0, 1, 2}));
+}

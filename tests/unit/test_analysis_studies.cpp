@@ -568,3 +568,76 @@ TEST(CriticalStudy, StaticBoundColumnsAndNuCWarning) {
   EXPECT_EQ(*u.result("nu_c_maxima_judged"), 0);
   EXPECT_TRUE(product_warnings(u).empty());
 }
+
+// Static and moving states (docs/analysis.md): nu read over every state and over static
+// ones. A pile whose envelope is env(theta) = 0.08 - 0.07 exp(-theta/4): at rest at
+// 0.5 env, and once every 50 steps a moving step (grains at 0.5 sqrt(g D)) at env, the
+// maxima today's reading takes. From theta = 19.5 deg the pile flows (theta_c).
+TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
+  RunRecord run;
+  run.name = "r";
+  run.free_grains = 4000;
+  run.diameter = 1.0;
+  run.mean_mass = 1.0;
+  run.gravity = 1.0;
+  run.recorded_rule = {default_eps, 0.5, 0.5};
+  auto env = [](double th) { return 0.08 - 0.07 * std::exp(-th / 4.0); };
+  for (std::int64_t k = 0; k < 2100; ++k) {
+    const double th = 0.01 * static_cast<double>(k);
+    const bool moving = k % 50 == 25;
+    const bool flowing = th >= 19.5;
+    run.steps.step.push_back(k + 1);
+    run.steps.theta.push_back(th);
+    run.steps.contacts.push_back(7200);
+    run.steps.critical.push_back(std::llround((moving ? 1.0 : 0.5) * env(th) * 7200));
+    run.steps.kinetic_energy.push_back(flowing ? 4000.0 * 1.0 : 0.0);  // Ek/(m g D) = 1 per grain
+    run.steps.rotational_energy.push_back(0.0);
+    run.steps.converged.push_back(1);
+    run.steps.max_speed.push_back(moving ? 0.5 : 0.0);
+    run.steps.grains_without_contact.push_back(0);
+    if (k % 10 == 0) {
+      FrameRecord f{k / 10, k + 1, th, state(7200, std::llround(0.5 * env(th) * 7200)), 0.0, StaticBound{}};
+      f.agitation = flowing ? 1.0 : 0.0;
+      f.max_speed = 0.0;
+      run.frames.push_back(f);
+    }
+  }
+  // One step of the static part misses its criterion, another has a grain in flight.
+  run.steps.converged[100] = 0;
+  run.steps.grains_without_contact[101] = 3;
+  CriticalOptions o;
+  o.avalanche.threshold = 0.5;
+  Product p = critical_study({run}, o);
+  ASSERT_TRUE(p.result("theta_c_deg"));
+  EXPECT_NEAR(*p.result("theta_c_deg"), 19.5, 1e-9);
+  const Table& st = p.table("steps");
+  EXPECT_EQ(*st.column("static").get(0), 1);
+  EXPECT_EQ(*st.column("static").get(25), 0);    // moving
+  EXPECT_EQ(*st.column("static").get(100), 0);   // unconverged
+  EXPECT_EQ(*st.column("static").get(101), 0);   // a grain in flight
+  EXPECT_EQ(*st.column("static").get(2000), 0);  // flowing
+  // 1951 loading steps (theta <= 19.5): 39 moving (k = 25, 75, ..., 1925), 2 others and
+  // the step at theta_c, which flows
+  EXPECT_EQ(*p.result("static_steps"), 1951 - 39 - 2 - 1);
+  const Table& fr = p.table("frames");
+  EXPECT_EQ(*fr.column("static").get(10), 0);  // its step (101, k = 100) did not converge
+  EXPECT_EQ(*fr.column("static").get(11), 1);
+  EXPECT_EQ(*fr.column("static").get(10 * 0 + 200), 0);  // frame 200 at theta 20: flowing
+  // Today's reading follows the moving maxima to 0.08, the static one the pile at rest to 0.04.
+  ASSERT_TRUE(p.result("nu_c") && p.result("nu_c_static")) << p.notes.back();
+  EXPECT_NEAR(*p.result("nu_c"), 0.08, 2e-3);
+  EXPECT_NEAR(*p.result("nu_c_static"), 0.04, 2e-3);
+  // The paper's reading: the mean static nu over [19.0, 19.5] deg.
+  double sum = 0.0;
+  int m = 0;
+  const double theta_c = *p.result("theta_c_deg");
+  for (std::int64_t k = 0; k < 1950; ++k) {
+    const double th = 0.01 * static_cast<double>(k);
+    if (k % 50 != 25 && th >= theta_c - 0.5) { sum += std::llround(0.5 * env(th) * 7200) / 7200.0; ++m; }
+  }
+  EXPECT_EQ(m, 49);
+  ASSERT_TRUE(p.result("nu_theta_c"));
+  EXPECT_NEAR(*p.result("nu_theta_c"), sum / m, 1e-12);
+  const Table& en = p.table("ensemble");
+  EXPECT_EQ(*en.column("runs_static").get(0), 1);
+}

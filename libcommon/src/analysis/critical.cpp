@@ -228,6 +228,69 @@ std::optional<double> mean_kinetic_energy(const Grains& g) {
   return sum / static_cast<double>(n);
 }
 
+FrameMotion frame_motion(const Grains& g, const Contacts& c) {
+  FrameMotion m;
+  std::vector<std::int64_t> touched(g.size(), 0);  // active contacts of each grain
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    if (!(c.fn[k] > 0.0)) continue;
+    if (c.i[k] >= 0 && static_cast<std::size_t>(c.i[k]) < g.size()) ++touched[static_cast<std::size_t>(c.i[k])];
+    if (c.j[k] >= 0 && static_cast<std::size_t>(c.j[k]) < g.size()) ++touched[static_cast<std::size_t>(c.j[k])];
+  }
+  std::int64_t contact_ends = 0;
+  const bool moving = g.velocity.size() == g.size() && g.mass.size() == g.size();
+  const bool turning = g.angular_velocity.size() == g.size() && g.inertia.size() == g.size();
+  double energy = 0.0, speed = 0.0;
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    if (k < g.species.size() && g.species[k] != Species::free) continue;
+    ++n;
+    contact_ends += touched[k];
+    if (touched[k] == 0) ++m.grains_without_contact;
+    if (!moving) continue;
+    energy += 0.5 * g.mass[k] * g.velocity[k].squaredNorm();
+    if (turning) energy += 0.5 * g.inertia[k] * g.angular_velocity[k] * g.angular_velocity[k];
+    speed = std::max(speed, g.velocity[k].norm());
+  }
+  if (n > 0) m.contacts_per_grain = static_cast<double>(contact_ends) / static_cast<double>(n);
+  if (moving && n > 0) {
+    m.agitation = energy / static_cast<double>(n);
+    m.max_speed = speed;
+  }
+  return m;
+}
+
+std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const Grains& g) {
+  std::vector<double> out(set.size(), 0.0);
+  if (g.velocity.size() != g.size() || g.position.size() != g.size()) return out;
+  const bool turning = g.angular_velocity.size() == g.size();
+  // velocity of body b's material point at p (a wall, or an unknown body, is at rest)
+  auto at = [&](std::int32_t b, const Vec2& p) -> Vec2 {
+    if (b < 0 || static_cast<std::size_t>(b) >= g.size()) return Vec2::Zero();
+    const auto k = static_cast<std::size_t>(b);
+    const Vec2 r = p - g.position[k];
+    const double w = turning ? g.angular_velocity[k] : 0.0;
+    return g.velocity[k] + w * Vec2(-r.y(), r.x());
+  };
+  for (std::size_t q = 0; q < set.size(); ++q) {
+    const std::size_t k = set.row[q];
+    const Vec2 u = at(c.i[k], c.point[k]) - at(c.j[k], c.point[k]);
+    const Vec2& n = c.normal[k];
+    out[q] = std::abs(u.x() * -n.y() + u.y() * n.x());
+  }
+  return out;
+}
+
+std::vector<std::int64_t> mobilisation_histogram(const ContactSet& set, std::size_t bins) {
+  std::vector<std::int64_t> h(bins, 0);
+  if (bins == 0) return h;
+  for (double m : set.mobilisation) {
+    if (!(m >= 0.0)) continue;
+    const auto b = std::min(bins - 1, static_cast<std::size_t>(m * static_cast<double>(bins)));
+    ++h[b];
+  }
+  return h;
+}
+
 std::int64_t free_grain_count(const Grains& g) {
   std::int64_t n = 0;
   for (std::size_t k = 0; k < g.size(); ++k)

@@ -53,6 +53,47 @@ void check_steps(const RunRecord& r) {
   same(r.steps.critical.size(), "the critical count", true);
   same(r.steps.sliding.size(), "sliding", true);
   same(r.steps.kinetic_energy.size(), "kinetic_energy", true);
+  same(r.steps.rotational_energy.size(), "rotational_energy", true);
+  same(r.steps.converged.size(), "converged", true);
+  same(r.steps.max_speed.size(), "max_speed", true);
+  same(r.steps.grains_without_contact.size(), "grains_without_contact", true);
+}
+
+// Whether each step is static (RestRule; docs/analysis.md, "Static and moving states"):
+// 1 or 0, or empty when the run lacks an observable the rule needs (files made before
+// max_speed and grains_without_contact were recorded).
+std::vector<std::int64_t> static_steps(const RunRecord& r, const RestRule& rest) {
+  const RunSteps& s = r.steps;
+  const std::size_t n = s.step.size();
+  const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
+  const double v_scale = std::sqrt(r.gravity * r.diameter);   // sqrt(g D)
+  if (n == 0 || s.kinetic_energy.size() != n || s.rotational_energy.size() != n || s.converged.size() != n ||
+      s.max_speed.size() != n || s.grains_without_contact.size() != n || r.free_grains <= 0 || !(scale > 0.0))
+    return {};
+  std::vector<std::int64_t> out(n);
+  const double np = static_cast<double>(r.free_grains);
+  for (std::size_t k = 0; k < n; ++k)
+    out[k] = s.converged[k] == 1 && (s.kinetic_energy[k] + s.rotational_energy[k]) / np / scale < rest.energy &&
+             s.max_speed[k] / v_scale < rest.speed && s.grains_without_contact[k] == 0;
+  return out;
+}
+
+// Whether a frame is static: its step converged (looked up in the run's steps), its grains
+// at rest by the same rule and none in flight; empty when unknown.
+std::optional<bool> static_frame(const RunRecord& r, const FrameRecord& f, const RestRule& rest) {
+  const RunSteps& s = r.steps;
+  const double scale = r.mean_mass * r.gravity * r.diameter;
+  const double v_scale = std::sqrt(r.gravity * r.diameter);
+  if (s.converged.size() != s.step.size() || !f.agitation || !f.max_speed || !(scale > 0.0)) return std::nullopt;
+  const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
+  if (it == s.step.end() || *it != f.step) {
+    // frame 0 of a run is the pile before the first tilt step: static if at rest
+    if (f.step != 0) return std::nullopt;
+    return *f.agitation / scale < rest.energy && *f.max_speed / v_scale < rest.speed && f.grains_without_contact == 0;
+  }
+  const auto k = static_cast<std::size_t>(it - s.step.begin());
+  return s.converged[k] == 1 && *f.agitation / scale < rest.energy && *f.max_speed / v_scale < rest.speed &&
+         f.grains_without_contact == 0;
 }
 
 // The nu(theta) series a run contributes to the ensemble and the envelope.
@@ -139,6 +180,102 @@ void judge_static_bound(Product& p, const std::vector<RunRecord>& runs, const st
                     " frames of the runs are above their bound");
 }
 
+// One reading of nu(theta) over the runs (all states, or static states only): the ensemble
+// mean on grid g, the envelope of maxima on windows w and its fit (Fig 1c).
+struct Reading {
+  std::vector<Summary> ens, env, env_at;
+  std::vector<std::uint8_t> in_fit;      // per window
+  std::vector<double> fit;               // per window, NaN where not fitted
+  std::vector<std::size_t> windows_in_fit;
+  bool saturates = false;
+};
+
+// Result names of a reading: "nu_c" + suffix + tail (nu_c_static_se), and the envelope's
+// parameters "envelope" + suffix + tail (envelope_static_tau_deg).
+std::string key(const char* base, const std::string& suffix, const char* tail = "") {
+  return std::string(base) + suffix + tail;
+}
+
+Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& g, const Grid& w,
+                      const CriticalOptions& opt, const std::string& suffix, const std::string& label,
+                      std::optional<double> z_mean) {
+  Reading rd;
+  std::vector<std::vector<std::optional<double>>> means, maxima, argmax;
+  for (const Curve& c : curves) {
+    means.push_back(bin_mean(c.theta, c.nu, g));
+    argmax.emplace_back();
+    maxima.push_back(bin_max(c.theta, c.nu, w, &argmax.back()));
+  }
+  rd.ens = across_runs(means, g.count);
+  rd.env = across_runs(maxima, w.count);
+  rd.env_at = across_runs(argmax, w.count);
+  rd.in_fit.assign(w.count, 0);
+  rd.fit.assign(w.count, nan);
+  if (std::all_of(curves.begin(), curves.end(), [](const Curve& c) { return c.theta.empty(); })) {
+    p.notes.push_back(label + "no state in the loading phase: no ensemble, envelope or nu_c");
+    return rd;
+  }
+  const auto nruns = static_cast<std::int64_t>(curves.size());
+  std::vector<double> ft, fv, fs;
+  bool all_se = true;
+  for (std::size_t b = 0; b < w.count; ++b) {
+    if (rd.env[b].n == 0) continue;
+    // the envelope's abscissa: the mean over runs of where the maxima occur (the maximum
+    // of a rising nu sits at the window's end, not at its centre)
+    const double c = rd.env_at[b].mean.value_or(w.centre(b));
+    const bool in = opt.envelope_fit ? opt.envelope_fit->contains(c) : rd.env[b].n == nruns;
+    if (!in) continue;
+    rd.in_fit[b] = 1;
+    rd.windows_in_fit.push_back(b);
+    ft.push_back(c);
+    fv.push_back(*rd.env[b].mean);
+    fs.push_back(rd.env[b].se && *rd.env[b].se > 0 ? *rd.env[b].se : 0.0);
+    all_se = all_se && fs.back() > 0.0;
+  }
+  if (ft.size() < 4) {
+    p.notes.push_back(label + "envelope fit not done: fewer than 4 windows in the fit range");
+    return rd;
+  }
+  try {
+    EnvelopeFit ef = fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
+    // The limit nu_c is determined only when the envelope bends over inside the fitted
+    // range: at least one relaxation length tau within it, and a limit that is a
+    // fraction. A near-linear envelope (a small or fast-tilted pile) fits with a huge
+    // tau and B, whose "limit" is an extrapolation far outside the data.
+    const double span = ft.back() - ft.front();
+    rd.saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span && ef.nu_c() > 0.0 && ef.nu_c() <= 1.0;
+    if (ef.fit.converged) p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
+    if (ef.fit.converged && !rd.saturates)
+      p.notes.push_back(label + "envelope does not saturate in the fitted range [" + format_short(ft.front()) +
+                        ", " + format_short(ft.back()) + "] deg (tau = " + format_short(ef.tau()) +
+                        " deg, limit = " + format_short(ef.nu_c()) + "): nu_c is not determined");
+    if (!ef.fit.converged) p.notes.push_back(label + "envelope fit did not converge: " + ef.fit.status);
+    if (!rd.saturates) return rd;
+    p.results[key("nu_c", suffix)] = ef.nu_c();
+    if (auto e = ef.fit.se(0)) p.results[key("nu_c", suffix, "_se")] = *e;
+    p.results[key("envelope", suffix, "_b")] = ef.b();
+    if (auto e = ef.fit.se(1)) p.results[key("envelope", suffix, "_b_se")] = *e;
+    p.results[key("envelope", suffix, "_tau_deg")] = ef.tau();
+    if (auto e = ef.fit.se(2)) p.results[key("envelope", suffix, "_tau_se_deg")] = *e;
+    p.results[key("envelope", suffix, "_chi2")] = ef.fit.chi2;
+    p.results[key("envelope", suffix, "_dof")] = static_cast<std::int64_t>(ef.fit.dof);
+    p.results[key("envelope", suffix, "_points")] = static_cast<std::int64_t>(ft.size());
+    p.results[key("envelope", suffix, "_weighted")] = std::int64_t{all_se};
+    p.results[key("envelope", suffix, "_theta_lo_deg")] = ft.front();
+    p.results[key("envelope", suffix, "_theta_hi_deg")] = ft.back();
+    for (std::size_t b = 0; b < w.count; ++b) {
+      if (rd.env[b].n == 0) continue;
+      const double c = rd.env_at[b].mean.value_or(w.centre(b));
+      rd.fit[b] = ef.nu_c() - ef.b() * std::exp(-c / ef.tau());
+    }
+    if (z_mean && ef.nu_c() > 0)
+      if (auto l = critical_spacing(*z_mean, ef.nu_c(), 1.0)) p.results[key("lambda_c", suffix, "_D")] = *l;
+  } catch (const Error& e) {
+    p.notes.push_back(label + "envelope fit failed: " + e.what());
+  }
+  return rd;
+}
+
 }  // namespace
 
 std::vector<std::string> product_warnings(const Product& p) {
@@ -190,8 +327,8 @@ std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& r
 }
 
 std::vector<std::string> critical_table_names(const CriticalOptions& opt) {
-  if (opt.step_table) return {"runs", "steps", "frames", "events", "ensemble", "envelope"};
-  return {"runs", "frames", "events", "ensemble", "envelope"};
+  if (opt.step_table) return {"runs", "steps", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
+  return {"runs", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
 }
 
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt) {
@@ -279,7 +416,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
              {"Nc", "", ColumnKind::integer}, {"nu", "", ColumnKind::real},
              {"sliding", "", ColumnKind::integer}, {"nu_sliding", "", ColumnKind::real},
              {"z_all", "", ColumnKind::real}, {"lambda", "D", ColumnKind::real},
-             {"Ek", "J m-1", ColumnKind::real}, {"ek_norm", "", ColumnKind::real}})
+             {"Ek", "J m-1", ColumnKind::real}, {"ek_norm", "", ColumnKind::real},
+             {"static", "", ColumnKind::integer}})
       steps_t->add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
@@ -292,7 +430,11 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"ek_norm", "", ColumnKind::real}, {"loading", "", ColumnKind::integer},
            {"contacts_load_bearing", "", ColumnKind::integer}, {"grains_load_bearing", "", ColumnKind::integer},
            {"critical_load_bearing", "", ColumnKind::integer}, {"static_bound", "", ColumnKind::integer},
-           {"above_static_bound", "", ColumnKind::integer}})
+           {"above_static_bound", "", ColumnKind::integer}, {"agitation_norm", "", ColumnKind::real},
+           {"max_speed_norm", "", ColumnKind::real}, {"grains_without_contact", "", ColumnKind::integer},
+           {"converged", "", ColumnKind::integer}, {"static", "", ColumnKind::integer},
+           {"slipping", "", ColumnKind::integer}, {"critical_slipping", "", ColumnKind::integer},
+           {"z_paper", "", ColumnKind::real}})
     frames_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
@@ -304,8 +446,31 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"open", "", ColumnKind::integer}, {"after_avalanche", "", ColumnKind::integer}})
     events_t.add_column(n, u, k);
 
-  std::vector<Curve> curves(runs.size());
+  std::vector<Curve> curves(runs.size()), static_curves(runs.size());
   std::vector<std::vector<std::int64_t>> curve_steps(runs.size());  // step of each point of curves
+  // The static reading takes the series asked for at the static steps when every run says
+  // which steps are static, else the frames' (docs/analysis.md, "Static and moving states").
+  bool static_steps_known = src != SeriesSource::frames;
+  for (const RunRecord& r : runs) static_steps_known = static_steps_known && !static_steps(r, opt.rest).empty();
+  if (src != SeriesSource::frames && !static_steps_known && !runs.empty())
+    p.notes.push_back("static states: not every run records which steps are static (observables max_speed, "
+                      "grains_without_contact, rotational_energy, converged): the static reading uses the frames");
+  std::vector<double> nu_theta_c;          // per run: mean static nu in the last window before theta_c
+  std::int64_t steps_loading = 0, steps_static = 0, frames_static = 0, frames_static_above = 0;
+  double zp_sum = 0.0;
+  std::int64_t zp_n = 0;
+  std::optional<double> zp_initial_sum;
+  std::int64_t zp_initial_n = 0;
+  // per mobilisation window: pooled counts over the runs' loading frames (all / static)
+  struct WindowCounts {
+    std::int64_t frames = 0, contacts = 0, critical = 0, slipping = 0, critical_slipping = 0;
+    std::vector<std::int64_t> mobilisation = std::vector<std::int64_t>(mobilisation_bins, 0);
+  };
+  std::vector<WindowCounts> win_all, win_static;
+  auto window_of = [&](double theta) -> std::optional<std::size_t> {
+    if (!(theta >= 0.0)) return std::nullopt;
+    return static_cast<std::size_t>(std::floor(theta / opt.mobilisation_window + 1e-9));
+  };
   std::vector<double> theta_cs;
   std::int64_t bound_frames = 0, bound_above = 0;  // frames with a static bound, and above it
   double z_sum = 0.0;
@@ -332,6 +497,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     const std::optional<double> theta_c = avalanche_angle(r, opt.avalanche);
     if (theta_c) theta_cs.push_back(*theta_c);
     const double cut = !opt.cut_at_avalanche ? inf : theta_c ? *theta_c : r.recorded_avalanche.value_or(inf);
+    const std::vector<std::int64_t> st_static = static_steps(r, opt.rest);
+    for (std::size_t k = 0; k < st_static.size(); ++k)
+      if (s.theta[k] <= cut) { ++steps_loading; steps_static += st_static[k]; }
+    const double v_scale = std::sqrt(r.gravity * r.diameter);
 
     if (steps_t) {
       for (std::size_t k = 0; k < n; ++k) {
@@ -349,6 +518,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
                                                                         : std::nullopt);
         steps_t->column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
         steps_t->column("ek_norm").add(ekn[k]);
+        steps_t->column("static").add(st_static.empty() ? nan : static_cast<double>(st_static[k]));
       }
     }
 
@@ -382,10 +552,49 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       frames_t.column("static_bound").add(count([](const StaticBound& b) { return b.bound(); }));
       frames_t.column("above_static_bound").add(count([](const StaticBound& b) { return std::int64_t{b.above()}; }));
       if (f.bound) { ++bound_frames; bound_above += f.bound->above(); }
+      // static or moving (docs/analysis.md, "Static and moving states")
+      const std::optional<bool> still = static_frame(r, f, opt.rest);
+      frames_t.column("agitation_norm").add(f.agitation && scale > 0.0 ? std::optional<double>(*f.agitation / scale)
+                                                                       : std::nullopt);
+      frames_t.column("max_speed_norm").add(f.max_speed && v_scale > 0.0 ? std::optional<double>(*f.max_speed / v_scale)
+                                                                          : std::nullopt);
+      frames_t.column("grains_without_contact").add_int(f.grains_without_contact);
+      {
+        const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
+        const bool found = it != s.step.end() && *it == f.step && s.converged.size() == s.step.size();
+        frames_t.column("converged").add(found ? static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())]) : nan);
+      }
+      frames_t.column("static").add(still ? std::optional<double>(*still ? 1.0 : 0.0) : std::nullopt);
+      auto count_opt = [](const std::optional<std::int64_t>& v) {
+        return v ? std::optional<double>(static_cast<double>(*v)) : std::nullopt;
+      };
+      frames_t.column("slipping").add(count_opt(f.slipping));
+      frames_t.column("critical_slipping").add(count_opt(f.critical_slipping));
+      frames_t.column("z_paper").add(f.z_paper);
+      if (f.z_paper && f.frame == 0) { zp_initial_sum = zp_initial_sum.value_or(0.0) + *f.z_paper; ++zp_initial_n; }
+      if (loading && f.z_paper) { zp_sum += *f.z_paper; ++zp_n; }
+      if (loading && still && *still) {
+        ++frames_static;
+        if (f.bound) frames_static_above += f.bound->above();
+      }
+      if (const auto wi = window_of(f.theta); loading && wi) {
+        if (win_all.size() <= *wi) { win_all.resize(*wi + 1); win_static.resize(*wi + 1); }
+        for (WindowCounts* wc : {&win_all[*wi], (still && *still) ? &win_static[*wi] : nullptr}) {
+          if (!wc) continue;
+          ++wc->frames;
+          wc->contacts += st.contacts;
+          wc->critical += st.critical;
+          wc->slipping += f.slipping.value_or(0);
+          wc->critical_slipping += f.critical_slipping.value_or(0);
+          for (std::size_t b = 0; b < f.mobilisation.size() && b < mobilisation_bins; ++b)
+            wc->mobilisation[b] += f.mobilisation[b];
+        }
+      }
     }
 
-    // The run's nu(theta) series by the chosen source.
+    // The run's nu(theta) series by the chosen source, and its static states.
     Curve& cv = curves[ri];
+    Curve& sv = static_curves[ri];
     std::vector<std::int64_t> cv_step;
     if (src == SeriesSource::frames) {
       for (const FrameRecord& f : r.frames)
@@ -394,6 +603,26 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       const std::vector<double>& v = src == SeriesSource::steps ? nu_c : nu_s;
       for (std::size_t k = 0; k < n; ++k)
         if (std::isfinite(v[k])) { cv.theta.push_back(s.theta[k]); cv.nu.push_back(v[k]); cv_step.push_back(s.step[k]); }
+    }
+    if (static_steps_known) {
+      const std::vector<double>& v = src == SeriesSource::steps ? nu_c : nu_s;
+      for (std::size_t k = 0; k < n; ++k)
+        if (std::isfinite(v[k]) && st_static[k] == 1 && s.theta[k] <= cut) { sv.theta.push_back(s.theta[k]); sv.nu.push_back(v[k]); }
+    } else {
+      for (const FrameRecord& f : r.frames) {
+        const std::optional<double> v = src == SeriesSource::sliding ? f.state.nu_sliding : f.state.nu;
+        const std::optional<bool> still = static_frame(r, f, opt.rest);
+        if (v && still && *still && f.theta <= cut) { sv.theta.push_back(f.theta); sv.nu.push_back(*v); }
+      }
+    }
+    // the paper's reading: nu "rises to a maximum value at theta_c", the mean of the run's
+    // static states in the last envelope window before its avalanche
+    if (theta_c) {
+      double sum = 0.0;
+      std::int64_t m = 0;
+      for (std::size_t k = 0; k < sv.theta.size(); ++k)
+        if (sv.theta[k] >= *theta_c - opt.envelope_window && sv.theta[k] <= *theta_c) { sum += sv.nu[k]; ++m; }
+      if (m > 0) nu_theta_c.push_back(sum / static_cast<double>(m));
     }
 
     // Events (Fig 2).
@@ -450,20 +679,25 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     runs_t.column("nu_max").add(nu_max);
   }
 
-  // Ensemble and envelope on common grids.
+  // Ensemble and envelope on common grids: every state, and the static ones.
   double tmin = inf, tmax = -inf;
   for (const Curve& c : curves)
     for (double t : c.theta) { tmin = std::min(tmin, t); tmax = std::max(tmax, t); }
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
            {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
-           {"nu", "", ColumnKind::real}, {"nu_se", "", ColumnKind::real}})
+           {"nu", "", ColumnKind::real}, {"nu_se", "", ColumnKind::real},
+           {"runs_static", "", ColumnKind::integer}, {"nu_static", "", ColumnKind::real},
+           {"nu_static_se", "", ColumnKind::real}})
     ens_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
            {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
            {"envelope", "", ColumnKind::real}, {"envelope_se", "", ColumnKind::real},
-           {"fit", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer}})
+           {"fit", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer},
+           {"theta_static", "deg", ColumnKind::real}, {"runs_static", "", ColumnKind::integer},
+           {"envelope_static", "", ColumnKind::real}, {"envelope_static_se", "", ColumnKind::real},
+           {"fit_static", "", ColumnKind::real}, {"in_fit_static", "", ColumnKind::integer}})
     env_t.add_column(n, u, k);
 
   p.results["runs"] = static_cast<std::int64_t>(runs.size());
@@ -473,11 +707,32 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     p.results["theta_c_deg"] = *s.mean;
     if (s.se) p.results["theta_c_se_deg"] = *s.se;
   }
-  if (z_n > 0) p.results["z_loading_mean"] = z_sum / static_cast<double>(z_n);
+  const std::optional<double> z_mean =
+      z_n > 0 ? std::optional<double>(z_sum / static_cast<double>(z_n)) : std::nullopt;
+  if (z_mean) p.results["z_loading_mean"] = *z_mean;
+  if (zp_n > 0) p.results["z_paper_loading_mean"] = zp_sum / static_cast<double>(zp_n);
+  if (zp_initial_n > 0) p.results["z_paper_initial"] = *zp_initial_sum / static_cast<double>(zp_initial_n);
   if (bound_frames > 0) {
     p.results["static_bound_frames"] = bound_frames;
     p.results["static_bound_frames_above"] = bound_above;
   }
+  if (steps_loading > 0) {
+    p.results["static_steps"] = steps_static;
+    p.results["static_steps_fraction"] = static_cast<double>(steps_static) / static_cast<double>(steps_loading);
+  }
+  p.results["static_frames"] = frames_static;
+  p.results["static_frames_above_static_bound"] = frames_static_above;
+  if (!nu_theta_c.empty()) {
+    const Summary s = summarize(nu_theta_c);
+    p.results["nu_theta_c_runs"] = s.n;
+    p.results["nu_theta_c"] = *s.mean;
+    if (s.se) p.results["nu_theta_c_se"] = *s.se;
+  }
+  if (frames_static_above > 0)
+    p.notes.push_back(std::string(warning_prefix) + std::to_string(frames_static_above) + " of the " +
+                      std::to_string(frames_static) + " static frames of the loading phase hold more critical "
+                      "contacts than their static bound 2M - 3N: at rest and converged, yet not rigid-static "
+                      "(a contact stiffness, or the tolerance of the critical test)");
 
   if (tmin <= tmax) {
     auto grid_of = [&](double step) {
@@ -486,101 +741,93 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     };
     const Grid g = grid_of(opt.grid_step);
     const Grid w = grid_of(opt.envelope_window);
-    std::vector<std::vector<std::optional<double>>> means, maxima, argmax;
-    for (const Curve& c : curves) {
-      means.push_back(bin_mean(c.theta, c.nu, g));
-      argmax.emplace_back();
-      maxima.push_back(bin_max(c.theta, c.nu, w, &argmax.back()));
-    }
-    const auto ens = across_runs(means, g.count);
+    // the static reading first: notes on the reading of every state come last, as before
+    const Reading still = read_envelope(p, static_curves, g, w, opt, "_static", "static states: ", z_mean);
+    const Reading all = read_envelope(p, curves, g, w, opt, "", "", z_mean);
+    if (all.saturates)
+      judge_static_bound(p, runs, curves, curve_steps, w, all.windows_in_fit, bound_frames, bound_above);
     for (std::size_t b = 0; b < g.count; ++b) {
-      if (ens[b].n == 0) continue;
+      if (all.ens[b].n == 0) continue;
       ens_t.column("theta").add(g.centre(b));
       ens_t.column("theta_lo").add(g.lower(b));
       ens_t.column("theta_hi").add(g.upper(b));
-      ens_t.column("runs").add_int(ens[b].n);
-      ens_t.column("nu").add(ens[b].mean);
-      ens_t.column("nu_se").add(ens[b].se);
+      ens_t.column("runs").add_int(all.ens[b].n);
+      ens_t.column("nu").add(all.ens[b].mean);
+      ens_t.column("nu_se").add(all.ens[b].se);
+      ens_t.column("runs_static").add_int(still.ens[b].n);
+      ens_t.column("nu_static").add(still.ens[b].mean);
+      ens_t.column("nu_static_se").add(still.ens[b].se);
     }
-    const auto env = across_runs(maxima, w.count);
-    const auto env_at = across_runs(argmax, w.count);
-    const auto nruns = static_cast<std::int64_t>(runs.size());
-    std::vector<double> ft, fv, fs;
-    std::vector<std::size_t> rows_in_fit, windows_in_fit;
-    bool all_se = true;
     for (std::size_t b = 0; b < w.count; ++b) {
-      if (env[b].n == 0) continue;
-      // the envelope's abscissa: the mean over runs of where the maxima occur (the maximum
-      // of a rising nu sits at the window's end, not at its centre)
-      const double c = env_at[b].mean.value_or(w.centre(b));
-      const bool in = opt.envelope_fit ? opt.envelope_fit->contains(c) : env[b].n == nruns;
-      env_t.column("theta").add(c);
+      if (all.env[b].n == 0) continue;
+      env_t.column("theta").add(all.env_at[b].mean.value_or(w.centre(b)));
       env_t.column("theta_lo").add(w.lower(b));
       env_t.column("theta_hi").add(w.upper(b));
-      env_t.column("runs").add_int(env[b].n);
-      env_t.column("envelope").add(env[b].mean);
-      env_t.column("envelope_se").add(env[b].se);
-      env_t.column("in_fit").add_int(in);
-      if (in) {
-        windows_in_fit.push_back(b);
-        rows_in_fit.push_back(ft.size());
-        ft.push_back(c);
-        fv.push_back(*env[b].mean);
-        fs.push_back(env[b].se && *env[b].se > 0 ? *env[b].se : 0.0);
-        all_se = all_se && fs.back() > 0.0;
-      }
-    }
-    Column& fitcol = env_t.column("fit");
-    fitcol.num.assign(env_t.column("theta").num.size(), nan);
-    if (ft.size() >= 4) {
-      try {
-        EnvelopeFit ef = fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
-        // The limit nu_c is determined only when the envelope bends over inside the fitted
-        // range: at least one relaxation length tau within it, and a limit that is a
-        // fraction. A near-linear envelope (a small or fast-tilted pile) fits with a huge
-        // tau and B, whose "limit" is an extrapolation far outside the data.
-        const double span = ft.back() - ft.front();
-        const bool saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span &&
-                               ef.nu_c() > 0.0 && ef.nu_c() <= 1.0;
-        if (ef.fit.converged) p.results["envelope_saturates"] = std::int64_t{saturates};
-        if (ef.fit.converged && !saturates) {
-          p.notes.push_back("envelope does not saturate in the fitted range [" +
-                            format_short(ft.front()) + ", " + format_short(ft.back()) +
-                            "] deg (tau = " + format_short(ef.tau()) +
-                            " deg, limit = " + format_short(ef.nu_c()) +
-                            "): nu_c is not determined");
-        }
-        if (saturates) {
-          p.results["nu_c"] = ef.nu_c();
-          if (auto e = ef.fit.se(0)) p.results["nu_c_se"] = *e;
-          p.results["envelope_b"] = ef.b();
-          if (auto e = ef.fit.se(1)) p.results["envelope_b_se"] = *e;
-          p.results["envelope_tau_deg"] = ef.tau();
-          if (auto e = ef.fit.se(2)) p.results["envelope_tau_se_deg"] = *e;
-          p.results["envelope_chi2"] = ef.fit.chi2;
-          p.results["envelope_dof"] = static_cast<std::int64_t>(ef.fit.dof);
-          p.results["envelope_points"] = static_cast<std::int64_t>(ft.size());
-          p.results["envelope_weighted"] = std::int64_t{all_se};
-          p.results["envelope_theta_lo_deg"] = ft.front();
-          p.results["envelope_theta_hi_deg"] = ft.back();
-          const auto& th = env_t.column("theta").num;
-          for (std::size_t k = 0; k < th.size(); ++k)
-            fitcol.num[k] = ef.nu_c() - ef.b() * std::exp(-th[k] / ef.tau());
-          if (z_n > 0 && ef.nu_c() > 0)
-            if (auto l = critical_spacing(z_sum / static_cast<double>(z_n), ef.nu_c(), 1.0))
-              p.results["lambda_c_D"] = *l;
-          judge_static_bound(p, runs, curves, curve_steps, w, windows_in_fit, bound_frames, bound_above);
-        } else if (!ef.fit.converged) {
-          p.notes.push_back("envelope fit did not converge: " + ef.fit.status);
-        }
-      } catch (const Error& e) {
-        p.notes.push_back(std::string("envelope fit failed: ") + e.what());
-      }
-    } else {
-      p.notes.push_back("envelope fit not done: fewer than 4 windows in the fit range");
+      env_t.column("runs").add_int(all.env[b].n);
+      env_t.column("envelope").add(all.env[b].mean);
+      env_t.column("envelope_se").add(all.env[b].se);
+      env_t.column("fit").add(all.fit[b]);
+      env_t.column("in_fit").add_int(all.in_fit[b]);
+      env_t.column("theta_static").add(still.env[b].n ? still.env_at[b].mean : std::nullopt);
+      env_t.column("runs_static").add_int(still.env[b].n);
+      env_t.column("envelope_static").add(still.env[b].mean);
+      env_t.column("envelope_static_se").add(still.env[b].se);
+      env_t.column("fit_static").add(still.fit[b]);
+      env_t.column("in_fit_static").add_int(still.in_fit[b]);
     }
   } else {
     p.notes.push_back("no nu(theta) data: the ensemble and envelope tables are empty");
+  }
+
+  // Per window of the loading phase: the mobilisation of the counted contacts, and the
+  // contacts that slip beside the critical ones (sliding is motion, critical is force).
+  Table& mob_t = p.add_table("mobilisation", "P(|f_t|/(mu f_n)) of the counted contacts per tilt window, "
+                                             "loading frames (all and static)");
+  Table& win_t = p.add_table("windows", "per tilt window, loading frames pooled over runs: critical and "
+                                        "slipping contacts, all frames and static ones");
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"theta_lo", "deg", ColumnKind::real}, {"theta_hi", "deg", ColumnKind::real},
+           {"m_lo", "", ColumnKind::real}, {"m_hi", "", ColumnKind::real},
+           {"contacts", "", ColumnKind::integer}, {"pdf", "", ColumnKind::real},
+           {"contacts_static", "", ColumnKind::integer}, {"pdf_static", "", ColumnKind::real}})
+    mob_t.add_column(n, u, k);
+  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+           {"theta_lo", "deg", ColumnKind::real}, {"theta_hi", "deg", ColumnKind::real},
+           {"frames", "", ColumnKind::integer}, {"frames_static", "", ColumnKind::integer},
+           {"nu", "", ColumnKind::real}, {"nu_static", "", ColumnKind::real},
+           {"nu_slipping", "", ColumnKind::real}, {"nu_slipping_static", "", ColumnKind::real},
+           {"critical_slipping_fraction", "", ColumnKind::real},
+           {"critical_slipping_fraction_static", "", ColumnKind::real}})
+    win_t.add_column(n, u, k);
+  const double width = 1.0 / static_cast<double>(mobilisation_bins);
+  for (std::size_t wi = 0; wi < win_all.size(); ++wi) {
+    const WindowCounts& a = win_all[wi];
+    const WindowCounts& st = win_static[wi];
+    if (a.frames == 0) continue;
+    const double lo = static_cast<double>(wi) * opt.mobilisation_window, hi = lo + opt.mobilisation_window;
+    auto frac = [](std::int64_t x, std::int64_t n) { return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan; };
+    win_t.column("theta_lo").add(lo);
+    win_t.column("theta_hi").add(hi);
+    win_t.column("frames").add_int(a.frames);
+    win_t.column("frames_static").add_int(st.frames);
+    win_t.column("nu").add(frac(a.critical, a.contacts));
+    win_t.column("nu_static").add(frac(st.critical, st.contacts));
+    win_t.column("nu_slipping").add(frac(a.slipping, a.contacts));
+    win_t.column("nu_slipping_static").add(frac(st.slipping, st.contacts));
+    win_t.column("critical_slipping_fraction").add(frac(a.critical_slipping, a.critical));
+    win_t.column("critical_slipping_fraction_static").add(frac(st.critical_slipping, st.critical));
+    std::int64_t total = 0, total_static = 0;
+    for (std::size_t b = 0; b < mobilisation_bins; ++b) { total += a.mobilisation[b]; total_static += st.mobilisation[b]; }
+    for (std::size_t b = 0; b < mobilisation_bins; ++b) {
+      mob_t.column("theta_lo").add(lo);
+      mob_t.column("theta_hi").add(hi);
+      mob_t.column("m_lo").add(static_cast<double>(b) * width);
+      mob_t.column("m_hi").add(static_cast<double>(b + 1) * width);
+      mob_t.column("contacts").add_int(a.mobilisation[b]);
+      mob_t.column("pdf").add(total > 0 ? static_cast<double>(a.mobilisation[b]) / static_cast<double>(total) / width : nan);
+      mob_t.column("contacts_static").add_int(st.mobilisation[b]);
+      mob_t.column("pdf_static").add(total_static > 0 ? static_cast<double>(st.mobilisation[b]) / static_cast<double>(total_static) / width : nan);
+    }
   }
   return p;
 }

@@ -115,18 +115,37 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers) {
+                                    analysis::RattlerRule rattlers, double slip_speed) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
+  // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
+  const double slip = r.gravity > 0.0 && r.diameter > 0.0 ? slip_speed * std::sqrt(r.gravity * r.diameter) : 0.0;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
     const Frame fr = rr.frame(k);
     analysis::FrameRecord f;
     f.frame = static_cast<std::int64_t>(k);
     f.step = fr.step;
     f.theta = fr.tilt_angle * 180.0 / M_PI;
-    f.state = analysis::pile_state(classify(fr, k, mu, rule, file), fr.grains.species, r.free_grains,
-                                   r.diameter, rattlers);
+    const analysis::ContactSet set = classify(fr, k, mu, rule, file);
+    f.state = analysis::pile_state(set, fr.grains.species, r.free_grains, r.diameter, rattlers);
     f.kinetic_energy = analysis::mean_kinetic_energy(fr.grains);
+    const analysis::FrameMotion motion = analysis::frame_motion(fr.grains, fr.contacts);
+    f.agitation = motion.agitation;
+    f.max_speed = motion.max_speed;
+    f.grains_without_contact = motion.grains_without_contact;
+    f.z_paper = motion.contacts_per_grain;
+    if (slip > 0.0 && motion.max_speed) {
+      const std::vector<double> u = analysis::slip_speeds(fr.contacts, set, fr.grains);
+      std::int64_t slipping = 0, critical = 0;
+      for (std::size_t q = 0; q < u.size(); ++q) {
+        if (!(u[q] > slip)) continue;
+        ++slipping;
+        critical += set.critical[q];
+      }
+      f.slipping = slipping;
+      f.critical_slipping = critical;
+    }
+    f.mobilisation = analysis::mobilisation_histogram(set, analysis::mobilisation_bins);
     try {
       f.bound = analysis::static_bound(fr.contacts, fr.grains.species, mu, rule.eps);
     } catch (const Error& e) {

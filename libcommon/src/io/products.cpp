@@ -417,6 +417,10 @@ analysis::RunSteps steps_from_series(const Series& s, bool include_walls, const 
   if (auto c = integer(include_walls ? "critical" : "critical_grain")) r.critical = *c;
   if (auto c = integer("sliding")) r.sliding = *c;
   if (auto e = real("kinetic_energy")) r.kinetic_energy = *e;
+  if (auto e = real("rotational_energy")) r.rotational_energy = *e;
+  if (auto c = integer("converged")) r.converged = *c;
+  if (auto v = real("max_speed")) r.max_speed = *v;
+  if (auto c = integer("grains_without_contact")) r.grains_without_contact = *c;
   return r;
 }
 

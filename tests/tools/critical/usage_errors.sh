@@ -3,9 +3,9 @@ printf 'frame\ttheta\ti\tj\tx\ty\tfn\tft\n0\t1\t0\t1\t0\t0\t1\t0.5\n0\t1\t1\t2\t
 table-to-run ok.tsv run.h5 1 0.5
 # An unknown table: refused when the command line is parsed, before the runs are read
 # (missing.h5 does not exist).
-expect_fail 2 "critical: --table: expected one or more of runs, steps, frames, events, ensemble, envelope (comma-separated), got 'foo' (see 'critical --help')" \
+expect_fail 2 "critical: --table: expected one or more of runs, steps, frames, events, ensemble, envelope, mobilisation, windows (comma-separated), got 'foo' (see 'critical --help')" \
   critical missing.h5 --table foo
-expect_fail 2 "critical: --table: expected one or more of runs, steps, frames, events, ensemble, envelope (comma-separated), got 'foo' (see 'critical --help')" \
+expect_fail 2 "critical: --table: expected one or more of runs, steps, frames, events, ensemble, envelope, mobilisation, windows (comma-separated), got 'foo' (see 'critical --help')" \
   critical run.h5 --table frames,foo -o out.tsv
 expect_fail 2 "critical: --table steps with --no-steps (see 'critical --help')" critical run.h5 --table steps --no-steps
 expect_fail 2 "critical: --table steps with --no-steps (see 'critical --help')" critical missing.h5 --no-steps --table runs,steps -o out.tsv

@@ -132,6 +132,30 @@ struct StaticBound {
 StaticBound static_bound(const Contacts& c, std::span<const Species> species, const Friction& mu,
                          double eps);
 
+/// How a frame's grains move (docs/analysis.md, "Static and moving states"): the mean
+/// (translational + rotational) kinetic energy per free grain [J/m], the largest speed of a
+/// free grain [m/s] (both empty without velocities), and the free grains without an active
+/// contact (walls and glued grains count as contacts): under gravity, grains in flight.
+/// It also counts the paper's coordination ("the mean number of contacts of a particle"):
+/// the active contacts of every free grain, with grains, glued grains and walls, summed over
+/// the free grains and divided by their number, rattlers included.
+struct FrameMotion {
+  std::optional<double> agitation, max_speed;
+  std::int64_t grains_without_contact = 0;
+  std::optional<double> contacts_per_grain;  ///< z as the paper reads it; empty without free grains
+};
+FrameMotion frame_motion(const Grains& g, const Contacts& c);
+
+/// The tangential relative velocity |u_t| [m/s] at each contact of `set` (rows of `c`):
+/// u = (v_i + w_i x r_i) - (v_j + w_j x r_j) at the contact point, r from each centre, a
+/// wall at rest; u_t its part normal to the contact normal. Zero for every contact when the
+/// grains carry no velocities.
+std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const Grains& g);
+
+/// Counts of the contacts of `set` per bin of the mobilisation |f_t| / (mu f_n) on [0, 1]
+/// in `bins` equal bins (a value at or above 1, a critical sliding contact, goes in the last).
+std::vector<std::int64_t> mobilisation_histogram(const ContactSet& set, std::size_t bins);
+
 /// lambda = sqrt(2 / (z nu)) D (eq 2); empty if z nu <= 0.
 std::optional<double> critical_spacing(double z, double nu, double diameter);
 

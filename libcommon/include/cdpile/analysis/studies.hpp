@@ -47,8 +47,31 @@ enum class SeriesSource {
 };
 const char* source_name(SeriesSource s);
 
+/// When a state of the pile is static (docs/analysis.md, "Static and moving states"): its
+/// step converged, it is at rest by deposit's rest criterion (the same thresholds), and no
+/// free grain is in flight (without an active contact). Only such states are states a
+/// static pile can be in; the others are moving, or their forces are not the step's
+/// solution.
+struct RestRule {
+  double energy = 1e-6;  ///< (Ek + Erot) per free grain below this, in m g D
+  double speed = 1e-2;   ///< largest grain speed below this, in sqrt(g D)
+};
+
+/// The tangential relative velocity above which a contact slips (is in motion), in
+/// sqrt(g D). Default 1e-4: at the paper's rate (0.1 s per degree) a contact slipping that
+/// fast slides 1e-3 D per degree of tilt, while a sticking contact of a converged step
+/// (residual 1e-4 of g h = 1e-2 sqrt(g D)) has a tangential velocity of about 1e-6.
+inline constexpr double default_slip_speed = 1e-4;
+
+/// Bins of the distribution of the mobilisation |f_t| / (mu f_n) of the counted contacts:
+/// [0, 1] in 20 bins (the last closed, holding the critical contacts with eps <= 0.05).
+inline constexpr std::size_t mobilisation_bins = 20;
+
 struct CriticalOptions {
   CriticalRule rule;
+  RestRule rest;
+  double slip_speed = default_slip_speed;  ///< [sqrt(g D)]
+  double mobilisation_window = 2.0;        ///< [deg] windows of the mobilisation table
   RattlerRule rattlers = RattlerRule::exclude;
   EventRule events;
   AvalancheRule avalanche;
@@ -95,6 +118,10 @@ struct RunSteps {
   std::vector<std::int64_t> critical;      ///< Nc per step, if the run records it
   std::vector<std::int64_t> sliding;       ///< contacts with solver status slide, if recorded
   std::vector<double> kinetic_energy;      ///< translational, summed over grains [J/m]
+  std::vector<double> rotational_energy;   ///< summed over grains [J/m], if recorded
+  std::vector<std::int64_t> converged;     ///< 1 if the step met its criterion, if recorded
+  std::vector<double> max_speed;           ///< largest grain speed [m/s], if recorded
+  std::vector<std::int64_t> grains_without_contact;  ///< free grains in flight, if recorded
 };
 
 struct FrameRecord {
@@ -103,6 +130,16 @@ struct FrameRecord {
   PileState state;
   std::optional<double> kinetic_energy;  ///< Ek, mean per free grain (mean_kinetic_energy) [J/m]
   std::optional<StaticBound> bound{};    ///< Nc against 2M - 3N (static_bound); empty: unknown
+  /// (Ek + Erot) per free grain [J/m] and the largest free-grain speed [m/s]; empty without
+  /// velocities (a contact table)
+  std::optional<double> agitation{}, max_speed{};
+  std::int64_t grains_without_contact{};  ///< free grains with no active contact, walls included
+  std::optional<double> z_paper{};      ///< contacts per free grain, walls included (FrameMotion)
+  /// counted contacts with |u_t| above the slip speed, and the critical ones among them;
+  /// empty without velocities or without g and D
+  std::optional<std::int64_t> slipping{}, critical_slipping{};
+  /// counted contacts per bin of |f_t| / (mu f_n) (mobilisation_bins); empty: not computed
+  std::vector<std::int64_t> mobilisation{};
 };
 
 struct RunRecord {

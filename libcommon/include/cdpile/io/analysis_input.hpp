@@ -39,11 +39,14 @@ analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const
 /// none), the mean diameter, mean mass, gravity and the simulator's own avalanche angle.
 analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file, const analysis::CriticalRule& rule);
 
-/// A run as `critical` reads it: read_run_steps and the pile state of every frame (eqs 1-2).
+/// A run as `critical` reads it: read_run_steps and, for every frame, the pile state (eqs
+/// 1-2), the static bound, how the grains move, the contacts slipping faster than
+/// `slip_speed` sqrt(g D) and the histogram of the mobilisation (docs/analysis.md).
 /// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers);
+                                    analysis::RattlerRule rattlers,
+                                    double slip_speed = analysis::default_slip_speed);
 
 /// How `localnu` reads its inputs.
 struct LocalNuReading {
