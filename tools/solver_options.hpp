@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace cdpile::tools {
@@ -35,6 +36,10 @@ inline void declare_solver_options(cli::Usage& u) {
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "
          "impulses picks the step's forces near the previous ones; 0 for rigid contacts "
          "(docs/method.md, \"Force selection\")", "m g/D", 0.0, 1e300);
+  u.integer("scramble", 0,
+            "0: sweeps in pair order; else the seed of a random sweep order drawn anew every "
+            "step (LMGC90's quick scramble): another solver path through the same steps", 0,
+            std::numeric_limits<std::int64_t>::max());
   u.real("alert", 0.1, "alert distance: contact candidates within this gap", "D", 0.0, 10.0);
 }
 
@@ -51,6 +56,7 @@ inline cd::Settings solver_settings(const cli::Args& a, double diameter, double 
   s.check_every = static_cast<int>(a.integer("check-every"));
   s.solver = cd::solver_from_name(a.text("solver"));
   s.contact_stiffness = a.real("stiffness") * mass * gravity / diameter;
+  s.scramble = static_cast<std::uint64_t>(a.integer("scramble"));
   return s;
 }
 

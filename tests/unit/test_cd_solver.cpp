@@ -266,3 +266,62 @@ TEST(Seam, CheckEveryStopsOnAMultiple) {
   EXPECT_GE(rep.sweeps, every1);
   EXPECT_LT(rep.sweeps, every1 + 7);
 }
+
+// A scrambled sweep order is a permutation, the same for the same (seed, step) and another
+// for another step or seed; seed 0 is pair order.
+TEST(Scramble, SweepOrderIsASeededPermutationPerStep) {
+  cd::ContactSystem s;
+  s.rows.resize(50);
+  s.step = 7;
+  EXPECT_TRUE(cd::sweep_order(s, 0).empty());
+  const auto a = cd::sweep_order(s, 3);
+  ASSERT_EQ(a.size(), 50u);
+  auto sorted = a;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::uint32_t k = 0; k < 50; ++k) EXPECT_EQ(sorted[k], k);
+  EXPECT_EQ(cd::sweep_order(s, 3), a);
+  EXPECT_NE(cd::sweep_order(s, 4), a);
+  s.step = 8;
+  EXPECT_NE(cd::sweep_order(s, 3), a);
+}
+
+// Six disks stacked in a triangle on the floor (3, 2, 1), tilted by 10 degrees, touch at 12
+// contacts: 24 impulse components against 18 equations of equilibrium, so the rigid forces
+// are not unique and
+// the sweep order picks among them; with the force-selection compliance they are unique
+// and every order finds the same forces (docs/method.md, "Force selection").
+TEST(Scramble, RigidForcesDependOnTheSweepOrderCompliantOnesDoNot) {
+  Grains g;
+  const double r3 = std::sqrt(3.0) * kR;
+  for (double x : {1.0, 3.0, 5.0}) g.add_disk(kR, kRho, Vec2(0.01 + x * kR, kR));
+  for (double x : {2.0, 4.0}) g.add_disk(kR, kRho, Vec2(0.01 + x * kR, kR + r3));
+  g.add_disk(kR, kRho, Vec2(0.01 + 3.0 * kR, kR + 2 * r3));
+  const double mg = g.mass[0] * kG;
+  auto forces = [&](double stiffness, std::uint64_t seed) {
+    cd::Settings s = tight(cd::SolverKind::nsgs);
+    s.tolerance = 1e-10;
+    s.max_sweeps = 1000000;
+    s.scramble = seed;
+    s.contact_stiffness = stiffness * g.mass[0] * kG / (2 * kR);
+    cd::Engine e(Box{0.03, 0.03}, g, s);
+    cd::StepReport rep;
+    // tilted by 10 degrees, the stack needs friction to stand
+    for (int n = 0; n < 5; ++n) rep = e.step(10.0 * std::numbers::pi / 180.0);
+    EXPECT_TRUE(rep.converged);
+    EXPECT_LT(rep.law_residual, 1e-6);
+    return e.contacts();
+  };
+  auto largest_difference = [](const cdpile::Contacts& a, const cdpile::Contacts& b) {
+    EXPECT_EQ(a.size(), b.size());
+    double d = 0.0;
+    for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
+      d = std::max({d, std::abs(a.fn[k] - b.fn[k]), std::abs(a.ft[k] - b.ft[k])});
+    return d;
+  };
+  const cdpile::Contacts rigid1 = forces(0.0, 1), rigid2 = forces(0.0, 2);
+  ASSERT_EQ(rigid1.size(), 12u);
+  EXPECT_GT(largest_difference(rigid1, rigid2), 1e-3 * mg);
+  const cdpile::Contacts soft1 = forces(1e4, 1), soft2 = forces(1e4, 2), soft0 = forces(1e4, 0);
+  EXPECT_LT(largest_difference(soft1, soft2), 1e-6 * mg);
+  EXPECT_LT(largest_difference(soft1, soft0), 1e-6 * mg);
+}

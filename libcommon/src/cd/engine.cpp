@@ -305,6 +305,7 @@ void Engine::warm_start() {
 void Engine::solve(StepReport& report) {
   const double gh = settings_.gravity * settings_.time_step;
   SolveReport s;
+  system_.step = step_ + 1;
   try {
     s = solver_->solve(system_, gh);
   } catch (const Error& e) {

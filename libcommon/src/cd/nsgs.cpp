@@ -5,17 +5,21 @@
 #include "cdpile/error.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
 namespace cdpile::cd {
 
-SweepSums nsgs_sweep(ContactSystem& s, bool backward) {
+SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint32_t> order) {
   SweepSums sums;
   const std::size_t m = s.rows.size();
+  assert(order.empty() || order.size() == m);
   for (std::size_t q = 0; q < m; ++q) {
-    ContactRow& r = s.rows[backward ? m - 1 - q : q];
+    const std::size_t at = backward ? m - 1 - q : q;
+    ContactRow& r = s.rows[order.empty() ? at : order[at]];
     double b_n, b_t;
     s.free_local_velocity(r, b_n, b_t);
     const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
@@ -34,6 +38,20 @@ SweepSums nsgs_sweep(ContactSystem& s, bool backward) {
     s.apply_impulse(r, dn, dt);
   }
   return sums;
+}
+
+std::vector<std::uint32_t> sweep_order(const ContactSystem& s, std::uint64_t seed) {
+  if (seed == 0) return {};
+  const std::size_t m = s.rows.size();
+  std::vector<std::uint32_t> order(m);
+  for (std::size_t k = 0; k < m; ++k) order[k] = static_cast<std::uint32_t>(k);
+  // one stream per (seed, step): the step enters through a large odd multiplier
+  std::mt19937_64 random(seed ^ (static_cast<std::uint64_t>(s.step) * 0x9E3779B97F4A7C15ull));
+  for (std::size_t k = m; k > 1; --k) {
+    const std::uint64_t j = random() % k;  // bias below k / 2^64: nothing for a sweep order
+    std::swap(order[k - 1], order[j]);
+  }
+  return order;
 }
 
 // Sweeps until the criterion is met. maxm, quad and qm16 are relative to one velocity
@@ -71,9 +89,10 @@ SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) co
   SolveReport report;
   if (system.rows.empty()) return report;
   const int every = settings_.check_every;
+  const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    measure_sweep(nsgs_sweep(system, backward), gravity_velocity, report);
+    measure_sweep(nsgs_sweep(system, backward, order), gravity_velocity, report);
     report.sweeps = k + 1;
     if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
       return report;
@@ -89,13 +108,14 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
   std::vector<double> before(2 * m), p(2 * m, 0.0);
   double d2_previous = 0.0;
   const int every = settings_.check_every;
+  const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     for (std::size_t a = 0; a < m; ++a) {
       before[2 * a] = system.rows[a].rn;
       before[2 * a + 1] = system.rows[a].rt;
     }
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    measure_sweep(nsgs_sweep(system, backward), gravity_velocity, report);
+    measure_sweep(nsgs_sweep(system, backward, order), gravity_velocity, report);
     report.sweeps = k + 1;
     if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
       return report;

@@ -20,13 +20,15 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"criterion", std::string(cd::criterion_name(s.criterion))},
           {"solver", std::string(cd::solver_name(s.solver))},
           {"check_every", std::int64_t{s.check_every}},
-          {"contact_stiffness_N_m2", s.contact_stiffness}};
+          {"contact_stiffness_N_m2", s.contact_stiffness},
+          {"scramble_seed", static_cast<std::int64_t>(s.scramble)}};
 }
 
 io::Values pre_seam_settings() {
   return {{"solver", std::string("nsgs")},
           {"check_every", std::int64_t{1}},
-          {"contact_stiffness_N_m2", 0.0}};
+          {"contact_stiffness_N_m2", 0.0},
+          {"scramble_seed", std::int64_t{0}}};
 }
 
 io::Values with_pre_seam_settings(io::Values v) {
@@ -48,6 +50,9 @@ cd::Settings settings_from_parameters(const io::Values& given, const std::string
   s.symmetric_sweeps = io::as_int(v, "symmetric_sweeps", file) != 0;
   s.check_every = static_cast<int>(io::as_int(v, "check_every", file));
   s.contact_stiffness = io::as_real(v, "contact_stiffness_N_m2", file);
+  const std::int64_t scramble = io::as_int(v, "scramble_seed", file);
+  if (scramble < 0) throw Error(file, "/parameters", "scramble_seed must be >= 0");
+  s.scramble = static_cast<std::uint64_t>(scramble);
   auto text = [&](const char* key) {
     const auto c = v.find(key);
     const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);

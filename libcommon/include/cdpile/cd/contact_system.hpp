@@ -49,6 +49,7 @@ struct ContactSystem {
   std::vector<ContactRow> rows;
   double compliance_n = 0.0;  ///< c_n = 1/(k_n h^2) [1/kg per m], 0 for rigid contacts
   double compliance_t = 0.0;  ///< c_t = 1/(k_t h^2)
+  std::int64_t step = 0;      ///< the step being solved (seeds a scrambled sweep order)
 
   bool compliant() const { return compliance_n != 0.0 || compliance_t != 0.0; }
 

@@ -6,6 +6,10 @@
 
 #include "cdpile/cd/solver.hpp"
 
+#include <cstdint>
+#include <span>
+#include <vector>
+
 namespace cdpile::cd {
 
 /// The sums one sweep leaves for the convergence measures (SolveReport).
@@ -16,8 +20,14 @@ struct SweepSums {
   int active = 0;           ///< contacts with R_n > 0 after the sweep
 };
 
-/// One sweep over the rows, forward or backward.
-SweepSums nsgs_sweep(ContactSystem& s, bool backward);
+/// One sweep over the rows, forward or backward, in pair order or in `order` (a
+/// permutation of the row indices) when it is not empty.
+SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint32_t> order = {});
+
+/// The sweep order of a step: empty (pair order) when `seed` is 0, else a permutation of
+/// the rows drawn from (seed, s.step) by Fisher-Yates on std::mt19937_64, whose output the
+/// standard fixes: the same on every platform, so a scrambled run resumes bit for bit.
+std::vector<std::uint32_t> sweep_order(const ContactSystem& s, std::uint64_t seed);
 
 /// The convergence measures of a sweep (SolveReport::residual, residual_rms) and whether
 /// the settings' criterion is met by them (or, for Criterion::law, by the system).

@@ -5,6 +5,7 @@
 
 #include "cdpile/cd/contact_system.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -45,6 +46,10 @@ struct SolverSettings {
   bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
   Criterion criterion = Criterion::maxm;  ///< when the sweeps stop
   int check_every = 1;           ///< sweeps between two tests of the criterion (LMGC90: 50)
+  /// 0: sweeps visit the rows in pair order. Otherwise the seed of a random order of the
+  /// rows, drawn anew every step from (seed, step) (LMGC90's "quick scramble"): a solver
+  /// path, for measuring how the forces of an indeterminate step depend on it.
+  std::uint64_t scramble = 0;
 };
 
 /// Checks a settings value range; throws cdpile::UsageError naming the bad field.
