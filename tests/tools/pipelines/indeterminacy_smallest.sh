@@ -1,0 +1,32 @@
+# The solver-path ensemble at its smallest (80 disks, one run, one window of 3 steps,
+# two scrambled paths and a rigid branch): the branches start from the run's frames, path 0
+# redoes the run's own steps, the summary reports the window, one past the run's end is
+# skipped with its reason, and a second make redoes nothing.
+B=$CDPILE_BIN
+"$B/deposit" --grains 80 --width 10 --seed 3 --quiet -o pile.h5
+mkdir -p study
+"$B/tilt-cd" pile.h5 --rate 0.05 --to 8 --stiffness 1e5 --frame-every-deg 1 --quiet -o study/run-1.h5
+mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" indeterminacy STUDY="$PWD/study" RATE=0.05 STIFFNESS=1e5 \
+  INDETERMINACY_SEEDS=1 INDETERMINACY_ANGLES="2 9" CDPILE_BIN="$B" \
+  INDETERMINACY_OPTIONS='WINDOW=0.15 FRAMES=3 PATHS="1 2" RULES=0' "$@"; }
+mk > make1.log 2>&1 || { cat make1.log >&2; exit 1; }
+out=study/indeterminacy
+for a in 2; do for p in path-0 path-1 path-2 k0; do [[ -s $out/run-1/theta-$a/$p.h5 ]] || { echo "missing $p at $a" >&2; exit 1; }; done; done
+# Path 0 is the run itself, redone: its per-step critical counts equal the run's over the window.
+"$PY" - "$out/run-1/theta-2/path-0.h5" study/run-1.h5 <<'PYEOF'
+import sys, h5py, numpy as np
+b, r = h5py.File(sys.argv[1], "r"), h5py.File(sys.argv[2], "r")
+# a branch numbers its steps from 1 after the run's step branch_step
+first = int(b["parameters"].attrs["branch_step"])
+bc = b["observables/critical_grain/value"][:]
+rc = dict(zip(r["observables/critical_grain/step"][:], r["observables/critical_grain/value"][:]))
+assert len(bc) == 3, len(bc)
+assert list(bc) == [rc[first + k] for k in range(1, 4)], (list(bc), [rc[first + k] for k in range(1, 4)])
+PYEOF
+# The summary has a row per window with three paths, and says why 9 deg is skipped.
+grep -q '^| 1 | 2 | 3 |' $out/summary.md || { cat $out/summary.md >&2; exit 1; }
+grep -q 'run 1 at 9 deg: skip: the run ends at 8' $out/summary.md || { cat $out/summary.md >&2; exit 1; }
+expect_eq 4 "$(grep -vc '^seed' $out/paths.tsv)" "(branch rows: 1 window x 4 branches)"
+[[ -s $out/figure.png ]]
+mk > make2.log 2>&1 || { cat make2.log >&2; exit 1; }
+if grep -q 'tilt-cd' make2.log; then echo "branches were made again" >&2; cat make2.log >&2; exit 1; fi
