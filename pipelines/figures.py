@@ -102,14 +102,25 @@ def fig1(crit, out):
     ens = crit.table("ensemble")
 
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(steps["theta"][run0], steps["nu"][run0], lw=0.6, color="k")
+    # static and moving states apart (docs/analysis.md, "Static and moving states")
+    still = steps["static"][run0] == 1 if "static" in steps else None
+    if still is not None and np.any(np.isfinite(steps["static"][run0])):
+        ax.plot(steps["theta"][run0], steps["nu"][run0], lw=0.4, color="0.7", label="every state")
+        ax.plot(steps["theta"][run0][still], steps["nu"][run0][still], ".", ms=1.5, color="k",
+                label=f"static states ({100 * np.mean(still):.0f} %)")
+        ax.legend(fontsize=7, loc="lower right", markerscale=4)
+    else:
+        ax.plot(steps["theta"][run0], steps["nu"][run0], lw=0.6, color="k")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$\nu = N_c/N$")
     ax.set_title(f"Fig 1a: critical contacts, {first_run(crit)}")
     inset = ax.inset_axes([0.1, 0.55, 0.38, 0.38])
-    inset.errorbar(ens["theta"], ens["nu"], yerr=np.nan_to_num(ens["nu_se"]), fmt="-", lw=0.8, color="C0",
+    inset.errorbar(ens["theta"], ens["nu"], yerr=np.nan_to_num(ens["nu_se"]), fmt="-", lw=0.8, color="0.6",
                    elinewidth=0.4)
-    inset.set_title(f"mean of {runs_label(n_runs)}", fontsize=8)
+    if "nu_static" in ens and np.any(np.isfinite(ens["nu_static"])):
+        inset.errorbar(ens["theta"], ens["nu_static"], yerr=np.nan_to_num(ens["nu_static_se"]), fmt="-", lw=0.8,
+                       color="k", elinewidth=0.4)
+    inset.set_title(f"mean of {runs_label(n_runs)} (black: static)", fontsize=8)
     inset.tick_params(labelsize=7)
     save(fig, out, "fig1a_nu")
 
@@ -129,18 +140,24 @@ def fig1(crit, out):
     env = crit.table("envelope")
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.errorbar(env["theta"], env["envelope"], yerr=np.nan_to_num(env["envelope_se"]), fmt="o", ms=3,
-                color="k", label=f"envelope, {runs_label(n_runs)}")
-    fit = env["fit"]
-    if np.any(np.isfinite(fit)):
-        ax.plot(env["theta"], fit, color="C3",
-                label=r"$\nu_c - B e^{-\theta/\tau}$")
-    if "nu_c" not in crit.results and any("does not saturate" in n for n in crit.notes):
-        ax.text(0.97, 0.03, "the envelope does not saturate: no $\\nu_c$", transform=ax.transAxes, ha="right",
-                fontsize=8)
-    if "nu_c" in crit.results:
-        se = crit.results.get("nu_c_se", float("nan"))
-        ax.axhline(crit.results["nu_c"], ls="--", color="C3", lw=0.8,
-                   label=rf"$\nu_c$ = {crit.results['nu_c']:.4f} $\pm$ {se:.4f}")
+                color="0.5", mfc="white", label=f"every state, {runs_label(n_runs)}")
+    if np.any(np.isfinite(env["fit"])):
+        ax.plot(env["theta"], env["fit"], color="C1", lw=0.8)
+    if "envelope_static" in env and np.any(np.isfinite(env["envelope_static"])):
+        ax.errorbar(env["theta_static"], env["envelope_static"], yerr=np.nan_to_num(env["envelope_static_se"]),
+                    fmt="o", ms=3, color="k", label="static states")
+        if np.any(np.isfinite(env["fit_static"])):
+            ax.plot(env["theta_static"], env["fit_static"], color="C3", lw=0.8)
+    lines = []
+    for key, label, colour in (("nu_c", "every state", "C1"), ("nu_c_static", "static", "C3")):
+        if key in crit.results:
+            se = crit.results.get(key + "_se", float("nan"))
+            ax.axhline(crit.results[key], ls="--", color=colour, lw=0.8,
+                       label=rf"$\nu_c$ ({label}) = {crit.results[key]:.4f} $\pm$ {se:.4f}")
+        else:
+            lines.append(f"no $\\nu_c$ ({label}): the envelope does not saturate")
+    if lines:
+        ax.text(0.97, 0.03, "\n".join(lines), transform=ax.transAxes, ha="right", fontsize=7)
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"max $\nu$ in windows")
     ax.set_title("Fig 1c: envelope of the maxima of nu")
@@ -238,10 +255,16 @@ def fig5(maps, run, out):
         shade = np.where(nu >= nu_c, 1.0, nu / nu_c * 0.6)
         shade = np.ma.masked_invalid(shade)
         extent = (t["x_D"].min(), t["x_D"].max(), t["y_D"].min(), t["y_D"].max())
-        ax.imshow(shade, origin="lower", cmap="Greys", vmin=0, vmax=1, extent=extent, interpolation="nearest")
+        im = ax.imshow(shade, origin="lower", cmap="Greys", vmin=0, vmax=1, extent=extent, interpolation="nearest")
+        bar = fig.colorbar(im, ax=ax, fraction=0.03, pad=0.01, ticks=[0, 0.3, 0.6, 1.0])
+        bar.ax.set_yticklabels(["0", rf"{nu_c / 2:.3g}", rf"{nu_c:.3g}", rf"$\geq\nu_c$"], fontsize=7)
+        bar.set_label(r"$\nu$ within r", fontsize=7)
         theta = p.results.get("map_theta_deg", float("nan"))
+        origin = str(p.parameters.get("map_nu_c_from", "option"))
+        source = f"the nu_c of {os.path.basename(origin)}" if origin != "option" else \
+            "given with --nu-c (the pipeline does so when the study has no nu_c)"
         ax.set_title(rf"$\theta$ = {theta:.2f} deg, r = {p.results.get('map_radius_D', 6):g} D, "
-                     rf"black: $\nu \geq \nu_c$ = {nu_c:.3f}", fontsize=9)
+                     rf"black: $\nu \geq \nu_c$ = {nu_c:.3f}, {source}", fontsize=8)
         ax.set_xlabel("x (D)")
         ax.set_ylabel("y (D)")
     fig.suptitle(f"Fig 5: density of critical contacts ({run})", fontsize=10)
@@ -252,12 +275,22 @@ def fig5(maps, run, out):
 def fig6(fit, out, n_runs=None):
     f = fit.table("fits")
     ok = np.isfinite(f["r_c"])
-    fig, ax = plt.subplots(figsize=(5, 4))
     if not ok.any():
-        # r_c needs nu_c (eq 5); say why the figure is empty rather than draw blank axes
-        why = "no nu_c: the envelope of Fig 1c does not saturate" if "nu_c" not in fit.results else \
+        # r_c needs nu_c (eq 5): an empty figure is not drawn, its reason is written instead
+        why = next((n for n in fit.notes if n.startswith("r_c not computed")), None) or \
             "r_c undefined in every window (nu_inf >= nu_c)"
-        ax.text(0.5, 0.5, why, ha="center", va="center", transform=ax.transAxes, fontsize=9, wrap=True)
+        for ext in ("png", "pdf"):
+            stale = os.path.join(out, f"fig6_rc.{ext}")
+            if os.path.exists(stale):
+                os.remove(stale)
+        with open(os.path.join(out, "fig6_rc.txt"), "w") as txt:
+            txt.write(f"Fig 6 is not drawn: {why}\n")
+        print(f"figures.py: Fig 6 not drawn: {why}", file=sys.stderr)
+        return
+    stale = os.path.join(out, "fig6_rc.txt")
+    if os.path.exists(stale):
+        os.remove(stale)
+    fig, ax = plt.subplots(figsize=(5, 4))
     ax.errorbar(f["theta"][ok], f["r_c"][ok], yerr=np.nan_to_num(f["r_c_se"][ok]), fmt="o", ms=3, color="k")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$r_c$ (D)")

@@ -1,12 +1,17 @@
 #!/usr/bin/python3
 """Prints, as a Markdown table, the paper's numbers (Staron, Vilotte & Radjai 2002) beside
-a study's, read from its analysis products (critical.h5, correlate.h5, clusterfit.h5).
+a study's, read from its analysis products (critical.h5, correlate.h5, clusterfit.h5) and,
+when it has been made, its solver-path ensemble (indeterminacy/spread.tsv).
 
     pipelines/report.py STUDY_DIR > STUDY_DIR/report.md
 
-Each row says how the project's number is obtained; "n/a" where the study does not
-determine it (for example no nu_c when the envelope does not saturate).
+Each row says how the project's number is obtained. A number the study does not determine
+is not a bare "n/a": the cell says why, from the products' own notes, and what to run to
+get it. The statistical error (over runs) and the systematic one (the spread of the same
+windows redone along other solver paths, docs/reproduction.md "Systematic error") are
+given apart.
 """
+import csv
 import math
 import os
 import sys
@@ -16,13 +21,51 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figures import load  # noqa: E402
 
+MORE = "more or larger runs: `make -C pipelines paper`"
+
+
+def num(v, digits=3):
+    return f"{v:.{digits}g}"
+
 
 def pm(v, se=None, digits=3):
-    if v is None or not np.isfinite(v):
-        return "n/a"
     if se is None or not np.isfinite(se):
-        return f"{v:.{digits}g}"
-    return f"{v:.{digits}g} ± {se:.2g}"
+        return num(v, digits)
+    return f"{num(v, digits)} ± {se:.2g}"
+
+
+def note(notes, start):
+    """The first note that starts with `start`, without it; else None."""
+    for n in notes:
+        if n.startswith(start):
+            return n[len(start):]
+    return None
+
+
+def envelope_reason(notes, label, study_size):
+    """Why a reading of the envelope gives no nu_c, from critical's notes."""
+    for what in ("envelope does not saturate", "envelope fit not done", "envelope fit did not converge",
+                 "envelope fit failed", "no state in the loading phase"):
+        n = note(notes, label + what)
+        if n is not None:
+            return f"none: {what}{n} ({study_size}); {MORE}"
+    if label and not any(n.startswith(label) for n in notes):
+        return "none: critical.h5 was made before the static reading; make it again (`critical`)"
+    return f"none: no envelope ({study_size})"
+
+
+def systematic(study):
+    """The relative systematic error of nu (rms over windows of the spread across paths),
+    the windows it comes from, or None when the solver-path ensemble has not been made."""
+    path = os.path.join(study, "indeterminacy", "spread.tsv")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        rows = list(csv.DictReader(f, delimiter="\t"))
+    cv = np.array([float(r["nu_cv"]) for r in rows if r["nu_cv"] != "NA"])
+    if cv.size == 0:
+        return None
+    return float(np.sqrt(np.mean(cv ** 2))), int(cv.size)
 
 
 def main():
@@ -34,42 +77,106 @@ def main():
     fit = load(study, "clusterfit.h5")
     if crit is None:
         sys.exit(f"report.py: {study}: no critical.h5")
-    r = crit.results
+    r, notes = crit.results, crit.notes
     runs = int(r.get("runs", 0))
-    rows = []
+    grains = crit.table("runs")["grains"]
+    size = f"{runs} run{'s' if runs != 1 else ''} of {int(np.max(grains)) if grains.size else 0} grains"
+    sys_nu = systematic(study)
+    no_sys = "not measured: `make -C pipelines indeterminacy`"
+
+    def sys_of(v, power=1.0):
+        """The systematic error of a number proportional to nu**power."""
+        if v is None or sys_nu is None:
+            return no_sys
+        return f"± {abs(power) * sys_nu[0] * abs(v):.2g} ({100 * abs(power) * sys_nu[0]:.0f} %, {sys_nu[1]} windows)"
+
+    rows = []  # (quantity, paper, this study, systematic, how)
 
     tc, tc_se = r.get("theta_c_deg"), r.get("theta_c_se_deg")
-    rows.append(("theta_c (deg)", "about 20 (19.96)", pm(tc, tc_se, 4),
-                 "critical: Ek/(m g D) rule, mean ± s.e. over runs"))
-    if tc is not None:
+    if tc is None:
+        rows.append(("theta_c (deg)", "about 20 (19.96)", "none: no run reached the avalanche rule (Ek/(m g D) "
+                     ">= 1e-3 held 0.2 deg); tilt further (tilt-cd --to)", "", "critical"))
+    else:
+        rows.append(("theta_c (deg)", "about 20 (19.96)", pm(tc, tc_se, 4), "not measured",
+                     "critical: Ek/(m g D) rule, mean ± s.e. over runs"))
         mu = math.tan(math.radians(tc))
         mu_se = (tc_se or float("nan")) * math.radians(1) / math.cos(math.radians(tc)) ** 2
-        rows.append(("mu_eff = tan(theta_c)", "about 0.36", pm(mu, mu_se), "from theta_c"))
+        rows.append(("mu_eff = tan(theta_c)", "about 0.36", pm(mu, mu_se), "", "from theta_c"))
 
     fr = crit.table("frames")
     load_rows = (fr["loading"] == 1) & np.isfinite(fr["z"])
     if load_rows.any():
         z = fr["z"][load_rows]
         spread = (np.max(z) - np.min(z)) / np.mean(z) / 2
-        rows.append(("z", "about 3.6, within 5 %", f"{np.mean(z):.3g}, within {100 * spread:.1f} %",
-                     "critical frames, loading phase, rattlers excluded; half the range over the mean"))
-    rows.append(("nu_c", "about 0.08", pm(r.get("nu_c"), r.get("nu_c_se")),
-                 "critical: limit of the envelope of maxima" +
-                 ("" if "nu_c" in r else " (the envelope does not saturate: see the notes)")))
-    rows.append(("lambda_c (D)", "about 2.5", pm(r.get("lambda_c_D")), "sqrt(2/(z nu_c)), z of the loading phase"))
+        rows.append(("z (grain-grain, rattlers excluded)", "about 3.6, within 5 %",
+                     f"{np.mean(z):.3g}, within {100 * spread:.1f} %", "",
+                     "critical frames, loading phase; half the range over the mean"))
+    if "z_paper" in fr and np.any(np.isfinite(fr["z_paper"][fr["loading"] == 1])):
+        zp = fr["z_paper"][(fr["loading"] == 1) & np.isfinite(fr["z_paper"])]
+        spread = (np.max(zp) - np.min(zp)) / np.mean(zp) / 2
+        rows.append(("z as the paper reads it", "about 3.6, within 5 %",
+                     f"{r.get('z_paper_initial', float('nan')):.3g} initial, {np.mean(zp):.3g} loading, "
+                     f"within {100 * spread:.1f} %", "",
+                     "contacts of every free grain (walls included) per free grain, rattlers included"))
 
-    if cor is not None and fit is not None:
-        f = fit.table("fits")
+    def nu_row(label, key, how, prefix):
+        v = r.get(key)
+        if v is None:
+            rows.append((label, "about 0.08", envelope_reason(notes, prefix, size), "", how))
+        else:
+            rows.append((label, "about 0.08", pm(v, r.get(key + "_se")), sys_of(v), how))
+
+    nu_row("nu_c, every state", "nu_c", "critical: limit of the envelope of maxima over every step", "")
+    nu_row("nu_c, static states", "nu_c_static",
+           "critical: the same over static steps (converged, at rest, no grain in flight)", "static states: ")
+    v = r.get("nu_theta_c")
+    if v is None:
+        why = "none: no run has a static state in the last envelope window before its theta_c" if tc is not None \
+            else "none: no theta_c"
+        rows.append(("nu at theta_c (the paper's sentence)", "about 0.08", why, "", "critical"))
+    else:
+        rows.append(("nu at theta_c (the paper's sentence)", "about 0.08", pm(v, r.get("nu_theta_c_se")),
+                     sys_of(v), f"critical: mean static nu in the last window before theta_c, {int(r.get('nu_theta_c_runs', 0))} runs"))
+    for label, key, src in (("lambda_c (D), every state", "lambda_c_D", "nu_c"),
+                            ("lambda_c (D), static states", "lambda_c_static_D", "nu_c_static")):
+        v = r.get(key)
+        rows.append((label, "about 2.5", num(v) if v is not None else f"none: no {src}",
+                     sys_of(v, -0.5) if v is not None else "", f"sqrt(2/(z {src}))"))
+    if "static_frames" in r:
+        rows.append(("static frames above 2M - 3N", "", f"{int(r.get('static_frames_above_static_bound', 0))} of "
+                     f"{int(r['static_frames'])}", "", "critical: the static bound of McNamara & Herrmann 2004"))
+
+    ev = crit.table("events")
+    keep = ev["after_avalanche"] == 0 if "after_avalanche" in ev else np.ones(ev["loss"].size, bool)
+    if keep.any():
+        big = int(np.sum(ev["loss"][keep] > 0.01))
+        rows.append(("events above 1 % of the contacts", "rare, at nu > nu_c",
+                     f"{big} of {int(keep.sum())} ({100 * big / keep.sum():.2g} %)", "", "critical: events before the avalanche"))
+    else:
+        rows.append(("events above 1 % of the contacts", "rare, at nu > nu_c", "none: no event before the avalanche", "",
+                     "critical"))
+
+    if cor is None or fit is None:
+        why = f"none: no {'correlate.h5' if cor is None else 'clusterfit.h5'}; `make -C pipelines analysis`"
+        for q, paper in (("alpha at 6 deg", "about -1.5"), ("correlation length L (D)", "about 10"),
+                         ("r_c up to 15 deg (D)", "from about 2 to 4"), ("beta", "about 0.5")):
+            rows.append((q, paper, why, "", ""))
+    else:
+        f, fnotes, fres = fit.table("fits"), fit.notes, fit.results
         ok = np.isfinite(f["alpha"])
         if ok.any():
             k = np.argmin(np.where(ok, np.abs(f["theta"] - 6.0), np.inf))
-            rows.append(("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]),
-                         f"clusterfit, window at {f['theta'][k]:.3g} deg, r <= {fit.parameters.get('r_max_D', 10):g} D"))
+            rows.append(("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]), no_sys if sys_nu is None
+                         else "not measured", f"clusterfit, window at {f['theta'][k]:.3g} deg, r <= "
+                         f"{fit.parameters.get('r_max_D', 10):g} D"))
+        else:
+            rows.append(("alpha at 6 deg", "about -1.5", "none: no window's fit of eq (4) converged", "", "clusterfit"))
         w = cor.table("windows")
-        lengths = []
+        lengths, windows = [], 0
         for c in np.unique(w["theta"]):
             if c > 15:
                 continue
+            windows += 1
             sel = w["theta"] == c
             excess = w["nu_bar"][sel] / w["nu_pile"][sel] - 1 if "nu_pile" in w else None
             if excess is None:
@@ -79,22 +186,38 @@ def main():
                 lengths.append(w["r"][sel][below[0]])
         if lengths:
             rows.append(("correlation length L (D)", "about 10",
-                         f"{np.median(lengths):.3g} (median over {len(lengths)} windows)",
+                         f"{np.median(lengths):.3g} (median over {len(lengths)} of {windows} windows)", "",
                          "correlate: first r where nu_bar/nu_pile - 1 < 10 %, windows up to 15 deg"))
+        else:
+            rmax = np.max(w["r"]) if w["r"].size else float("nan")
+            rows.append(("correlation length L (D)", "about 10",
+                         f"none: nu_bar/nu_pile - 1 stays above 10 % out to r = {rmax:g} D in all {windows} windows "
+                         "up to 15 deg; larger radii: localnu --radii", "", "correlate"))
         rc = f["r_c"][np.isfinite(f["r_c"]) & (f["theta"] <= 15)]
-        rows.append(("r_c up to 15 deg (D)", "from about 2 to 4",
-                     f"{np.min(rc):.3g} to {np.max(rc):.3g}" if rc.size else "n/a", "clusterfit, eq (5)"))
-        fr_ = fit.results
-        rows.append(("beta", "about 0.5", pm(fr_.get("beta"), fr_.get("beta_se")),
-                     "clusterfit: r_c ~ (theta_c - theta)^-beta, covariance errors"))
-        rows.append(("theta_c of the power law (deg)", "19.96", pm(fr_.get("theta_c_deg"), fr_.get("theta_c_se_deg"), 4),
-                     "clusterfit: fitted" if fr_.get("theta_c_fitted", 1) else "clusterfit: given"))
+        if rc.size:
+            rows.append(("r_c up to 15 deg (D)", "from about 2 to 4", f"{np.min(rc):.3g} to {np.max(rc):.3g}", "",
+                         "clusterfit, eq (5), with nu_c of every state"))
+        else:
+            why = note(fnotes, "r_c not computed: ")
+            rows.append(("r_c up to 15 deg (D)", "from about 2 to 4",
+                         f"none: {why}" if why else "none: r_c undefined in every window (nu_inf >= nu_c)", "",
+                         "clusterfit, eq (5)"))
+        if fres.get("beta") is not None:
+            rows.append(("beta", "about 0.5", pm(fres["beta"], fres.get("beta_se")), "",
+                         "clusterfit: r_c ~ (theta_c - theta)^-beta, covariance errors"))
+            rows.append(("theta_c of the power law (deg)", "19.96", pm(fres.get("theta_c_deg"), fres.get("theta_c_se_deg"), 4),
+                         "", "clusterfit: fitted" if fres.get("theta_c_fitted", 1) else "clusterfit: given"))
+        else:
+            why = next((n for n in fnotes if n.startswith("power-law fit")), None)
+            if why is None:
+                why = "no r_c to fit" if not rc.size else "fewer r_c than the power law needs in its range"
+            rows.append(("beta", "about 0.5", f"none: {why}", "", "clusterfit"))
 
-    print(f"Study: `{os.path.basename(os.path.abspath(study))}`, {runs} run{'s' if runs != 1 else ''}.\n")
-    print("| quantity | paper | this study | how |")
-    print("|---|---|---|---|")
-    for q, paper, ours, how in rows:
-        print(f"| {q} | {paper} | {ours} | {how} |")
+    print(f"Study: `{os.path.basename(os.path.abspath(study))}`, {size}.\n")
+    print("| quantity | paper | this study (± s.e. over runs) | systematic (solver paths) | how |")
+    print("|---|---|---|---|---|")
+    for q, paper, ours, sy, how in rows:
+        print(f"| {q} | {paper} | {ours} | {sy} | {how} |")
 
 
 if __name__ == "__main__":

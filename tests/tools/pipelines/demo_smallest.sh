@@ -6,10 +6,20 @@ study=$PWD/studies/tiny-N80-R1.5-mu0.5-rate0.05-tol1e-4
 for f in pile-1 pile-2 run-1 run-2 critical localnu correlate clusterfit map-05 map-10; do
   [[ -s $study/$f.h5 ]] || { echo "missing $f.h5" >&2; exit 1; }
 done
-for fig in fig1a_nu fig1b_ek fig1c_envelope fig2_events fig3_pdf fig4a_nubar fig5_maps fig6_rc; do
+for fig in fig1a_nu fig1b_ek fig1c_envelope fig2_events fig3_pdf fig4a_nubar fig5_maps; do
   for ext in png pdf; do [[ -s $study/figures/$fig.$ext ]] || { echo "missing $fig.$ext" >&2; exit 1; }; done
 done
+# Fig 6 needs nu_c: drawn, or not drawn with its reason written instead (never empty axes).
+if [[ -e $study/figures/fig6_rc.txt ]]; then
+  grep -q '^Fig 6 is not drawn: r_c not computed: no nu_c' "$study/figures/fig6_rc.txt"
+  [[ ! -e $study/figures/fig6_rc.png ]] || { echo "fig6 drawn and said not drawn" >&2; exit 1; }
+else
+  for ext in png pdf; do [[ -s $study/figures/fig6_rc.$ext ]] || { echo "missing fig6_rc.$ext" >&2; exit 1; }; done
+fi
 grep -q '^| theta_c (deg) | about 20 (19.96) | ' "$study/report.md"
+# Every row has a number or a reason: no bare n/a, and every "none" says why.
+if grep -q 'n/a' "$study/report.md"; then cat "$study/report.md" >&2; exit 1; fi
+if grep -E '\| none \|' "$study/report.md"; then echo "a none without its reason" >&2; exit 1; fi
 "$PY" - "$study" <<'PY'
 import h5py, sys
 s = sys.argv[1]
