@@ -241,7 +241,20 @@ def fig4(cor, fit, out):
     save(fig, out, "fig4b_nubar_log")
 
 
-def fig5(maps, run, out):
+def threshold_source(p, crit):
+    """Where a map's threshold comes from: the study's nu_c of static states or of every
+    state (pipelines/nu_c.py chooses), else a value given with --nu-c."""
+    nu_c = p.results.get("map_nu_c")
+    origin = str(p.parameters.get("map_nu_c_from", "option"))
+    if origin != "option":
+        return f"the nu_c (every state) of {os.path.basename(origin)}"
+    if crit is not None and nu_c is not None and "nu_c_static" in crit.results and \
+            abs(crit.results["nu_c_static"] - nu_c) <= 1e-12 * nu_c:
+        return "the study's nu_c of static states"
+    return "given with --nu-c: the study has no nu_c (the paper's value)"
+
+
+def fig5(maps, run, out, crit=None):
     have = [(name, p) for name, p in maps if p is not None]
     if not have:
         return
@@ -260,9 +273,7 @@ def fig5(maps, run, out):
         bar.ax.set_yticklabels(["0", rf"{nu_c / 2:.3g}", rf"{nu_c:.3g}", rf"$\geq\nu_c$"], fontsize=7)
         bar.set_label(r"$\nu$ within r", fontsize=7)
         theta = p.results.get("map_theta_deg", float("nan"))
-        origin = str(p.parameters.get("map_nu_c_from", "option"))
-        source = f"the nu_c of {os.path.basename(origin)}" if origin != "option" else \
-            "given with --nu-c (the pipeline does so when the study has no nu_c)"
+        source = threshold_source(p, crit)
         ax.set_title(rf"$\theta$ = {theta:.2f} deg, r = {p.results.get('map_radius_D', 6):g} D, "
                      rf"black: $\nu \geq \nu_c$ = {nu_c:.3f}, {source}", fontsize=8)
         ax.set_xlabel("x (D)")
@@ -333,7 +344,8 @@ def main():
     maps = sorted(glob.glob(os.path.join(a.study, "map-*.h5")))
     if not maps:
         print(f"figures.py: {a.study}: no map-*.h5, Fig 5 is skipped", file=sys.stderr)
-    fig5([(os.path.basename(m), Product(m)) for m in maps], first_run(crit) if crit is not None else "the first run", out)
+    fig5([(os.path.basename(m), Product(m)) for m in maps], first_run(crit) if crit is not None else "the first run", out,
+         crit)
     if fit is not None:
         fig6(fit, out, n_runs)
 

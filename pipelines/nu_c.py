@@ -1,0 +1,18 @@
+#!/usr/bin/python3
+"""Which nu_c a study's eq (5) and Fig 5 maps use (pipelines/Makefile):
+
+    nu_c.py CRITICAL.h5
+
+prints the options that give it: the limit of the envelope over static states
+(--nu-c NU_C_STATIC --nu-c-se SE) when critical found one, since a number of the pile comes
+from states the pile can be in (docs/analysis.md, "Static and moving states"); else nothing,
+and the tools take the critical product's nu_c (every state), if it has one.
+"""
+import sys
+
+import h5py
+
+with h5py.File(sys.argv[1], "r") as f:
+    r = f["results"].attrs
+    if "nu_c_static" in r:
+        print(f"--nu-c {float(r['nu_c_static']):.17g} --nu-c-se {float(r.get('nu_c_static_se', 0.0)):.17g}")
