@@ -194,9 +194,12 @@ def main():
                          f"none: nu_bar/nu_pile - 1 stays above 10 % out to r = {rmax:g} D in all {windows} windows "
                          "up to 15 deg; larger radii: localnu --radii", "", "correlate"))
         rc = f["r_c"][np.isfinite(f["r_c"]) & (f["theta"] <= 15)]
+        used = fres.get("nu_c")
+        which = "of static states" if used is not None and r.get("nu_c_static") is not None and \
+            abs(used - r["nu_c_static"]) <= 1e-12 * used else "of every state"
         if rc.size:
             rows.append(("r_c up to 15 deg (D)", "from about 2 to 4", f"{np.min(rc):.3g} to {np.max(rc):.3g}", "",
-                         "clusterfit, eq (5), with nu_c of every state"))
+                         f"clusterfit, eq (5), with nu_c {which} ({num(used) if used is not None else '?'})"))
         else:
             why = note(fnotes, "r_c not computed: ")
             rows.append(("r_c up to 15 deg (D)", "from about 2 to 4",
@@ -211,7 +214,7 @@ def main():
             why = next((n for n in fnotes if n.startswith("power-law fit")), None)
             if why is None:
                 why = "no r_c to fit" if not rc.size else "fewer r_c than the power law needs in its range"
-            rows.append(("beta", "about 0.5", f"none: {why}", "", "clusterfit"))
+            rows.append(("beta", "about 0.5", f"none: {why}; {MORE}", "", "clusterfit"))
 
     print(f"Study: `{os.path.basename(os.path.abspath(study))}`, {size}.\n")
     print("| quantity | paper | this study (± s.e. over runs) | systematic (solver paths) | how |")
