@@ -11,6 +11,7 @@ get it. The statistical error (over runs) and the systematic one (the spread of 
 windows redone along other solver paths, docs/reproduction.md "Systematic error") are
 given apart.
 """
+import collections
 import csv
 import math
 import os
@@ -68,10 +69,13 @@ def systematic(study):
     return float(np.sqrt(np.mean(cv ** 2))), int(cv.size)
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: report.py STUDY_DIR")
-    study = sys.argv[1]
+Row = collections.namedtuple("Row", "quantity paper ours systematic how value se sys_abs ref")
+Row.__doc__ = """One number of the table: its texts, and for a comparison its value, statistical and
+systematic errors and the paper's value (a number, or a (low, high) range)."""
+
+
+def rows_of(study):
+    """The study's size and its rows (Row), from its products."""
     crit = load(study, "critical.h5")
     cor = load(study, "correlate.h5")
     fit = load(study, "clusterfit.h5")
@@ -90,41 +94,48 @@ def main():
             return no_sys
         return f"± {abs(power) * sys_nu[0] * abs(v):.2g} ({100 * abs(power) * sys_nu[0]:.0f} %, {sys_nu[1]} windows)"
 
-    rows = []  # (quantity, paper, this study, systematic, how)
+    rows = []
+
+    def add(q, paper, ours, sy, how, value=None, se=None, sys_abs=None, ref=None):
+        rows.append(Row(q, paper, ours, sy, how, value, se, sys_abs, ref))
+
+    def sys_num(v, power=1.0):
+        return None if v is None or sys_nu is None else abs(power) * sys_nu[0] * abs(v)
 
     tc, tc_se = r.get("theta_c_deg"), r.get("theta_c_se_deg")
     if tc is None:
-        rows.append(("theta_c (deg)", "about 20 (19.96)", "none: no run reached the avalanche rule (Ek/(m g D) "
-                     ">= 1e-3 held 0.2 deg); tilt further (tilt-cd --to)", "", "critical"))
+        add("theta_c (deg)", "about 20 (19.96)", "none: no run reached the avalanche rule (Ek/(m g D) "
+                     ">= 1e-3 held 0.2 deg); tilt further (tilt-cd --to)", "", "critical")
     else:
-        rows.append(("theta_c (deg)", "about 20 (19.96)", pm(tc, tc_se, 4), "not measured",
-                     "critical: Ek/(m g D) rule, mean ± s.e. over runs"))
+        add("theta_c (deg)", "about 20 (19.96)", pm(tc, tc_se, 4), "not measured",
+                     "critical: Ek/(m g D) rule, mean ± s.e. over runs", tc, tc_se, None, 19.96)
         mu = math.tan(math.radians(tc))
         mu_se = (tc_se or float("nan")) * math.radians(1) / math.cos(math.radians(tc)) ** 2
-        rows.append(("mu_eff = tan(theta_c)", "about 0.36", pm(mu, mu_se), "", "from theta_c"))
+        add("mu_eff = tan(theta_c)", "about 0.36", pm(mu, mu_se), "", "from theta_c", mu, mu_se, None, 0.36)
 
     fr = crit.table("frames")
     load_rows = (fr["loading"] == 1) & np.isfinite(fr["z"])
     if load_rows.any():
         z = fr["z"][load_rows]
         spread = (np.max(z) - np.min(z)) / np.mean(z) / 2
-        rows.append(("z (grain-grain, rattlers excluded)", "about 3.6, within 5 %",
+        add("z (grain-grain, rattlers excluded)", "about 3.6, within 5 %",
                      f"{np.mean(z):.3g}, within {100 * spread:.1f} %", "",
-                     "critical frames, loading phase; half the range over the mean"))
+                     "critical frames, loading phase; half the range over the mean")
     if "z_paper" in fr and np.any(np.isfinite(fr["z_paper"][fr["loading"] == 1])):
         zp = fr["z_paper"][(fr["loading"] == 1) & np.isfinite(fr["z_paper"])]
         spread = (np.max(zp) - np.min(zp)) / np.mean(zp) / 2
-        rows.append(("z as the paper reads it", "about 3.6, within 5 %",
+        add("z as the paper reads it", "about 3.6, within 5 %",
                      f"{r.get('z_paper_initial', float('nan')):.3g} initial, {np.mean(zp):.3g} loading, "
                      f"within {100 * spread:.1f} %", "",
-                     "contacts of every free grain (walls included) per free grain, rattlers included"))
+                     "contacts of every free grain (walls included) per free grain, rattlers included",
+                     float(np.mean(zp)), None, None, 3.6)
 
     def nu_row(label, key, how, prefix):
         v = r.get(key)
         if v is None:
-            rows.append((label, "about 0.08", envelope_reason(notes, prefix, size), "", how))
+            add(label, "about 0.08", envelope_reason(notes, prefix, size), "", how, ref=0.08)
         else:
-            rows.append((label, "about 0.08", pm(v, r.get(key + "_se")), sys_of(v), how))
+            add(label, "about 0.08", pm(v, r.get(key + "_se")), sys_of(v), how, v, r.get(key + "_se"), sys_num(v), 0.08)
 
     nu_row("nu_c, every state", "nu_c", "critical: limit of the envelope of maxima over every step", "")
     nu_row("nu_c, static states", "nu_c_static",
@@ -133,44 +144,48 @@ def main():
     if v is None:
         why = "none: no run has a static state in the last envelope window before its theta_c" if tc is not None \
             else "none: no theta_c"
-        rows.append(("nu at theta_c (the paper's sentence)", "about 0.08", why, "", "critical"))
+        add("nu at theta_c (the paper's sentence)", "about 0.08", why, "", "critical", ref=0.08)
     else:
-        rows.append(("nu at theta_c (the paper's sentence)", "about 0.08", pm(v, r.get("nu_theta_c_se")),
-                     sys_of(v), f"critical: mean static nu in the last window before theta_c, {int(r.get('nu_theta_c_runs', 0))} runs"))
+        add("nu at theta_c (the paper's sentence)", "about 0.08", pm(v, r.get("nu_theta_c_se")),
+                     sys_of(v), f"critical: mean static nu in the last window before theta_c, {int(r.get('nu_theta_c_runs', 0))} runs",
+                     v, r.get("nu_theta_c_se"), sys_num(v), 0.08)
     for label, key, src in (("lambda_c (D), every state", "lambda_c_D", "nu_c"),
                             ("lambda_c (D), static states", "lambda_c_static_D", "nu_c_static")):
         v = r.get(key)
-        rows.append((label, "about 2.5", num(v) if v is not None else f"none: no {src}",
-                     sys_of(v, -0.5) if v is not None else "", f"sqrt(2/(z {src}))"))
+        # lambda ~ nu_c^-1/2: its statistical error from nu_c's
+        se = 0.5 * v * r[src + "_se"] / r[src] if v is not None and src + "_se" in r and r.get(src) else None
+        add(label, "about 2.5", pm(v, se) if v is not None else f"none: no {src}",
+                     sys_of(v, -0.5) if v is not None else "", f"sqrt(2/(z {src}))", v, se, sys_num(v, -0.5), 2.5)
     if "static_frames" in r:
-        rows.append(("static frames above 2M - 3N", "", f"{int(r.get('static_frames_above_static_bound', 0))} of "
-                     f"{int(r['static_frames'])}", "", "critical: the static bound of McNamara & Herrmann 2004"))
+        add("static frames above 2M - 3N", "", f"{int(r.get('static_frames_above_static_bound', 0))} of "
+                     f"{int(r['static_frames'])}", "", "critical: the static bound of McNamara & Herrmann 2004")
 
     ev = crit.table("events")
     keep = ev["after_avalanche"] == 0 if "after_avalanche" in ev else np.ones(ev["loss"].size, bool)
     if keep.any():
         big = int(np.sum(ev["loss"][keep] > 0.01))
-        rows.append(("events above 1 % of the contacts", "rare, at nu > nu_c",
-                     f"{big} of {int(keep.sum())} ({100 * big / keep.sum():.2g} %)", "", "critical: events before the avalanche"))
+        add("events above 1 % of the contacts", "rare, at nu > nu_c",
+                     f"{big} of {int(keep.sum())} ({100 * big / keep.sum():.2g} %)", "", "critical: events before the avalanche")
     else:
-        rows.append(("events above 1 % of the contacts", "rare, at nu > nu_c", "none: no event before the avalanche", "",
-                     "critical"))
+        add("events above 1 % of the contacts", "rare, at nu > nu_c", "none: no event before the avalanche", "",
+                     "critical")
 
     if cor is None or fit is None:
         why = f"none: no {'correlate.h5' if cor is None else 'clusterfit.h5'}; `make -C pipelines analysis`"
         for q, paper in (("alpha at 6 deg", "about -1.5"), ("correlation length L (D)", "about 10"),
                          ("r_c up to 15 deg (D)", "from about 2 to 4"), ("beta", "about 0.5")):
-            rows.append((q, paper, why, "", ""))
+            add(q, paper, why, "", "")
     else:
         f, fnotes, fres = fit.table("fits"), fit.notes, fit.results
         ok = np.isfinite(f["alpha"])
         if ok.any():
             k = np.argmin(np.where(ok, np.abs(f["theta"] - 6.0), np.inf))
-            rows.append(("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]), no_sys if sys_nu is None
+            add("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]), no_sys if sys_nu is None
                          else "not measured", f"clusterfit, window at {f['theta'][k]:.3g} deg, r <= "
-                         f"{fit.parameters.get('r_max_D', 10):g} D"))
+                         f"{fit.parameters.get('r_max_D', 10):g} D", float(f["alpha"][k]), float(f["alpha_se"][k]),
+                         None, -1.5)
         else:
-            rows.append(("alpha at 6 deg", "about -1.5", "none: no window's fit of eq (4) converged", "", "clusterfit"))
+            add("alpha at 6 deg", "about -1.5", "none: no window's fit of eq (4) converged", "", "clusterfit", ref=-1.5)
         w = cor.table("windows")
         lengths, windows = [], 0
         for c in np.unique(w["theta"]):
@@ -185,42 +200,53 @@ def main():
             if below.size:
                 lengths.append(w["r"][sel][below[0]])
         if lengths:
-            rows.append(("correlation length L (D)", "about 10",
+            add("correlation length L (D)", "about 10",
                          f"{np.median(lengths):.3g} (median over {len(lengths)} of {windows} windows)", "",
-                         "correlate: first r where nu_bar/nu_pile - 1 < 10 %, windows up to 15 deg"))
+                         "correlate: first r where nu_bar/nu_pile - 1 < 10 %, windows up to 15 deg",
+                         float(np.median(lengths)), None, None, 10.0)
         else:
             rmax = np.max(w["r"]) if w["r"].size else float("nan")
-            rows.append(("correlation length L (D)", "about 10",
+            add("correlation length L (D)", "about 10",
                          f"none: nu_bar/nu_pile - 1 stays above 10 % out to r = {rmax:g} D in all {windows} windows "
-                         "up to 15 deg; larger radii: localnu --radii", "", "correlate"))
+                         "up to 15 deg; larger radii: localnu --radii", "", "correlate", ref=10.0)
         rc = f["r_c"][np.isfinite(f["r_c"]) & (f["theta"] <= 15)]
         used = fres.get("nu_c")
         which = "of static states" if used is not None and r.get("nu_c_static") is not None and \
             abs(used - r["nu_c_static"]) <= 1e-12 * used else "of every state"
         if rc.size:
-            rows.append(("r_c up to 15 deg (D)", "from about 2 to 4", f"{np.min(rc):.3g} to {np.max(rc):.3g}", "",
-                         f"clusterfit, eq (5), with nu_c {which} ({num(used) if used is not None else '?'})"))
+            add("r_c up to 15 deg (D)", "from about 2 to 4", f"{np.min(rc):.3g} to {np.max(rc):.3g}", "",
+                         f"clusterfit, eq (5), with nu_c {which} ({num(used) if used is not None else '?'})",
+                         (float(np.min(rc)), float(np.max(rc))), None, None, (2.0, 4.0))
         else:
             why = note(fnotes, "r_c not computed: ")
-            rows.append(("r_c up to 15 deg (D)", "from about 2 to 4",
+            add("r_c up to 15 deg (D)", "from about 2 to 4",
                          f"none: {why}" if why else "none: r_c undefined in every window (nu_inf >= nu_c)", "",
-                         "clusterfit, eq (5)"))
+                         "clusterfit, eq (5)", ref=(2.0, 4.0))
         if fres.get("beta") is not None:
-            rows.append(("beta", "about 0.5", pm(fres["beta"], fres.get("beta_se")), "",
-                         "clusterfit: r_c ~ (theta_c - theta)^-beta, covariance errors"))
-            rows.append(("theta_c of the power law (deg)", "19.96", pm(fres.get("theta_c_deg"), fres.get("theta_c_se_deg"), 4),
-                         "", "clusterfit: fitted" if fres.get("theta_c_fitted", 1) else "clusterfit: given"))
+            add("beta", "about 0.5", pm(fres["beta"], fres.get("beta_se")), "",
+                         "clusterfit: r_c ~ (theta_c - theta)^-beta, covariance errors", fres["beta"],
+                         fres.get("beta_se"), None, 0.5)
+            add("theta_c of the power law (deg)", "19.96", pm(fres.get("theta_c_deg"), fres.get("theta_c_se_deg"), 4),
+                         "", "clusterfit: fitted" if fres.get("theta_c_fitted", 1) else "clusterfit: given")
         else:
             why = next((n for n in fnotes if n.startswith("power-law fit")), None)
             if why is None:
                 why = "no r_c to fit" if not rc.size else "fewer r_c than the power law needs in its range"
-            rows.append(("beta", "about 0.5", f"none: {why}; {MORE}", "", "clusterfit"))
+            add("beta", "about 0.5", f"none: {why}; {MORE}", "", "clusterfit", ref=0.5)
 
+    return size, rows
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: report.py STUDY_DIR")
+    study = sys.argv[1]
+    size, rows = rows_of(study)
     print(f"Study: `{os.path.basename(os.path.abspath(study))}`, {size}.\n")
     print("| quantity | paper | this study (± s.e. over runs) | systematic (solver paths) | how |")
     print("|---|---|---|---|---|")
-    for q, paper, ours, sy, how in rows:
-        print(f"| {q} | {paper} | {ours} | {sy} | {how} |")
+    for row in rows:
+        print(f"| {row.quantity} | {row.paper} | {row.ours} | {row.systematic} | {row.how} |")
 
 
 if __name__ == "__main__":
