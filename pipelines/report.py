@@ -58,8 +58,12 @@ def envelope_reason(notes, label, study_size):
 def systematic(study):
     """The relative systematic error of nu (rms over windows of the spread across paths),
     the windows it comes from, or None when the solver-path ensemble has not been made."""
-    path = os.path.join(study, "indeterminacy", "spread.tsv")
-    if not os.path.exists(path):
+    here = os.path.abspath(study)
+    candidates = [os.path.join(here, "indeterminacy", "spread.tsv")]
+    if os.path.basename(here).startswith("eps"):  # an analysis at another eps: its study's paths
+        candidates.append(os.path.join(os.path.dirname(here), "indeterminacy", "spread.tsv"))
+    path = next((c for c in candidates if os.path.exists(c)), None)
+    if path is None:
         return None
     with open(path) as f:
         rows = list(csv.DictReader(f, delimiter="\t"))
