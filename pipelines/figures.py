@@ -321,6 +321,41 @@ def fig6(fit, out, n_runs=None):
     save(fig, out, "fig6_rc")
 
 
+def fig_mobilisation(crit, out):
+    """Beyond the paper: the mobilisation |f_t|/(mu f_n) of the counted contacts per tilt
+    window (static frames when the window has any), and per window the critical contacts
+    beside the slipping ones (critical is force, slipping is motion; docs/analysis.md)."""
+    if "mobilisation" not in crit.tables or "windows" not in crit.tables:
+        return
+    mob, win = crit.table("mobilisation"), crit.table("windows")
+    if win["theta_lo"].size == 0:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    los = np.unique(mob["theta_lo"])
+    cmap = plt.get_cmap("viridis")
+    for n, lo in enumerate(los):
+        sel = mob["theta_lo"] == lo
+        static = np.nansum(mob["contacts_static"][sel]) > 0
+        pdf = mob["pdf_static"][sel] if static else mob["pdf"][sel]
+        centre = (mob["m_lo"][sel] + mob["m_hi"][sel]) / 2
+        ax[0].semilogy(centre, np.where(pdf > 0, pdf, np.nan), "-o", ms=2, lw=0.8, color=cmap(n / max(1, len(los) - 1)),
+                       label=f"{lo:g}-{mob['theta_hi'][sel][0]:g} deg" + ("" if static else " (all frames)"))
+    ax[0].set_xlabel(r"$|f_t| / (\mu f_n)$")
+    ax[0].set_ylabel("pdf (static frames)")
+    ax[0].legend(fontsize=6, ncol=2)
+    mid = (win["theta_lo"] + win["theta_hi"]) / 2
+    ax[1].plot(mid, win["nu"], "o-", color="k", ms=3, label=r"critical $\nu$, all frames")
+    ax[1].plot(mid, win["nu_static"], "o-", color="k", mfc="white", ms=3, label=r"critical $\nu$, static frames")
+    ax[1].plot(mid, win["nu_slipping"], "s-", color="C0", ms=3, label="slipping contacts, all frames")
+    ax[1].plot(mid, win["critical_slipping_fraction"], "^-", color="C3", ms=3, label="critical contacts that slip")
+    ax[1].set_xlabel(r"$\theta$ (deg)")
+    ax[1].set_ylabel("fraction")
+    ax[1].set_yscale("log")
+    ax[1].legend(fontsize=7)
+    fig.suptitle(f"Mobilisation and slip ({runs_label(crit.results.get('runs', 1))}, loading phase)", fontsize=10)
+    save(fig, out, "fig7_mobilisation")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("study", help="folder with the study's products")
@@ -335,6 +370,7 @@ def main():
     if crit is not None:
         fig1(crit, out)
         fig2(crit, out)
+        fig_mobilisation(crit, out)
     # Figs 3 and 6 are made from products that do not count runs; critical's count says.
     n_runs = crit.results.get("runs") if crit is not None else None
     if loc is not None:
