@@ -67,7 +67,11 @@ static void usage(cli::Usage& u) {
       "over every state (nu_c, today's reading) and over static states only (nu_c_static, "
       "columns *_static of the ensemble and envelope tables); the paper's reading, nu at the "
       "avalanche, is nu_theta_c: per run the mean nu of its static states in the last "
-      "--envelope-window degrees before theta_c, then mean and standard error over runs.",
+      "--envelope-window degrees before theta_c, then mean and standard error over runs. A "
+      "fourth reading keeps the pile's parts at rest while others move: per frame N_rest and "
+      "Nc_rest count the contacts whose two bodies are slower than --rest-speed sqrt(g D) (a "
+      "wall is at rest), nu_rest = Nc_rest/N_rest, and nu_c_rest is the limit of its envelope "
+      "(columns *_rest).",
       "Per frame also: z_paper, the paper's coordination (active contacts of the free grains, "
       "walls and glued grains included, per free grain, rattlers included), the contacts that "
       "slip (tangential relative velocity above --slip-speed sqrt(g D): motion, where critical "
@@ -164,7 +168,7 @@ static void run(const cli::Args& a) {
     // --series steps with another rule than the run's: refused before its frames are read
     if (opt.source == analysis::SeriesSource::steps)
       analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule, mu);
-    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed);
+    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed, opt.rest.speed);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
     runs.push_back(std::move(r));

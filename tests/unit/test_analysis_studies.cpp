@@ -599,6 +599,9 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
       FrameRecord f{k / 10, k + 1, th, state(7200, std::llround(0.5 * env(th) * 7200)), 0.0, StaticBound{}};
       f.agitation = flowing ? 1.0 : 0.0;
       f.max_speed = 0.0;
+      // the contacts at rest hold a fourth of the critical ones of the pile at rest
+      f.contacts_at_rest = 3600;
+      f.critical_at_rest = std::llround(0.25 * 0.5 * env(th) * 3600);
       run.frames.push_back(f);
     }
   }
@@ -640,4 +643,8 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   EXPECT_NEAR(*p.result("nu_theta_c"), sum / m, 1e-12);
   const Table& en = p.table("ensemble");
   EXPECT_EQ(*en.column("runs_static").get(0), 1);
+  // The reading over contacts at rest, from the frames: 0.25 of the static one.
+  ASSERT_TRUE(p.result("nu_c_rest")) << p.notes.back();
+  EXPECT_NEAR(*p.result("nu_c_rest"), 0.01, 1e-3);
+  EXPECT_NEAR(*fr.column("nu_rest").get(11), std::llround(0.125 * env(1.1) * 3600) / 3600.0, 1e-12);  // frame 11: theta 1.1
 }

@@ -434,7 +434,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"max_speed_norm", "", ColumnKind::real}, {"grains_without_contact", "", ColumnKind::integer},
            {"converged", "", ColumnKind::integer}, {"static", "", ColumnKind::integer},
            {"slipping", "", ColumnKind::integer}, {"critical_slipping", "", ColumnKind::integer},
-           {"z_paper", "", ColumnKind::real}})
+           {"z_paper", "", ColumnKind::real}, {"N_rest", "", ColumnKind::integer},
+           {"Nc_rest", "", ColumnKind::integer}, {"nu_rest", "", ColumnKind::real}})
     frames_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
@@ -446,7 +447,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"open", "", ColumnKind::integer}, {"after_avalanche", "", ColumnKind::integer}})
     events_t.add_column(n, u, k);
 
-  std::vector<Curve> curves(runs.size()), static_curves(runs.size());
+  std::vector<Curve> curves(runs.size()), static_curves(runs.size()), rest_curves(runs.size());
   std::vector<std::vector<std::int64_t>> curve_steps(runs.size());  // step of each point of curves
   // The static reading takes the series asked for at the static steps when every run says
   // which steps are static, else the frames' (docs/analysis.md, "Static and moving states").
@@ -571,6 +572,12 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       frames_t.column("slipping").add(count_opt(f.slipping));
       frames_t.column("critical_slipping").add(count_opt(f.critical_slipping));
       frames_t.column("z_paper").add(f.z_paper);
+      frames_t.column("N_rest").add(count_opt(f.contacts_at_rest));
+      frames_t.column("Nc_rest").add(count_opt(f.critical_at_rest));
+      const std::optional<double> nu_rest =
+          f.contacts_at_rest && f.critical_at_rest ? ratio(*f.critical_at_rest, *f.contacts_at_rest) : std::nullopt;
+      frames_t.column("nu_rest").add(nu_rest);
+      if (nu_rest && f.theta <= cut) { rest_curves[ri].theta.push_back(f.theta); rest_curves[ri].nu.push_back(*nu_rest); }
       if (f.z_paper && f.frame == 0) { zp_initial_sum = zp_initial_sum.value_or(0.0) + *f.z_paper; ++zp_initial_n; }
       if (loading && f.z_paper) { zp_sum += *f.z_paper; ++zp_n; }
       if (loading && still && *still) {
@@ -688,7 +695,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
            {"nu", "", ColumnKind::real}, {"nu_se", "", ColumnKind::real},
            {"runs_static", "", ColumnKind::integer}, {"nu_static", "", ColumnKind::real},
-           {"nu_static_se", "", ColumnKind::real}})
+           {"nu_static_se", "", ColumnKind::real}, {"runs_rest", "", ColumnKind::integer},
+           {"nu_rest", "", ColumnKind::real}, {"nu_rest_se", "", ColumnKind::real}})
     ens_t.add_column(n, u, k);
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
            {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
@@ -697,7 +705,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
            {"fit", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer},
            {"theta_static", "deg", ColumnKind::real}, {"runs_static", "", ColumnKind::integer},
            {"envelope_static", "", ColumnKind::real}, {"envelope_static_se", "", ColumnKind::real},
-           {"fit_static", "", ColumnKind::real}, {"in_fit_static", "", ColumnKind::integer}})
+           {"fit_static", "", ColumnKind::real}, {"in_fit_static", "", ColumnKind::integer},
+           {"theta_rest", "deg", ColumnKind::real}, {"runs_rest", "", ColumnKind::integer},
+           {"envelope_rest", "", ColumnKind::real}, {"envelope_rest_se", "", ColumnKind::real},
+           {"fit_rest", "", ColumnKind::real}, {"in_fit_rest", "", ColumnKind::integer}})
     env_t.add_column(n, u, k);
 
   p.results["runs"] = static_cast<std::int64_t>(runs.size());
@@ -741,7 +752,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     };
     const Grid g = grid_of(opt.grid_step);
     const Grid w = grid_of(opt.envelope_window);
-    // the static reading first: notes on the reading of every state come last, as before
+    // the static readings first: notes on the reading of every state come last, as before
+    const Reading rest = read_envelope(p, rest_curves, g, w, opt, "_rest", "contacts at rest: ", z_mean);
     const Reading still = read_envelope(p, static_curves, g, w, opt, "_static", "static states: ", z_mean);
     const Reading all = read_envelope(p, curves, g, w, opt, "", "", z_mean);
     if (all.saturates)
@@ -757,6 +769,9 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       ens_t.column("runs_static").add_int(still.ens[b].n);
       ens_t.column("nu_static").add(still.ens[b].mean);
       ens_t.column("nu_static_se").add(still.ens[b].se);
+      ens_t.column("runs_rest").add_int(rest.ens[b].n);
+      ens_t.column("nu_rest").add(rest.ens[b].mean);
+      ens_t.column("nu_rest_se").add(rest.ens[b].se);
     }
     for (std::size_t b = 0; b < w.count; ++b) {
       if (all.env[b].n == 0) continue;
@@ -774,6 +789,12 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       env_t.column("envelope_static_se").add(still.env[b].se);
       env_t.column("fit_static").add(still.fit[b]);
       env_t.column("in_fit_static").add_int(still.in_fit[b]);
+      env_t.column("theta_rest").add(rest.env[b].n ? rest.env_at[b].mean : std::nullopt);
+      env_t.column("runs_rest").add_int(rest.env[b].n);
+      env_t.column("envelope_rest").add(rest.env[b].mean);
+      env_t.column("envelope_rest_se").add(rest.env[b].se);
+      env_t.column("fit_rest").add(rest.fit[b]);
+      env_t.column("in_fit_rest").add_int(rest.in_fit[b]);
     }
   } else {
     p.notes.push_back("no nu(theta) data: the ensemble and envelope tables are empty");

@@ -115,7 +115,7 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers, double slip_speed) {
+                                    analysis::RattlerRule rattlers, double slip_speed, double rest_speed) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
   // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
@@ -144,6 +144,21 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
       }
       f.slipping = slipping;
       f.critical_slipping = critical;
+      // contacts at rest: both bodies slower than the rest speed (a wall is at rest)
+      const double rest = rest_speed * std::sqrt(r.gravity * r.diameter);
+      auto slow = [&](std::int32_t b) {
+        return b < 0 || static_cast<std::size_t>(b) >= fr.grains.size() ||
+               fr.grains.velocity[static_cast<std::size_t>(b)].norm() < rest;
+      };
+      std::int64_t at_rest = 0, critical_at_rest = 0;
+      for (std::size_t q = 0; q < set.size(); ++q) {
+        const std::size_t k = set.row[q];
+        if (!slow(fr.contacts.i[k]) || !slow(fr.contacts.j[k])) continue;
+        ++at_rest;
+        critical_at_rest += set.critical[q];
+      }
+      f.contacts_at_rest = at_rest;
+      f.critical_at_rest = critical_at_rest;
     }
     f.mobilisation = analysis::mobilisation_histogram(set, analysis::mobilisation_bins);
     try {

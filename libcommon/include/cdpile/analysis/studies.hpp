@@ -138,6 +138,10 @@ struct FrameRecord {
   /// counted contacts with |u_t| above the slip speed, and the critical ones among them;
   /// empty without velocities or without g and D
   std::optional<std::int64_t> slipping{}, critical_slipping{};
+  /// counted contacts whose bodies (grains, or a wall at rest) are both slower than the rest
+  /// speed, and the critical ones among them: the pile's static parts while others move;
+  /// empty without velocities or without g and D
+  std::optional<std::int64_t> contacts_at_rest{}, critical_at_rest{};
   /// counted contacts per bin of |f_t| / (mu f_n) (mobilisation_bins); empty: not computed
   std::vector<std::int64_t> mobilisation{};
 };

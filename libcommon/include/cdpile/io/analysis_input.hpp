@@ -41,12 +41,14 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 
 /// A run as `critical` reads it: read_run_steps and, for every frame, the pile state (eqs
 /// 1-2), the static bound, how the grains move, the contacts slipping faster than
-/// `slip_speed` sqrt(g D) and the histogram of the mobilisation (docs/analysis.md).
+/// `slip_speed` sqrt(g D), the contacts between grains slower than `rest_speed` sqrt(g D)
+/// and the histogram of the mobilisation (docs/analysis.md).
 /// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu, const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers,
-                                    double slip_speed = analysis::default_slip_speed);
+                                    double slip_speed = analysis::default_slip_speed,
+                                    double rest_speed = analysis::RestRule{}.speed);
 
 /// How `localnu` reads its inputs.
 struct LocalNuReading {
