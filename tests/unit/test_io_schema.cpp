@@ -133,7 +133,7 @@ void expect_run(const io::RunReader& r, const std::vector<Frame>& frames, std::s
   EXPECT_EQ(s.time, want.time);
   EXPECT_EQ(s.real, want.real);
   EXPECT_EQ(s.integer, want.integer);
-  EXPECT_EQ(s.unit.at("tilt_angle"), "deg");
+  EXPECT_EQ(s.unit.at("tilt_angle"), "degree");  // the H5MD units module symbol
 }
 
 }  // namespace
@@ -176,6 +176,100 @@ TEST(Schema, ObservablesShareOneClockAsH5mdHardLinks) {
   EXPECT_GE(a.rc, 2u);
   EXPECT_EQ(h5::attr_ints(f, "/h5md", "version"), (std::vector<std::int64_t>{1, 1}));
   EXPECT_EQ(h5::attr_int(f, "/particles/grains/box", "dimension"), 2);
+}
+
+namespace {
+/// Whether an attribute's type is a fixed-length or variable-length string, and its cset.
+struct StringKind {
+  bool is_string = false, variable = false;
+  H5T_cset_t cset = H5T_CSET_ERROR;
+  int rank = -1;
+};
+StringKind string_kind(const h5::File& f, const std::string& path, const std::string& name) {
+  StringKind k;
+  h5::Handle obj(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT));
+  h5::Handle a(H5Aopen(obj.id(), name.c_str(), H5P_DEFAULT));
+  if (!a.valid()) return k;
+  h5::Handle t(H5Aget_type(a.id()));
+  h5::Handle sp(H5Aget_space(a.id()));
+  k.is_string = H5Tget_class(t.id()) == H5T_STRING;
+  k.variable = H5Tis_variable_str(t.id()) > 0;
+  k.cset = H5Tget_cset(t.id());
+  k.rank = H5Sget_simple_extent_ndims(sp.id());
+  return k;
+}
+}  // namespace
+
+TEST(Schema, H5mdMetadataFollowsTheSpecification) {
+  // H5MD 1.1: author name, creator name and version are fixed-length scalar strings;
+  // box/boundary a fixed-length string array of D; the units module is declared
+  // (version [1, 0], system SI) and unit attributes are variable-length ASCII strings.
+  io::set_author("Ada Lovelace <ada@example.org>");
+  h5::File f = h5::create_in_memory("mem");
+  write_run(f, 3, 1, 4);
+  for (auto [path, name] : std::initializer_list<std::pair<const char*, const char*>>{
+           {"/h5md/author", "name"}, {"/h5md/author", "email"}, {"/h5md/creator", "name"},
+           {"/h5md/creator", "version"}}) {
+    const StringKind k = string_kind(f, path, name);
+    EXPECT_TRUE(k.is_string && !k.variable && k.rank == 0) << path << " " << name;
+  }
+  EXPECT_EQ(h5::attr_string(f, "/h5md/author", "name"), "Ada Lovelace");
+  EXPECT_EQ(h5::attr_string(f, "/h5md/author", "email"), "ada@example.org");
+  EXPECT_EQ(h5::attr_string(f, "/h5md/creator", "name"), "cdpile");
+  const StringKind b = string_kind(f, "/particles/grains/box", "boundary");
+  EXPECT_TRUE(b.is_string && !b.variable && b.rank == 1);
+  EXPECT_EQ(h5::attr_strings(f, "/particles/grains/box", "boundary"), (std::vector<std::string>{"none", "none"}));
+  EXPECT_EQ(h5::attr_ints(f, "/h5md/modules/units", "version"), (std::vector<std::int64_t>{1, 0}));
+  EXPECT_EQ(h5::attr_string(f, "/h5md/modules/units", "system"), "SI");
+  const StringKind u = string_kind(f, "/observables/tilt_angle/value", "unit");
+  EXPECT_TRUE(u.is_string && u.variable && u.cset == H5T_CSET_ASCII && u.rank == 0);
+  EXPECT_EQ(h5::attr_string(f, "/observables/tilt_angle/value", "unit"), "degree");
+  EXPECT_EQ(h5::attr_string(f, "/contacts/tilt_angle", "unit"), "degree");
+  EXPECT_FALSE(h5::has_attr(f, "/observables/contacts/value", "unit"));  // dimensionless: no unit
+  io::set_author("");  // back to the default for the other tests
+}
+
+TEST(Schema, AuthorTextIsNameAndOptionalEmail) {
+  EXPECT_EQ(io::parse_author("  Jean Dupont ").name, "Jean Dupont");
+  EXPECT_EQ(io::parse_author("Jean Dupont").email, "");
+  const io::Author a = io::parse_author("Jean Dupont <jd@lab.fr>");
+  EXPECT_EQ(a.name, "Jean Dupont");
+  EXPECT_EQ(a.email, "jd@lab.fr");
+  io::set_author("Someone Else");
+  EXPECT_EQ(io::author().name, "Someone Else");
+  io::set_author("");
+  EXPECT_FALSE(io::author().name.empty());  // the environment or the password database
+}
+
+TEST(Schema, FilesWithVariableLengthMetadataStillRead) {
+  // Files written before the H5MD fixes: variable-length UTF-8 author, creator and
+  // boundary, unit 'deg', no units module. Every reader still takes them.
+  TempDir dir;
+  const std::string path = dir / "old.h5";
+  std::vector<Frame> frames;
+  {
+    io::Output out(path, false);
+    h5::File& f = out.create_hdf5();
+    frames = write_run(f, 4, 2, 6);
+    h5::set_attr(f, "/h5md/author", "name", std::string("cdpile user"));
+    h5::set_attr(f, "/h5md/creator", "name", std::string("cdpile"));
+    h5::set_attr(f, "/h5md/creator", "version", std::string("0.1.0"));
+    h5::set_attr(f, "/particles/grains/box", "boundary", std::vector<std::string>{"none", "none"});
+    h5::set_attr(f, "/observables/tilt_angle/value", "unit", std::string("deg"));
+    h5::set_attr(f, "/contacts/tilt_angle", "unit", std::string("deg"));
+    H5Ldelete(f.id(), "/h5md/modules/units", H5P_DEFAULT);
+    H5Ldelete(f.id(), "/h5md/modules", H5P_DEFAULT);
+    out.commit();
+  }
+  io::Input in(path);
+  ASSERT_TRUE(string_kind(in.hdf5(), "/h5md/author", "name").variable);
+  io::RunReader r(in.hdf5());
+  ASSERT_EQ(r.frame_count(), 2u);
+  expect_same(r.frame(1).contacts, frames[1].contacts);
+  EXPECT_EQ(r.series().unit.at("tilt_angle"), "deg");
+  EXPECT_EQ(h5::attr_string(in.hdf5(), "/h5md/author", "name"), "cdpile user");
+  EXPECT_EQ(h5::attr_strings(in.hdf5(), "/particles/grains/box", "boundary"),
+            (std::vector<std::string>{"none", "none"}));
 }
 
 TEST(Schema, ReopenDropsWhatCameAfterTheCheckpoint) {

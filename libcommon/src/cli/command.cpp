@@ -1,6 +1,7 @@
 #include "cdpile/cli/command.hpp"
 
 #include "cdpile/io/files.hpp"
+#include "cdpile/io/schema.hpp"
 
 #include <boost/program_options.hpp>
 
@@ -205,6 +206,9 @@ void add_standard_options(Usage& u) {
   u.group("Standard options");
   u.flag("force", "replace an existing output file (otherwise it is never overwritten)");
   u.flag("quiet", "print no progress or information on stderr (warnings and errors are still printed)");
+  if (u.writes_hdf5)
+    u.text_opt("author", "the author recorded in HDF5 output (/h5md/author), 'NAME' or 'NAME <EMAIL>' "
+                         "(default: $CDPILE_AUTHOR, else your full name from the password database)");
   u.flag("help", "print this help and exit", 'h');
   u.flag("version", "print the version and exit");
 }
@@ -587,6 +591,10 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
   try {
     Args a = parse(usage, args);
     g_quiet = a.quiet();
+    if (a.given("author")) {
+      if (io::parse_author(a.text("author")).name.empty()) throw UsageError("--author: expected a name, got '" + a.text("author") + "'");
+      io::set_author(a.text("author"));
+    }
     body(a);
     if (std::fflush(stdout) != 0 || !std::cout.flush()) throw Error("stdout", "", "write failed");
     return 0;

@@ -2,6 +2,7 @@
 
 #include <H5LTpublic.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -423,6 +424,39 @@ void set_attr(const File& f, const std::string& path, const std::string& name,
   write_attr_raw(f, path, name, t.id(), {v.size()}, p.data());
 }
 
+namespace {
+Handle fixed_string_type(std::size_t size) {
+  hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, std::max<std::size_t>(size, 1));
+  H5Tset_strpad(t, H5T_STR_NULLTERM);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  return Handle(t);
+}
+}  // namespace
+
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name, const std::string& v) {
+  Handle t = fixed_string_type(v.size() + 1);
+  std::vector<char> buf(v.size() + 1, '\0');
+  std::copy(v.begin(), v.end(), buf.begin());
+  write_attr_raw(f, path, name, t.id(), {}, buf.data());
+}
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name,
+                    const std::vector<std::string>& v) {
+  std::size_t len = 1;
+  for (const auto& s : v) len = std::max(len, s.size() + 1);
+  Handle t = fixed_string_type(len);
+  std::vector<char> buf(len * v.size(), '\0');
+  for (std::size_t k = 0; k < v.size(); ++k) std::copy(v[k].begin(), v[k].end(), buf.begin() + static_cast<std::ptrdiff_t>(k * len));
+  write_attr_raw(f, path, name, t.id(), {v.size()}, buf.data());
+}
+void set_attr_ascii(const File& f, const std::string& path, const std::string& name, const std::string& v) {
+  Handle t(H5Tcopy(H5T_C_S1));
+  H5Tset_size(t.id(), H5T_VARIABLE);
+  H5Tset_cset(t.id(), H5T_CSET_ASCII);
+  const char* p = v.c_str();
+  write_attr_raw(f, path, name, t.id(), {}, &p);
+}
+
 bool has_attr(const File& f, const std::string& path, const std::string& name) {
   if (!exists(f, path)) return false;
   Handle obj = open_object(f, path);
@@ -444,6 +478,7 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path, co
   if (n == 0) return out;  // an empty list: H5Aread refuses a null buffer
   if (H5Tis_variable_str(t.id()) > 0) {
     Handle mt = string_type();
+    H5Tset_cset(mt.id(), H5Tget_cset(t.id()));  // HDF5 does not convert between ASCII and UTF-8
     std::vector<char*> p(static_cast<std::size_t>(n), nullptr);
     check(H5Aread(a.id(), mt.id(), p.data()), f, path, [&] { return "cannot read attribute " + name; });
     for (char* s : p) out.emplace_back(s ? s : "");

@@ -46,7 +46,7 @@ Series sample_series(std::size_t steps) {
     s.real["kinetic_energy"].push_back(0.0);
     s.integer["contacts"].push_back(static_cast<std::int64_t>(k));
   }
-  s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"contacts", ""}};
+  s.unit = {{"tilt_angle", "degree"}, {"kinetic_energy", "J m-1"}, {"contacts", ""}};
   return s;
 }
 

@@ -1,8 +1,13 @@
 #include "cdpile/io/schema.hpp"
 
+#include <pwd.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <optional>
 
 namespace cdpile::io {
 
@@ -77,6 +82,56 @@ std::vector<Provenance> merge_histories(
   return out;
 }
 
+namespace {
+std::optional<Author> g_author;
+
+std::string trim_blanks(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+}  // namespace
+
+Author parse_author(const std::string& text) {
+  Author a;
+  const std::string t = trim_blanks(text);
+  const auto lt = t.rfind('<');
+  if (lt != std::string::npos && !t.empty() && t.back() == '>') {
+    a.name = trim_blanks(t.substr(0, lt));
+    a.email = trim_blanks(t.substr(lt + 1, t.size() - lt - 2));
+  } else {
+    a.name = t;
+  }
+  return a;
+}
+
+void set_author(const std::string& text) { g_author = parse_author(text); }
+
+Author author() {
+  if (g_author && !g_author->name.empty()) return *g_author;
+  if (const char* env = std::getenv("CDPILE_AUTHOR"); env && *env) {
+    Author a = parse_author(env);
+    if (!a.name.empty()) return a;
+  }
+  if (const passwd* pw = getpwuid(getuid())) {
+    std::string gecos = pw->pw_gecos ? pw->pw_gecos : "";
+    gecos = trim_blanks(gecos.substr(0, gecos.find(',')));  // the full name comes first
+    if (!gecos.empty()) return {gecos, ""};
+    if (pw->pw_name && *pw->pw_name) return {pw->pw_name, ""};
+  }
+  return {"unknown", ""};
+}
+
+void declare_units_module(const h5::File& f) {
+  h5::create_group(f, "/h5md/modules/units");
+  h5::set_attr(f, "/h5md/modules/units", "version", std::vector<std::int64_t>{1, 0});
+  h5::set_attr_ascii(f, "/h5md/modules/units", "system", "SI");
+}
+
+void set_unit(const h5::File& f, const std::string& path, const std::string& unit) {
+  if (!unit.empty()) h5::set_attr_ascii(f, path, "unit", unit);
+}
+
 void Series::clear() {
   step.clear();
   time.clear();
@@ -122,13 +177,16 @@ void write_header(const h5::File& f, const RunHeader& h) {
   h5::set_attr(f, "/", "schema", std::string("cdpile"));
   h5::set_attr(f, "/", "schema_version", schema_version);
   h5::set_attr(f, "/", "kind", h.kind);
-  // H5MD 1.1 mandatory metadata.
+  // H5MD 1.1 mandatory metadata; its texts are fixed-length strings, as the specification
+  // asks (files written before were variable-length: the readers take both).
   h5::create_group(f, "/h5md/author");
   h5::create_group(f, "/h5md/creator");
   h5::set_attr(f, "/h5md", "version", std::vector<std::int64_t>{1, 1});
-  h5::set_attr(f, "/h5md/author", "name", std::string("cdpile user"));
-  h5::set_attr(f, "/h5md/creator", "name", std::string("cdpile"));
-  h5::set_attr(f, "/h5md/creator", "version", std::string(CDPILE_VERSION));
+  const Author a = author();
+  h5::set_attr_fixed(f, "/h5md/author", "name", a.name);
+  if (!a.email.empty()) h5::set_attr_fixed(f, "/h5md/author", "email", a.email);
+  h5::set_attr_fixed(f, "/h5md/creator", "name", std::string("cdpile"));
+  h5::set_attr_fixed(f, "/h5md/creator", "version", std::string(CDPILE_VERSION));
   write_values(f, "/parameters", h.parameters);
   write_values(f, "/results", h.results);
   for (const auto& p : h.provenance) append_provenance(f, p);
@@ -167,14 +225,15 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
 
 RunWriter::RunWriter(h5::File& f, const RunHeader& header, const Grains& g) : f_(&f) {
   write_header(f, header);
+  declare_units_module(f);
   grains_ = g.size();
   const std::string box = grain_path("box");
   h5::create_group(f, box);
   h5::set_attr(f, box, "dimension", std::int64_t{2});
-  h5::set_attr(f, box, "boundary", std::vector<std::string>{"none", "none"});
+  h5::set_attr_fixed(f, box, "boundary", std::vector<std::string>{"none", "none"});
   const std::vector<double> edges{header.box.width, header.box.height};
   h5::write(f, box + "/edges", edges);
-  h5::set_attr(f, box + "/edges", "unit", std::string("m"));
+  set_unit(f, box + "/edges", "m");
   // The walls are planes n.x = offset in the box frame; their ids appear in /contacts/j.
   h5::set_attr(f, box, "wall_names", std::vector<std::string>{"floor", "left", "right"});
   h5::set_attr(f, box, "wall_ids", std::vector<std::int64_t>{wall_floor, wall_left, wall_right});
@@ -183,7 +242,7 @@ RunWriter::RunWriter(h5::File& f, const RunHeader& header, const Grains& g) : f_
 
   auto fixed = [&](const char* name, const std::vector<double>& v, const char* unit) {
     h5::write(f, grain_path(name), v);
-    h5::set_attr(f, grain_path(name), "unit", std::string(unit));
+    set_unit(f, grain_path(name), unit);
   };
   fixed("radius", g.radius, "m");
   fixed("mass", g.mass, "kg m-1");
@@ -290,11 +349,11 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
              {nf, n}, kFrameLayout);
   if (first) {
     for (const char* e : {"velocity", "orientation", "angular_velocity"}) make_element_links(f, grain_path(e), pos);
-    h5::set_attr(f, pos + "/value", "unit", std::string("m"));
-    h5::set_attr(f, pos + "/time", "unit", std::string("s"));
-    h5::set_attr(f, grain_path("velocity") + "/value", "unit", std::string("m s-1"));
-    h5::set_attr(f, grain_path("orientation") + "/value", "unit", std::string("rad"));
-    h5::set_attr(f, grain_path("angular_velocity") + "/value", "unit", std::string("rad s-1"));
+    set_unit(f, pos + "/value", "m");
+    set_unit(f, pos + "/time", "s");
+    set_unit(f, grain_path("velocity") + "/value", "m s-1");
+    set_unit(f, grain_path("orientation") + "/value", "rad");
+    set_unit(f, grain_path("angular_velocity") + "/value", "rad s-1");
   }
 
   const std::string cg = kContacts;
@@ -327,12 +386,12 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
         "ragged table: frame k's contacts are rows offset[k] .. offset[k]+count[k]-1 of the flat "
         "datasets; j < 0 is a wall (-1 floor, -2 left, -3 right); normal points from j to i; "
         "tangent t = (-n_y, n_x); fn, ft are impulse / time step"));
-    h5::set_attr(f, cg + "/time", "unit", std::string("s"));
-    h5::set_attr(f, cg + "/tilt_angle", "unit", std::string("deg"));
-    h5::set_attr(f, cg + "/point", "unit", std::string("m"));
-    h5::set_attr(f, cg + "/fn", "unit", std::string("N m-1"));
-    h5::set_attr(f, cg + "/ft", "unit", std::string("N m-1"));
-    h5::set_attr(f, cg + "/gap", "unit", std::string("m"));
+    set_unit(f, cg + "/time", "s");
+    set_unit(f, cg + "/tilt_angle", "degree");
+    set_unit(f, cg + "/point", "m");
+    set_unit(f, cg + "/fn", "N m-1");
+    set_unit(f, cg + "/ft", "N m-1");
+    set_unit(f, cg + "/gap", "m");
     h5::set_attr(f, cg + "/status", "meaning", std::string("0 open, 1 stick, 2 slide"));
   }
   frames_ += nf;
@@ -357,7 +416,7 @@ void RunWriter::append_series(const Series& s) {
     clock = std::string(kObservables) + "/" + names.front();
     h5::append(f, clock + "/step", s.step.data(), {0}, kSeriesLayout);
     h5::append(f, clock + "/time", s.time.data(), {0}, kSeriesLayout);
-    h5::set_attr(f, clock + "/time", "unit", std::string("s"));
+    set_unit(f, clock + "/time", "s");
     for (const auto& n : names)
       if (std::string(kObservables) + "/" + n != clock)
         make_element_links(f, std::string(kObservables) + "/" + n, clock);
@@ -373,14 +432,14 @@ void RunWriter::append_series(const Series& s) {
     const std::string p = std::string(kObservables) + "/" + name + "/value";
     const bool fresh = !h5::exists(f, p);
     h5::append(f, p, v.data(), {rows}, kSeriesLayout);
-    if (fresh) h5::set_attr(f, p, "unit", unit_of(name));
+    if (fresh) set_unit(f, p, unit_of(name));
   }
   for (const auto& [name, v] : s.integer) {
     if (v.size() != rows) throw Error(f.name(), std::string(kObservables) + "/" + name, "column length differs from step");
     const std::string p = std::string(kObservables) + "/" + name + "/value";
     const bool fresh = !h5::exists(f, p);
     h5::append(f, p, v.data(), {rows}, kSeriesLayout);
-    if (fresh) h5::set_attr(f, p, "unit", unit_of(name));
+    if (fresh) set_unit(f, p, unit_of(name));
   }
 }
 

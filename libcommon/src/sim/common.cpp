@@ -94,7 +94,7 @@ io::Series observables_series() {
   for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
                         "critical_grain", "grains_without_contact"})
     s.integer[n] = {};
-  s.unit = {{"tilt_angle", "deg"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
+  s.unit = {{"tilt_angle", "degree"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
             {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},
             {"law_residual", ""}, {"law_residual_rms", ""},         {"contacts", ""},
             {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},

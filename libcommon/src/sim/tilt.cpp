@@ -254,6 +254,9 @@ class FileRecorder : public Recorder {
     io::Output out(output_, force_);
     h5::File& dst = out.create_hdf5();
     io::write_header(dst, h);
+    // The units module as the partial declared it (a partial written before it was
+    // declared keeps its old unit texts, so it is not declared for them either).
+    if (h5::exists(src, "/h5md/modules/units")) io::declare_units_module(dst);
     // H5Ocopy keeps chunking, filters and the hard links inside each copied group (the
     // shared step and time of the observables); /checkpoint is left behind.
     for (const char* g : {"/particles", "/contacts", "/observables"}) {

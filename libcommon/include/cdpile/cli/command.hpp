@@ -52,6 +52,9 @@ class Usage {
   std::vector<Example> examples;
   std::vector<OptionSpec> positionals;   ///< in order; the last may repeat
   bool last_positional_repeats = false;
+  /// The tool can write HDF5 (a pile, a run or a product): it gets the standard option
+  /// --author, the name recorded in /h5md/author. Text-only tools set it false.
+  bool writes_hdf5 = true;
   std::vector<OptionSpec> options;
   /// Allowed values of text options, and of each item of a text_list option. Checked when
   /// the command line is parsed, so a bad value is a usage error before any work starts.
@@ -144,7 +147,7 @@ std::string help_markdown(const Usage& usage);
 
 /// The one main() of every tool: builds the usage, parses, runs, prints errors and
 /// returns the exit code. Adds the standard options (--help, --version, --force,
-/// --quiet) to every tool.
+/// --quiet, and --author to a tool that writes HDF5) to every tool.
 int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
              const std::function<void(const Args&)>& body);
 

@@ -112,6 +112,13 @@ void set_attr(const File& f, const std::string& path, const std::string& name,
               const std::vector<double>& v);
 void set_attr(const File& f, const std::string& path, const std::string& name,
               const std::vector<std::string>& v);
+/// Fixed-length string attributes (UTF-8, null-terminated, sized to the longest text):
+/// H5MD 1.1 asks for them in /h5md/author, /h5md/creator and box/boundary.
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name, const std::string& v);
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name,
+                    const std::vector<std::string>& v);
+/// A variable-length ASCII string attribute: the H5MD units module's `unit` and `system`.
+void set_attr_ascii(const File& f, const std::string& path, const std::string& name, const std::string& v);
 bool has_attr(const File& f, const std::string& path, const std::string& name);
 /// Class of an attribute: H5T_INTEGER, H5T_FLOAT or H5T_STRING.
 H5T_class_t attr_class(const File& f, const std::string& path, const std::string& name);

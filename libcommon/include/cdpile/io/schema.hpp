@@ -60,6 +60,27 @@ std::vector<Provenance> merge_histories(
 Provenance provenance_now(const std::string& tool, const std::string& command_line,
                           const std::string& inputs);
 
+/// The person recorded in /h5md/author of the files this process writes (H5MD 1.1: the
+/// author's real name, optionally an email).
+struct Author {
+  std::string name, email;
+};
+/// Sets the author from "NAME" or "NAME <EMAIL>" (the --author option of every tool).
+void set_author(const std::string& text);
+/// The author: set_author's, else the environment variable CDPILE_AUTHOR (same form),
+/// else the user's full name from the password database (its GECOS field), else the login
+/// name, else "unknown".
+Author author();
+/// Parses "NAME" or "NAME <EMAIL>"; surrounding blanks are dropped.
+Author parse_author(const std::string& text);
+
+/// The H5MD units module (version 1.0, system "SI"): declared in piles and runs, whose
+/// H5MD elements carry `unit` attributes in its notation (m, s, kg m-1, degree, ...).
+void declare_units_module(const h5::File& f);
+/// A `unit` attribute as the units module wants it (variable-length ASCII); nothing for a
+/// dimensionless quantity (empty unit).
+void set_unit(const h5::File& f, const std::string& path, const std::string& unit);
+
 /// Per-step scalar time series: named columns over steps. Standard names (units):
 /// tilt_angle (deg), kinetic_energy (J/m, translational, sum over grains),
 /// rotational_energy (J/m), contacts (active, f_n > 0), contacts_grain (active
