@@ -60,6 +60,8 @@ static void usage(cli::Usage& u) {
   u.flag("exclude-self", "leave contact i out of its own neighbourhood");
   u.text("edge", "keep", "neighbourhoods crossing the pile's outline", {"keep", "exclude"});
   u.real_opt("diameter", "mean diameter D (required for a contact table, in its length unit; overrides a run's)", "", 1e-300, 1e300);
+  u.text("duplicates", "error", "a contact given twice in a table's frame (same ids, or same point without ids): "
+         "an error naming both lines, or merged into one (the rows must agree; a note counts them)", {"error", "merge"});
   u.group("Pdfs and loading phase");
   u.real("pdf-radius", 6.0, "radius of the local state of the pdfs", "D", 1e-6, 1e6);
   u.integer("pdf-bins", 50, "bins of the pdfs over [0, 1]", 1, 100000);
@@ -120,6 +122,7 @@ static void run(const cli::Args& a) {
   rd.map_run = a.integer("map-run");
   rd.map_frame = a.integer_opt("map-frame");
   rd.map_theta = a.real_opt("map-theta");
+  rd.duplicates = a.text("duplicates") == "merge" ? io::Duplicates::merge : io::Duplicates::error;
 
   const std::vector<std::string>& paths = a.arguments("inputs");
   if (rd.map_run >= static_cast<std::int64_t>(paths.size()))
@@ -144,6 +147,7 @@ static void run(const cli::Args& a) {
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every input
   std::string inputs;
   analysis::Values per_input;
+  std::optional<std::string> length_unit;  // common to every input, "" if unknown or mixed
   for (std::size_t k = 0; k < paths.size(); ++k) {
     io::Input in(paths[k]);
     inputs += (inputs.empty() ? "" : " ") + in.name();
@@ -151,6 +155,13 @@ static void run(const cli::Args& a) {
     // a contact table has no history, but it is one of the inputs the others are told from
     histories.emplace_back(in.name(), in.is_hdf5() ? io::read_header(in.hdf5()).provenance
                                                    : std::vector<io::Provenance>{});
+    length_unit = !length_unit || *length_unit == info.length_unit ? info.length_unit : std::string();
+    if (info.merged > 0) {
+      const std::string note = in.name() + ": " + std::to_string(info.merged) +
+                               " repeated contact rows merged (--duplicates merge), each contact counted once";
+      study.add_note(note);
+      cli::info(note);
+    }
     const std::string key = "run" + std::to_string(k) + "_";
     per_input[key + "theta_c_deg"] = info.theta_c ? analysis::Value(*info.theta_c) : analysis::Value(std::string("NA"));
     per_input[key + "theta_c_from"] = info.theta_c_from;
@@ -162,6 +173,7 @@ static void run(const cli::Args& a) {
     inputs += " " + crit->product.source;
     histories.emplace_back(crit->product.source, crit->provenance);
   }
+  study.set_length_unit(length_unit.value_or("m"));
   analysis::Product p = study.product();
   p.parameters["eps"] = rd.rule.eps;
   p.parameters["walls"] = std::int64_t{rd.rule.include_walls};

@@ -111,3 +111,60 @@ TEST(ContactTable, BadInputGivesOneLineErrors) {
   // a header and no rows: no frames, not an error
   EXPECT_TRUE(read_contact_table("x\ty\tfn\tft\n", "c.tsv").frames.empty());
 }
+
+TEST(ContactTable, UnknownColumnsAreIgnoredWhateverTheyHold) {
+  // docs/analysis.md promises it: a text column, a column of NA, an empty-looking label
+  auto c = read_contact_table("x\ty\tfn\tft\ttype\tnote\n0\t0\t1\t0.5\tglass\tNA\n1\t0\t2\t0.1\tsteel\t-\n",
+                              "c.tsv");
+  ASSERT_EQ(c.frames.size(), 1u);
+  EXPECT_EQ(c.frames[0].contacts.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.frames[0].contacts.fn[1], 2.0);
+  // a known column still has to hold numbers
+  EXPECT_EQ(message_of("x\ty\tfn\tft\ttype\n0\t0\tone\t0\tglass\n"),
+            "c.tsv: line 2, column fn: 'one' is not a finite number");
+}
+
+TEST(ContactTable, APairGivenTwiceIsAnErrorNamingBothLines) {
+  const char* text =
+      "frame\ti\tj\tx\ty\tfn\tft\n"
+      "1\t3\t4\t0\t0\t1\t0.5\n"
+      "1\t5\t6\t1\t0\t1\t0.1\n"
+      "2\t3\t4\t0\t0\t1\t0.5\n"      // another frame: not a repeat
+      "1\t4\t3\t0\t0\t1\t-0.5\n";    // the same pair, listed from the other side
+  EXPECT_EQ(message_of(text),
+            "c.tsv: line 5: contact 4-3 of frame 1 is also on line 2 (give each contact once, or merge "
+            "repeated rows: --duplicates merge)");
+  // merged: counted once, the first row kept
+  auto c = read_contact_table(text, "c.tsv", {Duplicates::merge});
+  EXPECT_EQ(c.merged, 1u);
+  ASSERT_EQ(c.frames.size(), 2u);
+  EXPECT_EQ(c.frames[0].contacts.size(), 2u);
+  EXPECT_EQ(c.frames[0].contacts.ft[0], 0.5);
+  // a wall contact of grain 3 and its pair with grain 3 are different contacts
+  auto w = read_contact_table("i\tj\tx\ty\tfn\tft\n3\t-1\t0\t0\t1\t0\n3\t1\t0\t1\t1\t0\n", "c.tsv");
+  EXPECT_EQ(w.frames[0].contacts.size(), 2u);
+}
+
+TEST(ContactTable, RepeatsMustAgreeToBeMerged) {
+  const char* text = "i\tj\tx\ty\tfn\tft\n3\t4\t0\t0\t1\t0.5\n3\t4\t0\t0\t2\t0.5\n";
+  try {
+    read_contact_table(text, "c.tsv", {Duplicates::merge});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "c.tsv: line 3: contact 3-4 is also on line 2 with another point or other forces: "
+                           "not a repeat, cannot merge");
+  }
+}
+
+TEST(ContactTable, WithoutIdsARepeatIsTheSamePoint) {
+  const char* text = "x\ty\tfn\tft\n0.5\t0.25\t1\t0\n1\t0\t1\t0\n0.5\t0.25\t1\t0\n";
+  EXPECT_EQ(message_of(text),
+            "c.tsv: line 4: contact point (0.5, 0.25) is also on line 2 (give each contact once, or merge "
+            "repeated rows: --duplicates merge)");
+  EXPECT_EQ(read_contact_table(text, "c.tsv", {Duplicates::merge}).frames[0].contacts.size(), 2u);
+}
+
+TEST(ContactTable, LengthUnitComment) {
+  EXPECT_EQ(read_contact_table("# length_unit: mm\nx\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit, "mm");
+  EXPECT_EQ(read_contact_table("x\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit, "");
+}

@@ -73,7 +73,7 @@ struct Contacts {
   std::vector<Vec2> normal;     ///< unit normal, from j towards i
   std::vector<double> fn;       ///< normal force, >= 0 [N/m]
   std::vector<double> ft;       ///< tangential force along t [N/m]
-  std::vector<double> gap;      ///< signed gap at the start of the step, < 0 is overlap [m]
+  std::vector<double> gap;      ///< signed gap in the step's predicted configuration, < 0 is overlap [m]
   std::vector<ContactStatus> status;
 
   std::size_t size() const { return i.size(); }

@@ -39,6 +39,7 @@ ContactSet select_contacts(const Contacts& c, std::span<const Species> species, 
   s.row.reserve(n); s.i.reserve(n); s.j.reserve(n); s.point.reserve(n);
   s.critical.reserve(n); s.sliding.reserve(n); s.mobilisation.reserve(n);
   const bool have_status = c.status.size() == n;
+  s.has_status = have_status;
   for (std::size_t k = 0; k < n; ++k) {
     const double fn = c.fn[k], ft = c.ft[k];
     if (!std::isfinite(fn) || !std::isfinite(ft) || !std::isfinite(c.point[k].x()) ||

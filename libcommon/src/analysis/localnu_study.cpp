@@ -171,7 +171,8 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
         contacts_t_.column("i").add_int(set.i[c]);
         contacts_t_.column("j").add_int(set.j[c]);
         contacts_t_.column("critical").add_int(set.critical[c]);
-        contacts_t_.column("sliding").add_int(set.sliding[c]);
+        // NA, not 0, when the input says nothing about the solver's status
+        contacts_t_.column("sliding").add(set.has_status ? std::optional<double>(set.sliding[c]) : std::nullopt);
         contacts_t_.column("mobilisation").add(set.mobilisation[c]);
         for (std::size_t q = 0; q < opt_.radii.size(); ++q)
           contacts_t_.columns[7 + q].add(s.nu(c, out_k_[q]));
@@ -214,9 +215,21 @@ Product LocalNuStudy::product() const {
   p.results["pdf_frames"] = pdf_frames_;
   p.results["pdf_critical"] = pc_.total();
   p.results["pdf_noncritical"] = pnc_.total();
-  for (const auto& [k, v] : map_info_) p.results[k] = v;
+  // Lengths: in metres from runs, else in the inputs' own unit, "?" when not known.
+  const bool metres = length_unit_ == "m";
+  p.parameters["length_unit"] = length_unit_.empty() ? std::string("unknown") : length_unit_;
+  for (const auto& [k, v] : map_info_) {
+    const bool suffixed = k.size() > 2 && k.compare(k.size() - 2, 2, "_m") == 0;
+    p.results[suffixed && !metres ? k.substr(0, k.size() - 2) : k] = v;
+  }
+  for (const auto& n : extra_notes_) p.notes.push_back(n);
+  auto relabel = [&](Table t) {
+    for (Column& c : t.columns)
+      if (c.unit == "m") c.unit = length_unit_.empty() ? "?" : length_unit_;
+    return t;
+  };
 
-  p.tables.push_back(frames_t_);
+  p.tables.push_back(relabel(frames_t_));
   p.tables.push_back(states_t_);
   Table& pdf = p.add_table("pdf", "pdfs of nu_i(pdf_radius) over critical (P_c) and non-critical (P_nc) contacts");
   for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
@@ -235,8 +248,8 @@ Product LocalNuStudy::product() const {
     pdf.column("P_c").add(pc_.total() ? std::optional<double>(pc_.density(b)) : std::nullopt);
     pdf.column("P_nc").add(pnc_.total() ? std::optional<double>(pnc_.density(b)) : std::nullopt);
   }
-  if (mapped_) p.tables.push_back(map_t_);
-  if (mapped_ && opt_.per_contact) p.tables.push_back(contacts_t_);
+  if (mapped_) p.tables.push_back(relabel(map_t_));
+  if (mapped_ && opt_.per_contact) p.tables.push_back(relabel(contacts_t_));
   return p;
 }
 

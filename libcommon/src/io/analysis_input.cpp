@@ -191,8 +191,13 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     if (const std::string kind = tsv_product_kind(in.text()); !kind.empty())
       throw Error(file, "", "is a '" + kind + "' product, expected a run (HDF5) or a contact table");
     require_table_options(o, file);
-    const ContactTable t = read_contact_table(in.text(), file);
+    ContactTable t = read_contact_table(in.text(), file, {o.duplicates});
     info.table = true;
+    info.length_unit = t.length_unit;
+    info.merged = t.merged;
+    // Without a status column the solver's status is unknown (the table's `sliding` is NA).
+    if (!t.has_status)
+      for (auto& f : t.frames) f.contacts.status.clear();
     const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
     if (o.theta_c) { info.theta_c = o.theta_c; info.theta_c_from = "option"; }
     else info.theta_c_from = "none";
@@ -222,6 +227,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   }
 
   const RunReader rr(in.hdf5());
+  info.length_unit = "m";
   rr.check_observables();  // read only for theta_c, but a run without them is damaged
   const analysis::Friction mu = choose_friction(&rr.header(), o.mu, file);
   const double diameter = o.diameter.value_or(analysis::mean_diameter(rr.grain_properties()));

@@ -3,6 +3,8 @@
 #include "cdpile/error.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <tuple>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -61,6 +63,12 @@ std::vector<std::string> split(std::string_view line, Sep sep) {
     k = e + 1;
   }
   return out;
+}
+
+std::string format_cell(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 std::string where(std::size_t line, const std::string& column = "") {
@@ -123,9 +131,12 @@ std::vector<TextTable> parse_text_tables(const std::string& text, const std::str
             throw Error(file, where(lineno), "column '" + cur.columns[k] + "' appears twice");
       }
       is_text.assign(cur.columns.size(), false);
+      auto listed = [&](const std::vector<std::string>& v, const std::string& c) {
+        return std::find(v.begin(), v.end(), c) != v.end();
+      };
       for (std::size_t k = 0; k < cur.columns.size(); ++k)
-        is_text[k] = std::find(opt.text_columns.begin(), opt.text_columns.end(), cur.columns[k]) !=
-                     opt.text_columns.end();
+        is_text[k] = listed(opt.text_columns, cur.columns[k]) ||
+                     (!opt.numeric_columns.empty() && !listed(opt.numeric_columns, cur.columns[k]));
       cur.values.assign(cur.columns.size(), {});
       cur.text.assign(cur.columns.size(), {});
       in_table = true;
@@ -162,8 +173,12 @@ std::vector<TextTable> parse_text_tables(const std::string& text, const std::str
 
 // ---------------------------------------------------------------------------------
 
-ContactTable read_contact_table(const std::string& text, const std::string& file) {
-  auto tables = parse_text_tables(text, file);
+ContactTable read_contact_table(const std::string& text, const std::string& file,
+                                const ContactTableOptions& opt) {
+  // Only the known columns are numbers; any other column is ignored whatever it holds.
+  TextTableOptions topt;
+  topt.numeric_columns = {"x", "y", "fn", "ft", "i", "j", "wall", "frame", "theta", "status"};
+  auto tables = parse_text_tables(text, file, topt);
   if (tables.empty()) throw Error(file, "", "no table (expected a header line: x y fn ft ...)");
   if (tables.size() > 1)
     throw Error(file, where(tables[1].first_line),
@@ -172,6 +187,13 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
   ContactTable out;
   out.file = file;
   out.columns = t.columns;
+  for (const std::string& c : t.comments)
+    if (c.rfind("length_unit:", 0) == 0) {
+      std::string u = c.substr(12);
+      u.erase(0, u.find_first_not_of(" \t"));
+      u.erase(u.find_last_not_of(" \t") + 1);
+      out.length_unit = u;
+    }
   auto need = [&](const char* name) {
     auto k = t.find(name);
     if (!k) {
@@ -198,6 +220,9 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
   };
 
   std::map<std::int64_t, std::size_t> frame_index;  // frame id -> position in out.frames
+  // Per frame: the key of each contact (ids, or the point's bits) -> the row it came from.
+  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
+  std::vector<std::map<Key, std::size_t>> seen;
   for (std::size_t r = 0; r < t.rows(); ++r) {
     const std::int64_t fid = cf ? integer(*cf, r, "frame") : 0;
     auto it = frame_index.find(fid);
@@ -208,6 +233,7 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
       fr.first_line = t.line[r];
       if (ct) fr.theta = t.values[*ct][r];
       out.frames.push_back(std::move(fr));
+      seen.emplace_back();
     }
     ContactTableFrame& fr = out.frames[it->second];
     if (ct && t.values[*ct][r] != *fr.theta)
@@ -237,8 +263,39 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
       if (s < 0 || s > 2) throw Error(file, where(t.line[r], "status"), "status must be 0, 1 or 2");
       st = static_cast<ContactStatus>(s);
     }
-    fr.contacts.push_back(i, j, Vec2(t.values[cx][r], t.values[cy][r]), Vec2::Zero(),
-                          t.values[cfn][r], t.values[cft][r], 0.0, st);
+    // A contact given twice: the same bodies (in either order), or without ids the same
+    // contact point, in one frame.
+    const double x = t.values[cx][r], y = t.values[cy][r];
+    Key key;
+    std::string what;
+    if (out.has_ids) {
+      const std::int64_t a = j < 0 ? i : std::min(i, j), b = j < 0 ? j : std::max(i, j);
+      key = {0, a, b};
+      what = "contact " + std::to_string(i) + "-" + std::to_string(j);
+    } else {
+      key = {1, std::bit_cast<std::int64_t>(x + 0.0), std::bit_cast<std::int64_t>(y + 0.0)};
+      what = "contact point (" + format_cell(x) + ", " + format_cell(y) + ")";
+    }
+    auto [it_seen, fresh] = seen[it->second].emplace(key, r);
+    if (!fresh) {
+      const std::size_t q = it_seen->second;
+      const std::string frame_text = cf ? " of frame " + std::to_string(fid) : "";
+      if (opt.duplicates == Duplicates::error)
+        throw Error(file, where(t.line[r]),
+                    what + frame_text + " is also on line " + std::to_string(t.line[q]) +
+                        " (give each contact once, or merge repeated rows: --duplicates merge)");
+      const double scale = std::max({std::abs(t.values[cfn][q]), std::abs(t.values[cfn][r]), 1e-300});
+      const double lscale = std::max({std::abs(x), std::abs(y), std::abs(t.values[cx][q]), std::abs(t.values[cy][q]), 1e-300});
+      if (std::abs(t.values[cfn][q] - t.values[cfn][r]) > 1e-9 * scale ||
+          std::abs(std::abs(t.values[cft][q]) - std::abs(t.values[cft][r])) > 1e-9 * scale ||
+          std::abs(t.values[cx][q] - x) > 1e-9 * lscale || std::abs(t.values[cy][q] - y) > 1e-9 * lscale)
+        throw Error(file, where(t.line[r]),
+                    what + frame_text + " is also on line " + std::to_string(t.line[q]) +
+                        " with another point or other forces: not a repeat, cannot merge");
+      ++out.merged;
+      continue;
+    }
+    fr.contacts.push_back(i, j, Vec2(x, y), Vec2::Zero(), t.values[cfn][r], t.values[cft][r], 0.0, st);
   }
   std::sort(out.frames.begin(), out.frames.end(),
             [](const ContactTableFrame& a, const ContactTableFrame& b) { return a.frame < b.frame; });

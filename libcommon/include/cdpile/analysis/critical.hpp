@@ -63,6 +63,9 @@ struct ContactSet {
   std::vector<std::uint8_t> critical;   ///< 1 if critical by the rule
   std::vector<std::uint8_t> sliding;    ///< 1 if the solver's status is `slide`
   std::vector<double> mobilisation;     ///< |f_t| / (mu f_n), in [0, 1] up to round-off
+  /// The source gave a solver status (a run, or a contact table with a `status` column);
+  /// without one, `sliding` is all 0 and means "unknown", not "none slides".
+  bool has_status = true;
 
   std::size_t size() const { return point.size(); }
   std::size_t critical_count() const;

@@ -203,11 +203,20 @@ class LocalNuStudy {
   void add_frame(std::int64_t run, const std::string& run_name, std::int64_t frame,
                  std::int64_t step, std::optional<double> theta, double diameter,
                  const ContactSet& set, bool loading, bool map_this);
+  /// The length unit of the inputs' coordinates and diameters ("m" for runs; a contact
+  /// table's declared unit; "" when unknown or when the inputs differ): columns get it as
+  /// their unit ("?" when unknown), and the map's results are named with the `_m` suffix
+  /// only in metres (else without a suffix, beside the parameter `length_unit`).
+  void set_length_unit(const std::string& unit) { length_unit_ = unit; }
+  /// A note added to the product (e.g. duplicate rows merged in an input).
+  void add_note(const std::string& note) { extra_notes_.push_back(note); }
   Product product() const;
   std::size_t frames() const { return frames_; }
 
  private:
   LocalNuOptions opt_;
+  std::string length_unit_ = "m";
+  std::vector<std::string> extra_notes_;
   std::vector<double> query_;      // radii of the query [D]: radii + pdf radius, sorted
   std::vector<std::size_t> out_k_; // index in query_ of each output radius
   std::size_t pdf_k_ = 0;

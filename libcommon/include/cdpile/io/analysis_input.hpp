@@ -6,6 +6,7 @@
 #pragma once
 
 #include "cdpile/analysis/studies.hpp"
+#include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -68,6 +69,8 @@ struct LocalNuReading {
   std::int64_t map_run = 0;
   std::optional<std::int64_t> map_frame;
   std::optional<double> map_theta;
+  /// A contact given twice in a table: an error, or merged (counted once, with a note).
+  Duplicates duplicates = Duplicates::error;
 };
 
 /// What one input contributed.
@@ -78,6 +81,8 @@ struct LocalNuInputInfo {
   std::string theta_c_from;        ///< "option", "rule", "recorded" or "none"
   std::optional<std::int64_t> mapped_frame;
   bool table = false;              ///< a contact table (not a run)
+  std::string length_unit;         ///< "m" for a run; a table's declared unit, or "" (unknown)
+  std::size_t merged = 0;          ///< rows of a table merged as repeats
 };
 
 /// Adds every frame of input `in` (a run file or a contact table) as run number `run`.

@@ -40,6 +40,9 @@ struct TextTable {
 struct TextTableOptions {
   bool allow_missing = false;              ///< accept "NA" (read as NaN, for the caller to check)
   std::vector<std::string> text_columns;   ///< columns kept as text, not parsed as numbers
+  /// When not empty: only these columns are parsed as numbers, every other column is kept
+  /// as text (a reader that ignores unknown columns, whatever they hold).
+  std::vector<std::string> numeric_columns;
 };
 
 /// Parses every table of a text. Errors name the file and the line and column:
@@ -62,6 +65,18 @@ struct ContactTableFrame {
                                    ///< unless a `status` column gives it
 };
 
+/// What to do with a contact given twice in one frame (the same pair of ids, or without
+/// ids the same contact point): LAMMPS writes a pair twice with `newton off` across
+/// ranks, and concatenated dumps repeat rows.
+enum class Duplicates {
+  error,  ///< refuse the table, naming both lines
+  merge,  ///< keep the first row, count the contact once (the rows must agree on the forces)
+};
+
+struct ContactTableOptions {
+  Duplicates duplicates = Duplicates::error;
+};
+
 /// A contact table read from text. Columns (names are case-sensitive):
 ///   x, y     contact point                          required
 ///   fn, ft   normal and tangential force            required; ft signed or |f_t|
@@ -70,19 +85,25 @@ struct ContactTableFrame {
 ///   frame    integer frame id                       optional; rows grouped by it
 ///   theta    tilt angle [deg] of the row's frame    optional; constant within a frame
 ///   status   solver status 0 open, 1 stick, 2 slide optional
-/// Other columns are ignored. Units are the user's: the analysis is scale-free given
-/// the mean diameter D (a command-line option) and mu.
+/// Other columns are ignored, whatever they hold. Units are the user's: the analysis is
+/// scale-free given the mean diameter D (a command-line option) and mu. A comment line
+/// `# length_unit: U` before the header declares the unit of x, y (and of D), e.g. `m`.
 struct ContactTable {
   std::string file;
   std::vector<std::string> columns;
   bool has_ids = false, has_walls = false, has_theta = false, has_status = false;
+  std::string length_unit;                 ///< from `# length_unit:`; empty = not declared
+  std::size_t merged = 0;                  ///< rows dropped as repeats (Duplicates::merge)
   std::vector<ContactTableFrame> frames;   ///< in increasing frame id
 };
 
 /// Reads a contact table. Errors: a missing required column, a cell that is not a finite
 /// number, a status other than 0/1/2, theta varying within a frame, an id that is not an
-/// integer. A table with a header and no rows has no frames (the tools then write their
-/// documented empty result).
-ContactTable read_contact_table(const std::string& text, const std::string& file);
+/// integer, a contact given twice (unless merged; then the two rows must agree: fn and
+/// |ft| within 1e-9 of the larger normal force of the two, points within 1e-9 of their
+/// distance scale). A table with a header and no rows has no frames (the tools then write
+/// their documented empty result).
+ContactTable read_contact_table(const std::string& text, const std::string& file,
+                                const ContactTableOptions& opt = {});
 
 }  // namespace cdpile::io
