@@ -6,7 +6,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 bin=${1:-$here/../build/bin}
 mkdir -p "$here/tools"
-for tool in deposit tilt-cd critical localnu correlate clusterfit; do
+for tool in deposit tilt-cd critical localnu correlate clusterfit to-xdmf to-lammps from-lammps; do
   if [[ -x "$bin/$tool" ]]; then
     "$bin/$tool" --help-markdown > "$here/tools/$tool.md"
     echo "docs/tools/$tool.md"

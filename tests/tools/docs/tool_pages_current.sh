@@ -1,6 +1,6 @@
 # docs/tools/<tool>.md equals the tool's --help-markdown (run docs/generate_tool_docs.sh).
 found=0
-for tool in deposit tilt-cd critical localnu correlate clusterfit; do
+for tool in deposit tilt-cd critical localnu correlate clusterfit to-xdmf to-lammps from-lammps; do
   [[ -x "$CDPILE_BIN/$tool" ]] || continue
   found=1
   page="$CDPILE_SOURCE/docs/tools/$tool.md"
