@@ -20,7 +20,7 @@
 #
 # The regularisation stage (REG=1) tilts the same pile with LAMMPS at three
 # stiffnesses and two restitutions, dumps contact frames every REG_EVERY
-# degrees up to REG_TO, converts them (benchmarks/peers/lammps_to_table.py)
+# degrees up to REG_TO, converts them (from-lammps)
 # and counts critical contacts with cdpile's own `localnu`; the same is done on
 # cdpile's full run. It runs beside the comparison (PARALLEL_REG=1) on the
 # second core, or after it (PARALLEL_REG=0).
@@ -103,9 +103,9 @@ regularisation() {
          -var cdump "$REG_EVERY" -var tag f -var thout 0.05 -var wall 01:00:00 \
          -log log.tilt -screen none)
       dt=$(sed -n 's/.* dt=\([^ ]*\) .*/\1/p' "$d/log.tilt" | grep -v '\$' | head -1)
-      frames=$(cd "$d" && ls atoms_f.*.txt | sed 's/^atoms_\(.*\)\.txt$/\1/' | sort -t. -k2 -n)
-      (cd "$d" && $PY "$peers/lammps_to_table.py" --rate 10 --dt "$dt" --check contacts.tsv \
-         $frames 2> check.log)
+      (cd "$d" && "$BIN/from-lammps" atoms_f.*.txt contacts_f.*.txt --script in.tilt \
+         --pair-style gran/hooke/history --rate 10 --dt "$dt" --check --check-tolerance 1e-3 \
+         -o contacts.tsv 2> check.log)
       tail -1 "$d/check.log"
       for eps in 1e-3 1e-2; do
         "$BIN/localnu" "$d/contacts.tsv" --mu 0.5 --diameter 0.001 --eps "$eps" --radii 1 \

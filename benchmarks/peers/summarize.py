@@ -274,7 +274,7 @@ if reg:
         fh.write("# nu = Nc/N over active grain-grain contacts (localnu --table frames), "
                  "critical: |f_t| >= (1 - eps) mu f_n, eps 1e-3 and 1e-2, mu 0.5\n")
         fh.write("# check: worst |table forces + m g - LAMMPS f|/(m g) over grains off the walls, "
-                 "all frames (lammps_to_table.py --check); cpu: s of the LAMMPS tilt\n")
+                 "all frames (from-lammps --check); cpu: s of the LAMMPS tilt\n")
         fh.write("\t".join(rc) + "\n")
         for r in reg:
             fh.write("\t".join(fmt(r[c], 6) if isinstance(r[c], float) else str(r[c]) for c in rc) + "\n")
