@@ -12,6 +12,7 @@ packages=(
   libbenchmark-dev                   # micro-benchmarks
   python3 python3-numpy python3-h5py python3-matplotlib  # figures
   util-linux                         # script(1), used by one test of terminal output
+  python3-paraview xvfb              # ParaView's Python and a virtual X display: the to-xdmf test
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -6,6 +6,10 @@ study=$PWD/studies/tiny-N80-R1.5-mu0.5-rate0.05-tol1e-4
 for f in pile-1 pile-2 run-1 run-2 critical localnu correlate clusterfit map-05 map-10; do
   [[ -s $study/$f.h5 ]] || { echo "missing $f.h5" >&2; exit 1; }
 done
+# every run and map has its ParaView description (to-xdmf)
+for f in run-1 run-2 map-05 map-10; do
+  for ext in xdmf xdmf.hdf5 paraview.py; do [[ -s $study/$f.$ext ]] || { echo "missing $f.$ext" >&2; exit 1; }; done
+done
 for fig in fig1a_nu fig1b_ek fig1c_envelope fig2_events fig3_pdf fig4a_nubar fig5_maps fig7_mobilisation; do
   for ext in png pdf; do [[ -s $study/figures/$fig.$ext ]] || { echo "missing $fig.$ext" >&2; exit 1; }; done
 done
