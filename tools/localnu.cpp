@@ -16,9 +16,13 @@ static void usage(cli::Usage& u) {
   u.synopsis = "local state nu_i(r) around every contact; pdfs P_c, P_nc; the nu field map";
   u.description = {
       "Reads tilt runs (HDF5, docs/schema.md) or plain contact tables (TSV/CSV with a header: "
-      "x, y, fn, ft, optional i, j, wall, frame, theta, status; docs/analysis.md, 'Contact "
-      "table'), each input one run of the ensemble, and writes the localnu product that "
-      "correlate reads.",
+      "x, y, fn, ft, optional i, j, wall, frame, theta, status, other columns ignored; "
+      "docs/analysis.md, 'Contact table'; from-lammps writes one from LAMMPS or LIGGGHTS dumps), "
+      "each input one run of the ensemble, and writes the localnu product that correlate reads. "
+      "A contact given twice in a table's frame is an error naming both lines (--duplicates "
+      "merge counts it once). Lengths are in m for runs; for a table in the unit its '# "
+      "length_unit:' line declares, else unknown (labelled '?', the map's results without their "
+      "_m suffix). Without a status column the per-contact 'sliding' is NA.",
       "Local state (eq 1 on a disk V of radius r centred on contact i's point): nu_i(r) = "
       "(critical contacts whose contact point lies within r of i's point) / (contacts within r), "
       "'within' meaning distance <= r, contact i itself included unless --exclude-self. r is in "
@@ -47,8 +51,8 @@ static void usage(cli::Usage& u) {
       "node (NA where there is none), and above = 1 where nu >= nu_c. nu_c is --nu-c, or the "
       "nu_c of a critical product given with --nu. The frame: --map-frame, else the one nearest "
       "--map-theta, else the last frame of the loading phase, of input --map-run. x, y and x_D, "
-      "y_D give the node in m and in D; 'gnuplot: plot \"map.tsv\" u 5:6:9 w image' or ParaView's "
-      "table-to-points filter shows it. --per-contact adds nu_i(r) of every contact of that frame.",
+      "y_D give the node in m and in D; 'gnuplot: plot \"map.tsv\" u 5:6:9 w image' shows it, "
+      "and to-xdmf on the HDF5 product gives ParaView the field. --per-contact adds nu_i(r) of every contact of that frame.",
       "Output: TSV on standard output by default (tables frames, states, pdf, map, contacts), an "
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "
       "without critical contacts give NA, never NaN."};

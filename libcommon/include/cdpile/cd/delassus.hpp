@@ -1,7 +1,8 @@
 /// 2D frictional contact problems in Delassus form, as other codes exchange them, solved
 /// by the engine's non-smooth Gauss-Seidel with the same exact local solver
 /// (local_solver.hpp). Used to compare the solver with Siconos on its own test data
-/// (physics.md 3.2; ../shared/data/siconos-fc2d/).
+/// (numerics/src/FrictionContact/test/data/fc2d_granularflowonwall_*.dat in the Siconos
+/// repository).
 ///
 /// The problem: find impulses r and local velocities u = W r + q such that, for each
 /// contact a (components 2a normal, 2a+1 tangent), Signorini and Coulomb hold with mu_a.
