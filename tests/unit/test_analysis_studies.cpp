@@ -636,7 +636,7 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   const double theta_c = *p.result("theta_c_deg");
   for (std::int64_t k = 0; k < 1950; ++k) {
     const double th = 0.01 * static_cast<double>(k);
-    if (k % 50 != 25 && th >= theta_c - 0.5) { sum += std::llround(0.5 * env(th) * 7200) / 7200.0; ++m; }
+    if (k % 50 != 25 && th >= theta_c - 0.5) { sum += static_cast<double>(std::llround(0.5 * env(th) * 7200)) / 7200.0; ++m; }
   }
   EXPECT_EQ(m, 49);
   ASSERT_TRUE(p.result("nu_theta_c"));
@@ -646,5 +646,5 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   // The reading over contacts at rest, from the frames: 0.25 of the static one.
   ASSERT_TRUE(p.result("nu_c_rest")) << p.notes.back();
   EXPECT_NEAR(*p.result("nu_c_rest"), 0.01, 1e-3);
-  EXPECT_NEAR(*fr.column("nu_rest").get(11), std::llround(0.125 * env(1.1) * 3600) / 3600.0, 1e-12);  // frame 11: theta 1.1
+  EXPECT_NEAR(*fr.column("nu_rest").get(11), static_cast<double>(std::llround(0.125 * env(1.1) * 3600)) / 3600.0, 1e-12);  // frame 11: theta 1.1
 }

@@ -152,8 +152,8 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
       };
       std::int64_t at_rest = 0, critical_at_rest = 0;
       for (std::size_t q = 0; q < set.size(); ++q) {
-        const std::size_t k = set.row[q];
-        if (!slow(fr.contacts.i[k]) || !slow(fr.contacts.j[k])) continue;
+        const std::size_t row = set.row[q];
+        if (!slow(fr.contacts.i[row]) || !slow(fr.contacts.j[row])) continue;
         ++at_rest;
         critical_at_rest += set.critical[q];
       }
