@@ -1,6 +1,7 @@
 // deposit: a static pile of disks, made by letting random grains fall and settle with the
 // Contact Dynamics engine (docs/method.md, "Deposit").
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/progress.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/deposit.hpp"
 #include "solver_options.hpp"
@@ -45,7 +46,7 @@ static void usage(cli::Usage& u) {
   u.real("ratio", 1.5, "Dmax / Dmin (diameters uniform in [Dmin, Dmax])", "", 1.0, 100.0);
   u.real("width", 120.0, "box width", "D", 1.0, 1e7);
   u.real("density", 2600.0, "grain density (2D: mass per unit thickness is rho pi r^2)", "kg/m^3", 1e-12, 1e12);
-  u.real("mu-grain", 0.5, "grain-grain friction coefficient (also with glued floor grains)", "", 0.0, 1e3);
+  u.real("mu", 0.5, "grain-grain friction coefficient (also with glued floor grains)", "", 0.0, 1e3);
   u.real("mu-wall", 0.5, "grain-wall friction coefficient (floor plane and side walls)", "", 0.0, 1e3);
   u.real("gravity", 9.81, "gravity", "m/s^2", 1e-12, 1e6);
   u.flag("smooth-floor", "no glued grains on the floor (a bare, frictional plane)");
@@ -56,6 +57,7 @@ static void usage(cli::Usage& u) {
   u.integer("rest-steps", 100, "both held for this many consecutive steps", 1, 1000000000);
   u.integer("max-steps", 200000, "give up settling after this many steps (reported)", 1, 1000000000000);
   tools::declare_solver_options(u);
+  u.alias("mu-grain", "mu");
   u.example("The paper's pile", "deposit --grains 4000 --seed 1 -o pile.h5",
             "4000 grains in a box 120 D wide; prints the bed height, packing fraction and z");
   u.example("A small pile straight into a tilt", "deposit --grains 200 -o - | tilt-cd - --to 2 -o run.h5",
@@ -82,29 +84,33 @@ static void run(const cli::Args& a) {
     const double mass = a.real("density") * M_PI / 4.0 * (d_min * d_min + d_min * d_max + d_max * d_max) / 3.0;
     o.settings = tools::solver_settings(a, o.diameter, mass, a.real("gravity"));
   }
-  o.settings.mu_grain = a.real("mu-grain");
+  o.settings.mu_grain = a.real("mu");
   o.settings.mu_wall = a.real("mu-wall");
   o.settings.gravity = a.real("gravity");
   sim::validate(o);
-  io::Output out(a.output(), a.force());  // refuse a bad target before the work
+  io::Output out(a.output(), a.force(), true);  // refuse a bad target (a terminal too) before the work
 
   cli::defer_interrupts();
   const bool show = tools::progress_wanted(a);
   const auto t0 = std::chrono::steady_clock::now();
   auto last = t0;
+  cli::ProgressLine progress_line;
   auto progress = [&](const sim::DepositProgress& p) {
     if (!show) return;
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last).count() < 0.5) return;
     last = now;
     const double secs = std::chrono::duration<double>(now - t0).count();
-    std::fprintf(stderr, "\r%s: step %lld  Ek/(N m g D) %.2e  at rest %lld/%lld  %.0f steps/s   ",
-                 cli::tool_name().c_str(), static_cast<long long>(p.step), p.agitation,
-                 static_cast<long long>(p.quiet_steps), static_cast<long long>(o.rest_steps),
-                 static_cast<double>(p.step) / std::max(secs, 1e-9));
+    char buf[4][64];
+    std::snprintf(buf[0], sizeof buf[0], "%s: step %lld", cli::tool_name().c_str(), static_cast<long long>(p.step));
+    std::snprintf(buf[1], sizeof buf[1], "Ek/(N m g D) %.2e", p.agitation);
+    std::snprintf(buf[2], sizeof buf[2], "at rest %lld/%lld", static_cast<long long>(p.quiet_steps),
+                  static_cast<long long>(o.rest_steps));
+    std::snprintf(buf[3], sizeof buf[3], "%.0f steps/s", static_cast<double>(p.step) / std::max(secs, 1e-9));
+    progress_line.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 1}, {buf[3], 3}});
   };
   const sim::Pile pile = sim::deposit(o, progress, [] { return cli::interrupted(); });
-  if (show) std::fprintf(stderr, "\n");
+  progress_line.finish();
   if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130 or 143
     std::cerr << cli::tool_name() << ": interrupted at step " << pile.steps << "; no pile written" << std::endl;
     std::exit(cli::interrupt_exit_code());

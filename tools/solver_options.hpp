@@ -18,7 +18,7 @@ inline void declare_solver_options(cli::Usage& u) {
   const cd::Settings d;
   u.group("Solver");
   u.real("time-step", d.time_step, "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12, 1.0);
-  u.real("theta", d.theta, "theta-method parameter of the Moreau-Jean scheme", "", 0.5, 1.0);
+  u.real("theta-method", d.theta, "theta-method parameter of the Moreau-Jean scheme (theta, the tilt, is another)", "", 0.5, 1.0);
   u.real("tolerance", d.tolerance, "NSGS convergence threshold of --criterion, relative to the velocity scale", "", 1e-15, 1.0);
   u.integer("max-sweeps", d.max_sweeps, "cap of NSGS sweeps per step (hitting it is counted and reported)", 1, 100000000);
   u.text("criterion", cd::criterion_name(d.criterion),
@@ -41,6 +41,7 @@ inline void declare_solver_options(cli::Usage& u) {
             "step (LMGC90's quick scramble): another solver path through the same steps", 0,
             std::numeric_limits<std::int64_t>::max());
   u.real("alert", 0.1, "alert distance: contact candidates within this gap", "D", 0.0, 10.0);
+  u.alias("theta", "theta-method");  // the old spelling, beside theta the tilt everywhere else
 }
 
 /// The settings from the options; `diameter` [m] converts the alert distance, and with
@@ -48,7 +49,7 @@ inline void declare_solver_options(cli::Usage& u) {
 inline cd::Settings solver_settings(const cli::Args& a, double diameter, double mass, double gravity) {
   cd::Settings s;
   s.time_step = a.real("time-step");
-  s.theta = a.real("theta");
+  s.theta = a.real("theta-method");
   s.tolerance = a.real("tolerance");
   s.max_sweeps = static_cast<int>(a.integer("max-sweeps"));
   s.criterion = cd::criterion_from_name(a.text("criterion"));

@@ -3,6 +3,7 @@
 // (docs/method.md, "Tilt" and "Checkpoints").
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/progress.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/tilt.hpp"
 #include "solver_options.hpp"
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <set>
 
 using namespace cdpile;
 
@@ -32,20 +34,23 @@ static void usage(cli::Usage& u) {
       "with forces and solver status) are written at step 0, every --frame-every steps (or "
       "--frame-every-deg degrees) and at the last step.",
       "Avalanche: the agitation a = Ek / (Np m g D) (translational kinetic energy per free grain over "
-      "m g D, m the mean mass and D the mean diameter of the free grains) reaches --avalanche-energy "
+      "m g D, m the mean mass and D the mean diameter of the free grains) reaches --avalanche-ek "
       "and stays at or above it for --avalanche-hold degrees of tilt; the avalanche angle "
       "results/avalanche_angle_deg is the tilt where that sustained interval began.",
       "Branches: with --branch-at the input is a run made by tilt-cd, and the new run starts from "
       "the state of its last frame at or below that tilt (positions, velocities, rotations, contact "
-      "forces as the warm start), tilting on from the frame's tilt with this invocation's options: "
-      "another solver tolerance, frames every step over an interesting window, another rate. With the "
-      "run's own options a branch repeats the run's next steps up to the rounding of impulse = force x h. "
+      "forces as the warm start), tilting on from the frame's tilt with the run's own options (its "
+      "/parameters), except those given here: another solver tolerance, frames every step over an "
+      "interesting window, another rate. Each option that differs from the run's is said on stderr; "
+      "a frame interval not given keeps the run's interval in degrees. With nothing changed a branch "
+      "repeats the run's next steps up to the rounding of impulse = force x h. "
       "The branch records branch_step and branch_tilt_deg in /parameters.",
       "Checkpoints: a run to a file is kept in OUTPUT.partial, a valid run file with a /checkpoint "
       "group, rewritten every --checkpoint-every steps by an atomic rename, so a kill at any moment "
       "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
       "file, bit for bit in every dataset, as a run never interrupted (the pile argument is then not "
-      "read again). Ctrl-C writes a checkpoint of every completed step and exits with 130 (SIGTERM: 143). The "
+      "read again). A resume takes the interrupted run's options; an option given with another value "
+      "than the run's is a usage error naming it. Ctrl-C writes a checkpoint of every completed step and exits with 130 (SIGTERM: 143). The "
       "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
       "does nothing. Writing to standard output (-o -) has no checkpoints.",
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
@@ -67,7 +72,7 @@ static void usage(cli::Usage& u) {
   u.real("max-angle", 90.0, "without --to, stop here if no avalanche is detected", "deg", -90.0, 90.0);
   u.real("margin", 1.0, "keep tilting this much after the avalanche is confirmed", "deg", 0.0, 180.0);
   u.group("Avalanche");
-  u.real("avalanche-energy", 1e-3, "threshold of the agitation Ek / (Np m g D)", "", 1e-300, 1e300);
+  u.real("avalanche-ek", 1e-3, "threshold of the agitation Ek / (Np m g D)", "", 1e-300, 1e300);
   u.real("avalanche-hold", 0.2, "the agitation must stay above the threshold this long", "deg", 0.0, 90.0);
   u.real("eps", analysis::default_eps, "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
   u.group("Recording");
@@ -76,9 +81,11 @@ static void usage(cli::Usage& u) {
   u.integer("checkpoint-every", 2000, "steps between checkpoints of OUTPUT.partial", 1, 1000000000000, "steps");
   u.flag("resume", "continue the interrupted run of OUTPUT from OUTPUT.partial");
   u.group("Friction");
-  u.real_opt("mu-grain", "grain-grain friction coefficient (default: the pile's mu_grain)", "", 0.0, 1e3);
+  u.real_opt("mu", "grain-grain friction coefficient (default: the pile's mu_grain)", "", 0.0, 1e3);
   u.real_opt("mu-wall", "grain-wall friction coefficient (default: the pile's mu_wall)", "", 0.0, 1e3);
   tools::declare_solver_options(u);
+  u.alias("avalanche-energy", "avalanche-ek");  // critical's and localnu's name
+  u.alias("mu-grain", "mu");
   u.example("The paper's run", "tilt-cd pile.h5 -o run.h5",
             "0.001 degree per step until the avalanche plus 1 degree; prints the avalanche angle");
   u.example("Through a pipe, to a fixed angle", "deposit --grains 200 -o - | tilt-cd - --to 2 -o run.h5",
@@ -86,7 +93,7 @@ static void usage(cli::Usage& u) {
   u.example("A branch with a tighter solver", "tilt-cd run.h5 --branch-at 6 --to 7 --tolerance 1e-6 --frame-every 10 -o tight.h5",
             "restarts from the run's frame at 6 degrees and tilts to 7 degrees, a frame every 10 steps");
   u.example("After a crash or Ctrl-C", "tilt-cd pile.h5 -o run.h5 --resume",
-            "continues from run.h5.partial; the same options as the first invocation");
+            "continues from run.h5.partial with the options of the first invocation");
 }
 
 // The options of the run, with the pile's values as defaults (friction, gravity, D).
@@ -99,14 +106,14 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   sim::TiltOptions o;
   o.settings = tools::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
   o.settings.gravity = gravity;
-  o.settings.mu_grain = a.real_opt("mu-grain").value_or(param("mu_grain", o.settings.mu_grain));
+  o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
   o.rate_deg = a.real("rate");
   o.from_deg = pile.branch ? pile.branch->tilt_deg : a.real("from");
   o.to_deg = a.real_opt("to");
   o.max_deg = a.real("max-angle");
   o.margin_deg = a.real("margin");
-  o.avalanche_energy = a.real("avalanche-energy");
+  o.avalanche_energy = a.real("avalanche-ek");
   o.avalanche_hold_deg = a.real("avalanche-hold");
   o.eps = a.real("eps");
   if (a.given("frame-every") && a.given("frame-every-deg"))
@@ -116,6 +123,21 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   o.checkpoint_every = a.integer("checkpoint-every");
   sim::validate(o);
   return o;
+}
+
+// A branch or a resume: the run's options, with those given on the command line over them.
+static sim::InheritedOptions inherited(const cli::Args& a, const sim::PileInput& run, const sim::TiltOptions& asked,
+                                       std::optional<double> start_deg) {
+  std::set<std::string> given;
+  for (const auto& [name, yes] : a.given_)
+    if (yes) given.insert(name);
+  return sim::inherit_options(run.parameters, asked, given, start_deg, run.name);
+}
+
+static std::string change_text(const cli::Args& a, const sim::OptionChange& c) {
+  if (c.option.empty())  // derived: the frame interval at another rate
+    return c.parameter + " " + c.value + " (the run's " + c.run_value + ": the same interval in degrees at this --rate)";
+  return "--" + c.option + " " + a.text(c.option) + ": " + c.parameter + " " + c.value + " instead of the run's " + c.run_value;
 }
 
 static void run(const cli::Args& a) {
@@ -143,16 +165,24 @@ static void run(const cli::Args& a) {
   // The progress line is rewritten at most twice a second, and once more at the end, so
   // even a run shorter than that shows where it stopped.
   std::optional<sim::TiltProgress> latest;
+  cli::ProgressLine progress_line;
   auto print = [&](const sim::TiltProgress& p, std::chrono::steady_clock::time_point now) {
     last_print = now;
     const double secs = std::chrono::duration<double>(now - t0).count();
     const double sps = static_cast<double>(p.step - first) / std::max(secs, 1e-9);
-    char left[64];
-    if (p.last_step >= 0) std::snprintf(left, sizeof left, "%.0f s left", static_cast<double>(p.last_step - p.step) / sps);
-    else std::snprintf(left, sizeof left, "until the avalanche (at most %.0f s)", static_cast<double>(p.cap_step - p.step) / sps);
-    std::fprintf(stderr, "\r%s: %.3f deg  step %lld  %.0f steps/s  Ek/(Np m g D) %.1e  %s%s   ",
-                 cli::tool_name().c_str(), p.angle_deg, static_cast<long long>(p.step), sps, p.agitation,
-                 p.avalanche ? "avalanche confirmed, " : "", left);
+    // The time left is an estimate at the present speed, which changes as the contacts do;
+    // before the avalanche it is the time to the maximum angle, the latest the run can end.
+    char buf[5][64];
+    std::snprintf(buf[0], sizeof buf[0], "%s: %.3f deg", cli::tool_name().c_str(), p.angle_deg);
+    std::snprintf(buf[1], sizeof buf[1], "step %lld", static_cast<long long>(p.step));
+    std::snprintf(buf[2], sizeof buf[2], "%.0f steps/s", sps);
+    std::snprintf(buf[3], sizeof buf[3], "Ek/(Np m g D) %.1e", p.agitation);
+    if (p.last_step >= 0)
+      std::snprintf(buf[4], sizeof buf[4], "%sest. %.0f s left", p.avalanche ? "avalanche confirmed, " : "",
+                    static_cast<double>(p.last_step - p.step) / sps);
+    else
+      std::snprintf(buf[4], sizeof buf[4], "est. at most %.0f s left", static_cast<double>(p.cap_step - p.step) / sps);
+    progress_line.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 4}, {buf[3], 3}, {buf[4], 1}});
   };
   hooks.progress = [&](const sim::TiltProgress& p) {
     if (first < 0) first = p.step - 1;
@@ -177,11 +207,18 @@ static void run(const cli::Args& a) {
     sim::PileInput partial = sim::read_partial(output);
     if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
       partial.branch = sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
-    const sim::TiltOptions o = options(a, partial);
+    const sim::InheritedOptions inh = inherited(a, partial, options(a, partial), std::nullopt);
+    if (!inh.changes.empty()) {  // the partial is the run: another value would change it halfway
+      const sim::OptionChange& c = inh.changes.front();
+      throw UsageError(change_text(a, c) + " in the interrupted run " + partial.name + "; resume with its options (" +
+                       (c.option.empty() ? std::string("leave them out") : "leave --" + c.option + " out") + ")");
+    }
+    const sim::TiltOptions o = inh.options;
     warned = warn_settings(o, partial);
     outcome = sim::resume_tilt(o, output, a.force(), hooks);
   } else {
     if (resume) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
+    sim::check_output(output, a.force());  // before standard input is read, and the run made
     const io::Input in(a.argument("pile"));
     const auto branch_at = a.real_opt("branch-at");
     const sim::PileInput pile = branch_at ? sim::read_branch(in.hdf5(), *branch_at) : sim::read_pile(in.hdf5());
@@ -191,12 +228,17 @@ static void run(const cli::Args& a) {
                     static_cast<long long>(pile.branch->step), pile.branch->tilt_deg);
       cli::info(in.name() + what);
     }
-    const sim::TiltOptions o = options(a, pile);
+    sim::TiltOptions o = options(a, pile);
+    if (pile.branch) {
+      const sim::InheritedOptions inh = inherited(a, pile, o, pile.branch->tilt_deg);
+      for (const auto& c : inh.changes) cli::info(in.name() + ": branch: " + change_text(a, c));
+      o = inh.options;
+    }
     warned = warn_settings(o, pile);
     outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
   }
   if (show && latest) print(*latest, std::chrono::steady_clock::now());
-  if (show) std::fprintf(stderr, "\n");
+  progress_line.finish();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double sps = static_cast<double>(outcome.steps - outcome.first_step) / std::max(secs, 1e-9);
   if (outcome.interrupted) {

@@ -112,3 +112,31 @@ TEST(Cli, HelpShowsEveryOptionWithDefaultAndUnit) {
   const std::string md = cli::help_markdown(demo());
   EXPECT_NE(md.find("| `--diameter X` | mean diameter (>= 0) | m | `0.001` |"), std::string::npos) << md;
 }
+
+// An old spelling kept for one version: the same option, hidden from --help; both
+// spellings together are the option given twice.
+TEST(Cli, AliasesStandForTheirOption) {
+  cli::Usage u = demo();
+  u.alias("grain-count", "grains");
+  u.alias("no-self", "exclude-self");
+  auto parse = [&](const std::vector<std::string>& words) {
+    std::vector<std::string> argv{"demo"};
+    argv.insert(argv.end(), words.begin(), words.end());
+    return cli::parse(u, argv);
+  };
+  const cli::Args a = parse({"in.h5", "--grain-count", "7", "--no-self"});
+  EXPECT_EQ(a.integer("grains"), 7);
+  EXPECT_TRUE(a.given("grains"));
+  EXPECT_TRUE(a.flag("exclude-self"));
+  EXPECT_FALSE(parse({"in.h5"}).flag("exclude-self"));
+  EXPECT_EQ(parse({"in.h5"}).integer("grains"), 4000);
+  try {
+    parse({"in.h5", "--grains", "5", "--grain-count", "7"});
+    ADD_FAILURE() << "both spellings accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "--grains given twice (also as --grain-count)");
+  }
+  EXPECT_EQ(cli::help_text(u).find("grain-count"), std::string::npos);
+  EXPECT_EQ(cli::help_markdown(u).find("grain-count"), std::string::npos);
+  EXPECT_THROW(u.alias("old", "undeclared"), std::logic_error);
+}

@@ -111,6 +111,18 @@ TEST(Products, ShortestRoundTripNumbers) {
   EXPECT_EQ(format_number(std::numeric_limits<double>::infinity()), "NA");
 }
 
+TEST(Products, TablesWithoutTheFileHeader) {
+  Product p = sample();
+  std::ostringstream with, without;
+  write_tsv(with, p, {}, {"windows"});
+  write_tsv(without, p, {}, {"windows"}, false);
+  EXPECT_EQ(without.str().rfind("# table: windows\n", 0), 0u);  // the block first, no blank lines
+  EXPECT_EQ(without.str().find("# kind:"), std::string::npos);
+  EXPECT_EQ(without.str().find("# tables:"), std::string::npos);
+  // the block itself is the same
+  EXPECT_EQ(with.str().substr(with.str().find("# table: windows")), without.str());
+}
+
 TEST(Products, OneTableAndMissingTable) {
   Product p = sample();
   std::ostringstream os;

@@ -168,7 +168,7 @@ TEST(Deposit, SettledPileIsStaticAndObeysTheContactLaws) {
   }
 }
 
-// A pile may settle without friction (a denser preparation; tilt-cd --mu-grain then sets
+// A pile may settle without friction (a denser preparation; tilt-cd --mu then sets
 // the friction of the tilt). Without friction no contact carries a tangential force, the
 // grains find the denser packing, and the contact network is near isostatic for
 // frictionless disks (z = 4 rattlers excluded, less at the walls and the free surface),

@@ -448,3 +448,47 @@ TEST(Settings, PreSeamFilesReadAsRigidNsgsCheckedEverySweep) {
   EXPECT_EQ(legacy.contact_stiffness, 0.0);
   EXPECT_EQ(sim::with_pre_seam_settings(old), sim::settings_parameters(cd::Settings{}));
 }
+
+// A branch or a resume takes the run's options; those given override them and are listed
+// as changes; a frame interval not given keeps its degrees at another rate.
+TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
+  sim::TiltOptions run = short_run();  // 0.002 deg per step, a frame every 20 steps, to 0.3
+  run.settings.tolerance = 1e-5;
+  run.eps = 2e-3;
+  const io::Values stored = sim::tilt_parameters(run);
+  const sim::TiltOptions defaults;  // what the command line holds for options not given
+  // nothing given: the run's options
+  sim::InheritedOptions same = sim::inherit_options(stored, defaults, {}, std::nullopt, "run.h5");
+  EXPECT_TRUE(same.changes.empty());
+  EXPECT_EQ(sim::tilt_parameters(same.options), stored);
+  // a branch at 0.08 deg with another tolerance and rate
+  sim::TiltOptions asked = defaults;
+  asked.settings.tolerance = 1e-7;
+  asked.rate_deg = 0.004;
+  const sim::InheritedOptions b = sim::inherit_options(stored, asked, {"tolerance", "rate"}, 0.08, "run.h5");
+  EXPECT_EQ(b.options.rate_deg, 0.004);
+  EXPECT_EQ(b.options.settings.tolerance, 1e-7);
+  EXPECT_EQ(b.options.frame_every, 10);  // 20 steps at 0.002 deg: 0.04 deg
+  EXPECT_EQ(b.options.from_deg, 0.08);
+  EXPECT_EQ(b.options.to_deg, run.to_deg);
+  EXPECT_EQ(b.options.eps, 2e-3);
+  ASSERT_EQ(b.changes.size(), 3u);  // the rate, the tolerance, the frame interval (derived)
+  EXPECT_EQ(b.changes[0].option, "rate");
+  EXPECT_EQ(b.changes[0].parameter, "tilt_rate_deg_per_step");
+  EXPECT_EQ(b.changes[0].run_value, "0.002");
+  EXPECT_EQ(b.changes[0].value, "0.004");
+  EXPECT_EQ(b.changes[1].option, "");
+  EXPECT_EQ(b.changes[1].parameter, "frame_every_steps");
+  EXPECT_EQ(b.changes[2].option, "tolerance");
+  // a frame interval given is kept as given
+  asked.frame_every = 7;
+  EXPECT_EQ(sim::inherit_options(stored, asked, {"rate", "frame-every"}, 0.08, "run.h5").options.frame_every, 7);
+  // an option given with the run's own value is no change
+  asked = defaults;
+  asked.rate_deg = 0.002;
+  EXPECT_TRUE(sim::inherit_options(stored, asked, {"rate"}, std::nullopt, "run.h5").changes.empty());
+  // a run without a tilt parameter: an Error naming the file
+  io::Values broken = stored;
+  broken.erase("tilt_rate_deg_per_step");
+  EXPECT_THROW(sim::inherit_options(broken, defaults, {}, std::nullopt, "run.h5"), cdpile::Error);
+}

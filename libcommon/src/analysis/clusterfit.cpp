@@ -254,7 +254,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   }
   p.results["windows"] = static_cast<std::int64_t>(windows.size());
   p.results["windows_fitted"] = static_cast<std::int64_t>(fitted.size());
-  if (fitted.empty()) p.notes.push_back("no window could be fitted (too few radii, nu_inf = 0, or no data)");
+  if (fitted.empty()) p.omit("no window could be fitted (too few radii, nu_inf = 0, or no data)");
 
   // Affine fits of A and alpha in theta.
   Table& aff = p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta");
@@ -297,7 +297,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
     };
     fit_a = affine("A", a, as, a_w);
     fit_alpha = affine("alpha", al, als, al_w);
-    if (!fit_a || !fit_alpha) p.notes.push_back("affine fits not done: fewer than 2 fitted windows with theta");
+    if (!fit_a || !fit_alpha) p.omit("affine fits not done: fewer than 2 fitted windows with theta");
   }
 
   // r_c (eq 5) per window.
@@ -308,7 +308,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   rcse_col.num.assign(nrows, nan);
   fits.column("r_c_fit").num.assign(nrows, nan);
   fits.column("in_power").num.assign(nrows, 0.0);
-  if (!nu_c) p.notes.push_back("r_c not computed: no nu_c (give --nu-c, or --nu with a critical product that has one)");
+  if (!nu_c) p.omit("r_c not computed: no nu_c (give --nu-c, or --nu with a critical product that has one)");
   std::vector<double> pth, prc, pse;
   std::vector<std::size_t> prow;
   bool p_w = true;
@@ -353,7 +353,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
                               d.theta_c - theta_max <= 1e-6 * (theta_max - theta_min);
       if (degenerate) {
         p.results["power_degenerate"] = std::int64_t{1};
-        p.notes.push_back("power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
+        p.omit("power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
                           "power range (r_c does not grow toward a theta_c in these windows); no beta. "
                           "Give --theta-c, or more runs or a wider --power-from range");
       } else if (d.fit.converged) {
@@ -373,13 +373,13 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
           fits.column("r_c_fit").num[prow[k]] = std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
         }
       } else if (!d.fit.converged) {
-        p.notes.push_back("power-law fit did not converge: " + d.fit.status);
+        p.omit("power-law fit did not converge: " + d.fit.status);
       }
     } catch (const Error& e) {
-      p.notes.push_back(std::string("power-law fit failed: ") + e.what());
+      p.omit(std::string("power-law fit failed: ") + e.what());
     }
   } else if (nu_c) {
-    p.notes.push_back("power-law fit not done: " + std::to_string(pth.size()) +
+    p.omit("power-law fit not done: " + std::to_string(pth.size()) +
                       " windows with r_c in the power range, need " + std::to_string(need));
   }
   return p;

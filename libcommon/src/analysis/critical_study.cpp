@@ -134,7 +134,7 @@ void note_step_series(Product& p, const std::vector<RunRecord>& runs,
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const std::string& name = runs[k].name;
     if (runs[k].steps.step.empty())
-      p.notes.push_back(name + ": no per-step observables: no steps, events or theta_c from this run");
+      p.omit(name + ": no per-step observables: no steps, events or theta_c from this run");
     if (!mismatch[k]) continue;
     p.notes.push_back(name + (mismatch[k]->unknown ? " does not record the rule of its per-step critical count ("
                                                    : " recorded its per-step critical count with another rule (") +
@@ -212,7 +212,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
   rd.in_fit.assign(w.count, 0);
   rd.fit.assign(w.count, nan);
   if (std::all_of(curves.begin(), curves.end(), [](const Curve& c) { return c.theta.empty(); })) {
-    p.notes.push_back(label + "no state in the loading phase: no ensemble, envelope or nu_c");
+    p.omit(label + "no state in the loading phase: no ensemble, envelope or nu_c");
     return rd;
   }
   const auto nruns = static_cast<std::int64_t>(curves.size());
@@ -233,7 +233,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     all_se = all_se && fs.back() > 0.0;
   }
   if (ft.size() < 4) {
-    p.notes.push_back(label + "envelope fit not done: fewer than 4 windows in the fit range");
+    p.omit(label + "envelope fit not done: fewer than 4 windows in the fit range");
     return rd;
   }
   try {
@@ -246,10 +246,10 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     rd.saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span && ef.nu_c() > 0.0 && ef.nu_c() <= 1.0;
     if (ef.fit.converged) p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
     if (ef.fit.converged && !rd.saturates)
-      p.notes.push_back(label + "envelope does not saturate in the fitted range [" + format_short(ft.front()) +
+      p.omit(label + "envelope does not saturate in the fitted range [" + format_short(ft.front()) +
                         ", " + format_short(ft.back()) + "] deg (tau = " + format_short(ef.tau()) +
                         " deg, limit = " + format_short(ef.nu_c()) + "): nu_c is not determined");
-    if (!ef.fit.converged) p.notes.push_back(label + "envelope fit did not converge: " + ef.fit.status);
+    if (!ef.fit.converged) p.omit(label + "envelope fit did not converge: " + ef.fit.status);
     if (!rd.saturates) return rd;
     p.results[key("nu_c", suffix)] = ef.nu_c();
     if (auto e = ef.fit.se(0)) p.results[key("nu_c", suffix, "_se")] = *e;
@@ -271,7 +271,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     if (z_mean && ef.nu_c() > 0)
       if (auto l = critical_spacing(*z_mean, ef.nu_c(), 1.0)) p.results[key("lambda_c", suffix, "_D")] = *l;
   } catch (const Error& e) {
-    p.notes.push_back(label + "envelope fit failed: " + e.what());
+    p.omit(label + "envelope fit failed: " + e.what());
   }
   return rd;
 }
@@ -797,7 +797,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       env_t.column("in_fit_rest").add_int(rest.in_fit[b]);
     }
   } else {
-    p.notes.push_back("no nu(theta) data: the ensemble and envelope tables are empty");
+    p.omit("no nu(theta) data: the ensemble and envelope tables are empty");
   }
 
   // Per window of the loading phase: the mobilisation of the counted contacts, and the

@@ -10,7 +10,9 @@ namespace cdpile::cli {
 void declare_product_output(Usage& u, const std::vector<std::string>& tables) {
   u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
   u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_list("table", "write only these tables to TSV", tables);
+  u.text_list("table", "write only these tables to TSV (without the commented file header unless --header)", tables);
+  u.flag("header", "with --table, write the commented file header too (provenance, parameters, results, notes), "
+         "as a product read back by another tool needs");
 }
 
 void refuse_table_if(const Args& a, const std::string& table, bool left_out, const std::string& why) {
@@ -20,7 +22,9 @@ void refuse_table_if(const Args& a, const std::string& table, bool left_out, con
 }
 
 void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history) {
-  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), a.text_list("table"));
+  for (const std::string& why : p.not_computed) info(why);  // not only in a '# note:' line of the output
+  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), a.text_list("table"),
+           a.text_list("table").empty() || a.flag("header"));
 }
 
 void refuse_repeated_inputs(const std::vector<std::string>& paths) {
@@ -35,11 +39,11 @@ void refuse_repeated_inputs(const std::vector<std::string>& paths) {
 }
 
 void check_output(const Args& a) {
-  if (!a.text_list("table").empty() &&
-      io::resolve_format(a.output(), io::parse_format(a.text("format"))) == io::Format::hdf5)
+  const bool hdf5 = io::resolve_format(a.output(), io::parse_format(a.text("format"))) == io::Format::hdf5;
+  if (!a.text_list("table").empty() && hdf5)
     throw UsageError("--table chooses tables of TSV output; an HDF5 product (-o " + a.output() +
                      ") holds them all (use a .tsv name or --format tsv)");
-  if (!a.output().empty() && a.output() != "-") io::Output check(a.output(), a.force());
+  io::Output check(a.output().empty() ? "-" : a.output(), a.force(), hdf5);
 }
 
 void declare_critical_rule(Usage& u, const std::string& mu_help) {

@@ -9,12 +9,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstring>
 #include <iostream>
 #include <sstream>
+#include <typeinfo>
 
 namespace po = boost::program_options;
 
@@ -329,6 +331,13 @@ Usage& Usage::group(const std::string& title) {
   return *this;
 }
 
+Usage& Usage::alias(const std::string& old_name, const std::string& n) {
+  const bool declared = std::any_of(options.begin(), options.end(), [&](const OptionSpec& o) { return o.name == n; });
+  if (!declared) throw std::logic_error("alias --" + old_name + " of an undeclared option --" + n);
+  aliases_[old_name] = n;
+  return *this;
+}
+
 Usage& Usage::example(const std::string& title, const std::string& command, const std::string& explanation) {
   examples.push_back({title, command, explanation});
   return *this;
@@ -414,6 +423,13 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
     else
       desc.add_options()(key.c_str(), po::value<std::string>());
   }
+  for (const auto& [old_name, n] : usage.aliases_) {
+    const auto o = std::find_if(usage.options.begin(), usage.options.end(), [&](const OptionSpec& x) { return x.name == n; });
+    if (o->kind == Kind::flag)
+      desc.add_options()(old_name.c_str(), po::bool_switch());
+    else
+      desc.add_options()(old_name.c_str(), po::value<std::string>());
+  }
   po::positional_options_description pos;
   for (std::size_t k = 0; k < usage.positionals.size(); ++k) {
     const bool last = k + 1 == usage.positionals.size();
@@ -431,6 +447,17 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
     throw UsageError("too many arguments");
   } catch (const po::error& e) {
     throw UsageError(e.what());
+  }
+  // An old spelling stands for its option; both together are the option given twice.
+  for (const auto& [old_name, n] : usage.aliases_) {
+    const bool is_flag = vm.count(old_name) && vm[old_name].value().type() == typeid(bool);
+    const bool used = vm.count(old_name) && (!is_flag || vm[old_name].as<bool>());
+    if (!used) continue;
+    const bool also = vm.count(n) && (!is_flag || vm[n].as<bool>());
+    if (also) throw UsageError("--" + n + " given twice (also as --" + old_name + ")");
+    warn("--" + old_name + " is deprecated and will be removed; use --" + n);
+    vm.erase(n);
+    vm.insert({n, vm[old_name]});
   }
   Args a;
   a.tool_ = usage.name;
@@ -566,7 +593,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
   std::string name = argc > 0 ? argv[0] : "cdpile";
   if (auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
   g_tool = name;
-  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is reported as an error line instead
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is io::BrokenPipe: temporaries removed, then SIGPIPE
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   io::h5::silence_errors();
@@ -596,8 +623,18 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
       io::set_author(a.text("author"));
     }
     body(a);
-    if (std::fflush(stdout) != 0 || !std::cout.flush()) throw Error("stdout", "", "write failed");
+    if (std::fflush(stdout) != 0 || !std::cout.flush()) {
+      if (errno == EPIPE) throw io::BrokenPipe();
+      throw Error("stdout", "", "write failed");
+    }
     return 0;
+  } catch (const io::BrokenPipe&) {
+    // The reader has what it wanted (`| head`): end quietly, as coreutils do, with the
+    // shell's status for SIGPIPE (141), which `set -o pipefail` treats like theirs.
+    io::remove_temporaries();
+    std::signal(SIGPIPE, SIG_DFL);
+    std::raise(SIGPIPE);
+    return 128 + SIGPIPE;
   } catch (const UsageError& e) {
     std::cerr << name << ": " << e.what() << " (see '" << name << " --help')" << std::endl;
     io::remove_temporaries();

@@ -35,8 +35,8 @@ void write_fully(int fd, const char* data, std::size_t n, const std::string& nam
     ssize_t w = ::write(fd, data, n);
     if (w < 0) {
       if (errno == EINTR) continue;
-      throw Error(name, "", errno == EPIPE ? "broken pipe (did the next tool fail?)"
-                                           : "write failed: " + system_reason());
+      if (errno == EPIPE) throw BrokenPipe();
+      throw Error(name, "", "write failed: " + system_reason());
     }
     data += w;
     n -= static_cast<std::size_t>(w);
@@ -97,6 +97,19 @@ Input::Input(const std::string& path) : path_(path), name_(path == "-" ? "stdin"
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
   if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    // A FIFO, a process substitution (<(tool -o -)) or a device: it can be read once, from
+    // the start, so it is read whole and opened like standard input.
+    image_ = read_all(path);
+    if (image_.empty()) throw Error(path, "", "no data (did the tool writing it fail?)");
+    if (has_hdf5_signature(image_)) {
+      file_ = h5::open_image(image_, name_);
+    } else {
+      text_.assign(image_.begin(), image_.end());
+      image_.clear();
+    }
+    return;
+  }
   if (has_hdf5_signature(path)) {
     file_ = h5::open_read(path, name_);
   } else {
@@ -155,9 +168,18 @@ std::string make_temporary_beside(const std::string& target) {
   return path;
 }
 
-Output::Output(std::string path, bool force) : path_(std::move(path)), name_(path_ == "-" ? "stdout" : path_) {
+namespace {
+[[noreturn]] void refuse_terminal() {
+  throw Error("stdout", "", "refusing to write HDF5 to a terminal (use -o FILE or a pipe)");
+}
+}  // namespace
+
+Output::Output(std::string path, bool force, bool binary) : path_(std::move(path)), name_(path_ == "-" ? "stdout" : path_) {
   if (path_.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
-  if (is_stdout()) return;
+  if (is_stdout()) {
+    if (binary && isatty(STDOUT_FILENO)) refuse_terminal();
+    return;
+  }
   std::error_code ec;
   if (std::filesystem::is_directory(path_, ec)) throw Error(path_, "", "output is a directory");
   if (std::filesystem::exists(path_, ec) && !force)
@@ -185,8 +207,7 @@ void Output::discard() noexcept {
 
 h5::File& Output::create_hdf5() {
   if (is_stdout()) {
-    if (isatty(STDOUT_FILENO))
-      throw Error("stdout", "", "refusing to write HDF5 to a terminal (use -o FILE or a pipe)");
+    if (isatty(STDOUT_FILENO)) refuse_terminal();
     file_ = h5::create_in_memory(name_);
   } else {
     tmp_ = make_temporary_beside(path_);

@@ -105,21 +105,26 @@ void write_table(std::ostream& os, const Table& t) {
 }  // namespace
 
 void write_tsv(std::ostream& os, const Product& p, const std::vector<Provenance>& history,
-               const std::vector<std::string>& only) {
+               const std::vector<std::string>& only, bool header) {
   for (const auto& name : only) p.table(name);  // error if unknown
-  write_header_lines(os, p, history);
-  // The tables and their row counts, so a reader can tell a file cut at a line boundary
-  // (a table short of rows, or missing) from a whole one.
   auto written = [&](const Table& t) {
     return only.empty() || std::find(only.begin(), only.end(), t.name) != only.end();
   };
-  os << "# tables:";
-  for (const Table& t : p.tables)
-    if (written(t)) os << ' ' << t.name << '=' << t.rows();
-  os << '\n';
+  bool first = true;
+  if (header) {
+    write_header_lines(os, p, history);
+    // The tables and their row counts, so a reader can tell a file cut at a line boundary
+    // (a table short of rows, or missing) from a whole one.
+    os << "# tables:";
+    for (const Table& t : p.tables)
+      if (written(t)) os << ' ' << t.name << '=' << t.rows();
+    os << '\n';
+    first = false;
+  }
   for (const Table& t : p.tables) {
-    if (!only.empty() && std::find(only.begin(), only.end(), t.name) == only.end()) continue;
-    os << "\n\n";
+    if (!written(t)) continue;
+    if (!first) os << "\n\n";  // gnuplot's index counts blocks separated by two blank lines
+    first = false;
     write_table(os, t);
   }
 }
@@ -449,12 +454,12 @@ Format resolve_format(const std::string& output, Format format) {
 }
 
 void emit(const Product& p, const std::vector<Provenance>& history, const std::string& output,
-          bool force, Format format, const std::vector<std::string>& only) {
+          bool force, Format format, const std::vector<std::string>& only, bool header) {
   std::string target = output.empty() ? "-" : output;
   const Format f = resolve_format(output, format);
   Output out(target, force);
   if (f == Format::tsv) {
-    write_tsv(out.text(), p, history, only);
+    write_tsv(out.text(), p, history, only, header);
   } else {
     write_hdf5(out.create_hdf5(), p, history);
   }

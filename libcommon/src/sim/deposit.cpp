@@ -182,7 +182,7 @@ PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c) {
   // Coordination: active contacts between free grains (analysis/critical.hpp). z counts
   // contacts and does not classify them, so friction does not enter: the selection is
   // given mu = 1 only because it also marks critical contacts, which need mu > 0, and a
-  // pile may settle without friction (deposit --mu-grain 0).
+  // pile may settle without friction (deposit --mu 0).
   const analysis::Friction any_mu{1.0, 1.0};
   const analysis::ContactSet set = analysis::select_contacts(c, g.species, any_mu, analysis::CriticalRule{});
   const analysis::PileState st = analysis::pile_state(set, g.species, analysis::free_grain_count(g), D,

@@ -2,7 +2,7 @@
 deposit --grains 40 --width 8 --seed 1 -o p.h5 --quiet
 tilt-cd p.h5 --rate 1 --to 2 -o run.h5 --quiet
 critical run.h5 -o c.h5 --quiet
-critical run.h5 --table runs,ensemble --quiet > c.tsv
+critical run.h5 --table runs,ensemble --header --quiet > c.tsv
 localnu run.h5 --radii 1:1:6 -o l.h5 --quiet
 correlate l.h5 -o w.h5 --quiet
 clusterfit w.h5 --nu c.h5 -o f.h5 --quiet

@@ -18,14 +18,14 @@ want = [("deposit", "run1.h5", "deposit --grains 40 --width 8 --seed 1 -o p1.h5 
 assert got == want, got
 P
 # The same as TSV: the marked entries have a sixth field.
-critical run1.h5 run2.h5 --table runs --quiet > c.tsv
+critical run1.h5 run2.h5 --table runs --header --quiet > c.tsv
 expect_eq "deposit run1.h5|tilt-cd run1.h5|deposit run2.h5|tilt-cd run2.h5|critical " \
   "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %s", n++ ? "|" : "", $1, $6 }' c.tsv)"
 # One run: its chain as it is, with no marks.
-critical run1.h5 --table runs --quiet > one.tsv
+critical run1.h5 --table runs --header --quiet > one.tsv
 expect_eq "deposit 5|tilt-cd 5|critical 5" \
   "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %d", n++ ? "|" : "", $1, NF }' one.tsv)"
 # localnu keeps them too, and correlate passes the marks on.
-localnu run1.h5 run2.h5 -o - --quiet | correlate - --table windows > w.tsv
+localnu run1.h5 run2.h5 -o - --quiet | correlate - --table windows --header > w.tsv
 expect_eq "deposit run1.h5|tilt-cd run1.h5|deposit run2.h5|tilt-cd run2.h5|localnu |correlate " \
   "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %s", n++ ? "|" : "", $1, $6 }' w.tsv)"

@@ -2,8 +2,8 @@
 deposit --grains 40 --width 8 --seed 1 -o p.h5 --quiet
 tilt-cd p.h5 --rate 1 --to 2 -o run.h5 --quiet
 # a 2-degree run has no fitted envelope: give its product a nu_c, as a longer ensemble would
-critical run.h5 --table runs --quiet | sed '/^# kind: /a # result nu_c = 0.1' > c.tsv
-localnu run.h5 --nu c.tsv --radii 1,2 --table frames --quiet > l.tsv
+critical run.h5 --table runs --header --quiet | sed '/^# kind: /a # result nu_c = 0.1' > c.tsv
+localnu run.h5 --nu c.tsv --radii 1,2 --table frames --header --quiet > l.tsv
 expect_eq "deposit run.h5|tilt-cd run.h5|deposit c.tsv|tilt-cd c.tsv|critical c.tsv|localnu " \
   "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %s", n++ ? "|" : "", $1, $6 }' l.tsv)"
 expect_eq "run.h5 c.tsv" "$(awk -F'\t' '/^# provenance: localnu/ { print $4 }' l.tsv)"
@@ -20,6 +20,6 @@ want = [("deposit", "run.h5"), ("tilt-cd", "run.h5"), ("deposit", "c.tsv"), ("ti
 assert got == want, got
 P
 # Without --nu: one run, its chain as it is, with no marks.
-localnu run.h5 --radii 1,2 --table frames --quiet > n.tsv
+localnu run.h5 --radii 1,2 --table frames --header --quiet > n.tsv
 expect_eq "deposit 5|tilt-cd 5|localnu 5" \
   "$(awk -F'\t' '/^# provenance: / { sub(/^# provenance: /, ""); printf "%s%s %d", n++ ? "|" : "", $1, NF }' n.tsv)"

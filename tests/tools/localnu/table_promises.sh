@@ -23,7 +23,7 @@ grep -q '^# columns: ix \[-\] iy \[-\] x \[mm\] y \[mm\]' s_out.tsv
 grep -q '^# parameter length_unit = mm$' s_out.tsv
 # a run is in metres
 deposit --grains 12 --width 5 --seed 3 --quiet -o pile.h5
-localnu pile.h5 --quiet --table map > run_out.tsv
+localnu pile.h5 --quiet --table map --header > run_out.tsv
 grep -q '^# columns: ix \[-\] iy \[-\] x \[m\] y \[m\]' run_out.tsv
 grep -q '^# result map_x0_m = ' run_out.tsv
 # a pair listed twice (LAMMPS with newton off on several ranks lists it from both sides)

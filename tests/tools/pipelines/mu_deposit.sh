@@ -16,6 +16,6 @@ PY
 # Without it, the default folder name and the pile's own friction for the tilt.
 mk > make2.log 2>&1 || { cat make2.log >&2; exit 1; }
 [[ -s $PWD/studies/prep-N40-R1.5-mu0.5-rate0.05-tol1e-4/run-1.h5 ]]
-grep -qx -- '  --mu-grain 0.5 --mu-wall 0.5 \\' make.log
-if grep -qx -- '  --mu-grain 0.5 --mu-wall 0.5 \\' make2.log; then
-  echo "the default run passed --mu-grain to tilt-cd" >&2; exit 1; fi
+grep -qx -- '  --mu 0.5 --mu-wall 0.5 \\' make.log
+if grep -qx -- '  --mu 0.5 --mu-wall 0.5 \\' make2.log; then
+  echo "the default run passed --mu to tilt-cd" >&2; exit 1; fi

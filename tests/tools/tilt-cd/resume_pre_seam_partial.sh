@@ -30,5 +30,5 @@ kill -INT "$pid"; wait "$pid" || true
 import h5py
 with h5py.File("two.h5.partial", "a") as f: del f["parameters"].attrs["contact_stiffness_N_m2"]'
 rc=0; tilt-cd pile.h5 -o two.h5 --resume "${opts[@]}" --stiffness 1e6 2> err.txt || rc=$?
-expect_eq 1 "$rc"
-grep -q "contact_stiffness_N_m2 is .* here but 0 in the interrupted run" err.txt
+expect_eq 2 "$rc"
+grep -q -- "--stiffness 1e6: contact_stiffness_N_m2 .* instead of the run's 0 in the interrupted run" err.txt

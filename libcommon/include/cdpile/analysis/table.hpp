@@ -65,6 +65,14 @@ struct Product {
   Values parameters;               ///< the options and definitions used
   Values results;                  ///< scalar results (nu_c, beta, ...)
   std::vector<std::string> notes;  ///< definitions, one line each
+  /// The results this product lacks, each with the reason (also among the notes): the
+  /// tool says each on stderr (docs/cli.md, "Messages and exit codes").
+  std::vector<std::string> not_computed;
+  /// Records a result not computed and why: a note, and a line on stderr.
+  void omit(const std::string& why) {
+    notes.push_back(why);
+    not_computed.push_back(why);
+  }
   std::deque<Table> tables;        ///< a deque: references to tables stay valid as tables are added
   std::string source;              ///< file it was read from, for messages
 

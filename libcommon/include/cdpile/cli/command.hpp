@@ -94,6 +94,11 @@ class Usage {
   Usage& group(const std::string& title);
   Usage& example(const std::string& title, const std::string& command,
                  const std::string& explanation);
+  /// An old spelling of the declared option `name`, kept for one version: accepted as
+  /// `name`, left out of --help, and warned about on stderr when used (docs/cli.md).
+  Usage& alias(const std::string& old_name, const std::string& name);
+  /// Old spelling -> option name.
+  std::map<std::string, std::string> aliases_;
 
  private:
   std::string current_group_ = "Options";

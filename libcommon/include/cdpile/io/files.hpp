@@ -19,6 +19,13 @@
 
 namespace cdpile::io {
 
+/// The reader of standard output closed it (EPIPE) before everything was written: not an
+/// error of the tool, which ends as if killed by SIGPIPE (docs/cli.md, "Pipes and HDF5").
+class BrokenPipe : public Error {
+ public:
+  BrokenPipe() : Error("stdout", "", "broken pipe") {}
+};
+
 /// The 8-byte signature at the start of an HDF5 file (no user block).
 bool has_hdf5_signature(const std::vector<char>& bytes);
 bool has_hdf5_signature(const std::string& path);
@@ -49,9 +56,10 @@ class Input {
 /// An output target, committed atomically (see the file comment).
 class Output {
  public:
-  /// `path` '-' = standard output. Refuses an existing file unless `force`, a
-  /// directory, and binary (HDF5) output to a terminal.
-  Output(std::string path, bool force);
+  /// `path` '-' = standard output. Refuses an existing file unless `force`, and a
+  /// directory; with `binary` (the output will be HDF5) also a terminal as standard output,
+  /// here, so that a tool refuses before its work (create_hdf5 checks again).
+  Output(std::string path, bool force, bool binary = false);
   ~Output();
   Output(const Output&) = delete;
   Output& operator=(const Output&) = delete;

@@ -49,10 +49,12 @@ struct ProductFile {
   std::vector<Provenance> provenance;
 };
 
-/// Writes a product as TSV. `only` lists the tables to write (empty: all). With one table,
-/// the output is a plain single table (still with the commented header).
+/// Writes a product as TSV. `only` lists the tables to write (empty: all). `header`: the
+/// commented file header (tool, command, provenance, parameters, results, notes, the
+/// tables' row counts) before the tables; without it the output is the tables alone, each
+/// with its own '# table:' lines, and cannot be read back as a product.
 void write_tsv(std::ostream& os, const analysis::Product& p, const std::vector<Provenance>& history,
-               const std::vector<std::string>& only = {});
+               const std::vector<std::string>& only = {}, bool header = true);
 
 /// Writes a product into a new HDF5 file.
 void write_hdf5(const h5::File& f, const analysis::Product& p, const std::vector<Provenance>& history);
@@ -86,6 +88,6 @@ Format resolve_format(const std::string& output, Format format);
 /// `--format tsv`. Atomic (io::Output) and refusing to overwrite without `force`.
 void emit(const analysis::Product& p, const std::vector<Provenance>& history,
           const std::string& output, bool force, Format format,
-          const std::vector<std::string>& only = {});
+          const std::vector<std::string>& only = {}, bool header = true);
 
 }  // namespace cdpile::io

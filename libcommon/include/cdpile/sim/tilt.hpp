@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <set>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,33 @@ void validate(const TiltOptions& o);
 io::Values tilt_parameters(const TiltOptions& o);
 /// Steps of the avalanche hold and of the margin at the options' rate.
 std::int64_t hold_steps(const TiltOptions& o);
+
+/// Which run parameter each tilt-cd option sets: a branch or a resume takes these from
+/// the run unless they are given (option names without dashes; --frame-every and
+/// --frame-every-deg both set frame_every_steps).
+const std::vector<std::pair<std::string, std::string>>& tilt_option_parameters();
+
+/// The tilt options a run was made with, read back from its /parameters (the inverse of
+/// tilt_parameters); an Error names `file` if one is missing or bad.
+TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string& file);
+
+/// One option of a branch or resume whose value differs from the run's.
+struct OptionChange {
+  std::string option;     ///< the option given (without dashes); empty for a derived value
+  std::string parameter;  ///< the run parameter it sets
+  std::string run_value, value;  ///< as text
+};
+struct InheritedOptions {
+  TiltOptions options;
+  std::vector<OptionChange> changes;  ///< in the order of tilt_option_parameters
+};
+/// The options of a branch or a resume: the run's (`run`, its /parameters), except those
+/// the user gave (`given`, option names), which are taken from `asked` (the command line's
+/// options). A frame interval not given keeps the run's interval in degrees when the
+/// rate changes. `start_deg`: a branch starts at its frame's tilt, not at the run's
+/// --from (not counted as a change). checkpoint_every is always `asked`'s (not a parameter).
+InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked, const std::set<std::string>& given,
+                                 std::optional<double> start_deg, const std::string& file);
 
 /// A static pile to tilt: the last frame of a "pile" file, or a frame of a run to branch
 /// from (read_branch).
@@ -135,6 +164,10 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
 ///  - a tolerance of 1e-2 or looser (the map's runs overlapped or moved the avalanche).
 /// `diameter_m` is the mean diameter.
 std::vector<std::string> settings_warnings(const cd::Settings& s, double diameter_m);
+
+/// Refuses (before any work) an output run_tilt would refuse: an existing OUTPUT or
+/// OUTPUT.partial without `force`, a missing folder, standard output on a terminal.
+void check_output(const std::string& output, bool force);
 
 /// Tilts `pile` and writes the run to `output` (a path, or "-" for standard output,
 /// which has no checkpoints). Refuses an existing output or partial unless `force`.
