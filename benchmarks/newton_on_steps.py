@@ -2,7 +2,7 @@
 """Siconos' solvers on the problems of real tilt steps, against the engine's own answer
 (docs/performance.md, "Newton on the capped steps").
 
-The problems are written by build/bin/export_steps (step-K.dat, Siconos' fc2d format, and
+The problems are written by build/benchmarks/export_steps (step-K.dat, Siconos' fc2d format, and
 step-K.r, the impulses the engine ended the step with). Each problem is solved from the
 engine's impulses by:
   - fc2d NSGS   Siconos' 2D non-smooth Gauss-Seidel (what the engine does), 2000 sweeps;
@@ -18,7 +18,7 @@ their critical status (|r_t| >= (1 - 1e-3) mu r_n, r_n > 0) against the engine's
 Run with Debian's python3-siconos, under a memory limit so that a solver that grows
 without bound fails alone:
 
-    build/bin/export_steps RUN 6.5 3 /tmp/steps
+    build/benchmarks/export_steps RUN 6.5 3 /tmp/steps
     (ulimit -v 16000000; /usr/bin/python3 benchmarks/newton_on_steps.py /tmp/steps)
 """
 

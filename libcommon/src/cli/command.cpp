@@ -574,6 +574,57 @@ std::string help_markdown(const Usage& u) {
   return out.str();
 }
 
+namespace {
+// Text as roff: a backslash is \e, a dash \- (so that man prints and searches a
+// minus, not a hyphen), and a line starting with . or ' is escaped by \&.
+std::string roff(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '\\') out += "\\e";
+    else if (c == '-') out += "\\-";
+    else out += c;
+  }
+  if (!out.empty() && (out[0] == '.' || out[0] == '\'')) out = "\\&" + out;
+  return out;
+}
+std::string upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+}  // namespace
+
+std::string help_man(const Usage& u) {
+  std::ostringstream out;
+  out << ".TH " << upper(u.name) << " 1 \"\" \"cdpile " << CDPILE_VERSION << "\" \"cdpile\"\n";
+  out << ".SH NAME\n" << roff(u.name) << " \\- " << roff(u.synopsis) << "\n";
+  out << ".SH SYNOPSIS\n" << roff(usage_line(u).substr(std::string("Usage: ").size())) << "\n";
+  out << ".SH DESCRIPTION\n";
+  for (const auto& para : u.description) out << ".PP\n" << roff(para) << "\n";
+  if (!u.positionals.empty()) {
+    out << ".SH ARGUMENTS\n";
+    for (const auto& p : u.positionals) out << ".TP\n.B " << roff(upper(p.name)) << "\n" << roff(p.help) << "\n";
+  }
+  std::string group;
+  for (const auto& o : u.options) {
+    if (o.group != group) {
+      group = o.group;
+      out << ".SH " << roff(upper(group)) << "\n";
+    }
+    std::string label = option_label(o);
+    label.erase(0, label.find_first_not_of(' '));
+    out << ".TP\n.B " << roff(label) << "\n" << roff(option_detail(o)) << "\n";
+  }
+  if (!u.examples.empty()) {
+    out << ".SH EXAMPLES\n";
+    for (const auto& e : u.examples)
+      out << ".PP\n" << roff(e.title) << ":\n.IP\n.nf\n" << roff(e.command) << "\n.fi\n.PP\n" << roff(e.explanation) << "\n";
+  }
+  out << ".SH EXIT STATUS\n" << roff(kExitCodes) << "\n";
+  out << ".SH SEE ALSO\nThe cdpile manuals (docs/cli.md, docs/tools/" << roff(u.name) << ".md) and \\fB"
+      << roff(u.name) << " \\-\\-help\\fR.\n";
+  return out.str();
+}
+
 // ----------------------------------------------------------------------------------------
 // Running
 
@@ -613,6 +664,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
     if (args[k] == "--") break;
     if (args[k] == "--help" || args[k] == "-h") { std::cout << help_text(usage); return 0; }
     if (args[k] == "--help-markdown") { std::cout << help_markdown(usage); return 0; }
+    if (args[k] == "--help-man") { std::cout << help_man(usage); return 0; }
     if (args[k] == "--version") { std::cout << name << " (cdpile) " << CDPILE_VERSION << "\n"; return 0; }
   }
   try {

@@ -150,6 +150,10 @@ std::string help_text(const Usage& usage);
 /// The same declaration as a Markdown page (docs/tools/<tool>.md is generated from it).
 std::string help_markdown(const Usage& usage);
 
+/// The same declaration as a manual page (roff, man(7)): `TOOL --help-man` writes it, and
+/// the build installs it as TOOL.1 beside the tool.
+std::string help_man(const Usage& usage);
+
 /// The one main() of every tool: builds the usage, parses, runs, prints errors and
 /// returns the exit code. Adds the standard options (--help, --version, --force,
 /// --quiet, and --author to a tool that writes HDF5) to every tool.
