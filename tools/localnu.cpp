@@ -51,7 +51,8 @@ static void usage(cli::Usage& u) {
       "node (NA where there is none), and above = 1 where nu >= nu_c. nu_c is --nu-c, or the "
       "nu_c of a critical product given with --nu. The frame: --map-frame, else the one nearest "
       "--map-theta, else the last frame of the loading phase, of input --map-run. x, y and x_D, "
-      "y_D give the node in m and in D; 'gnuplot: plot \"map.tsv\" u 5:6:9 w image' shows it, "
+      "y_D give the node in m and in D; after 'localnu run.h5 --table map > map.tsv', gnuplot's "
+      "'plot \"map.tsv\" u 5:6:9 w image' shows it, "
       "and to-xdmf on the HDF5 product gives ParaView the field. --per-contact adds nu_i(r) of every contact of that frame.",
       "Output: TSV on standard output by default (tables frames, states, pdf, map, contacts), an "
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "

@@ -1,12 +1,13 @@
 """Run by pvpython (ParaView 5.11) under a virtual X display, from tests/tools/to-xdmf/paraview.sh:
 
-  pvpython check_paraview.py EXPECTED.json RUN.paraview.py IMAGE.png NU.xdmf
+  pvpython check_paraview.py EXPECTED.json RUN.paraview.py IMAGE.png NU.xdmf NU.paraview.py
 
 Loads the ParaView state that to-xdmf wrote for a run (as File > Load State does), checks
 what ParaView's XDMF Reader read against the run file's numbers (EXPECTED.json, extracted by
 paraview.sh with h5py), renders one image and checks its pixels: disks drawn at the grain
 centres, covering the area their radii say. Then opens a localnu product's XDMF (NU.xdmf)
-and checks its grid and nu field against the product's map.
+and checks its grid and nu field against the product's map, and loads that product's state
+(NU.paraview.py, docs/analysis.md's recipe) and renders it.
 """
 import json
 import math
@@ -142,3 +143,15 @@ want_nu = np.asarray([np.nan if v is None else v for v in m["nu"]])
 if not np.array_equal(np.isnan(got), np.isnan(want_nu)) or np.nanmax(np.abs(got - want_nu)) > 0:
     fail("nu field values differ from the product's map")
 print(f"nu field: {m['nx']} x {m['ny']} nodes, {int(np.isnan(got).sum())} without a value")
+
+# The map's state, as `paraview --state=map.paraview.py` loads it: the same grid, drawn.
+with open(sys.argv[5]) as f:
+    code = compile(f.read(), sys.argv[5], "exec")
+map_scope = {"__file__": sys.argv[5], "__name__": "__main__"}
+exec(code, map_scope)
+map_scope["reader"].UpdatePipeline()
+map_grid = servermanager.Fetch(map_scope["reader"])
+if map_grid.GetNumberOfPoints() != m["nx"] * m["ny"]:
+    fail(f"map state: {map_grid.GetNumberOfPoints()} nodes, expected {m['nx']} x {m['ny']}")
+Render(map_scope["view"])
+print(f"map state: {m['nx']} x {m['ny']} nodes drawn")
