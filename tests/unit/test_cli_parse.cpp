@@ -140,3 +140,18 @@ TEST(Cli, AliasesStandForTheirOption) {
   EXPECT_EQ(cli::help_markdown(u).find("grain-count"), std::string::npos);
   EXPECT_THROW(u.alias("old", "undeclared"), std::logic_error);
 }
+
+// The manual page is the same declaration as --help, in roff: every option, dashes as \-.
+TEST(Cli, ManPageFromTheDeclaration) {
+  cli::Usage u = demo();
+  u.alias("grain-count", "grains");
+  const std::string man = cli::help_man(u);
+  EXPECT_EQ(man.rfind(".TH DEMO 1 ", 0), 0u);
+  EXPECT_NE(man.find(".SH NAME\ndemo \\- a demo\n"), std::string::npos);
+  for (const auto& o : u.options) {
+    std::string name;  // roff's minus for every dash of the name
+    for (char c : o.name) name += c == '-' ? std::string("\\-") : std::string(1, c);
+    EXPECT_NE(man.find("\\-\\-" + name), std::string::npos) << o.name;
+  }
+  EXPECT_EQ(man.find("grain\\-count"), std::string::npos);
+}
