@@ -480,6 +480,14 @@ TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
   EXPECT_EQ(b.changes[1].option, "");
   EXPECT_EQ(b.changes[1].parameter, "frame_every_steps");
   EXPECT_EQ(b.changes[2].option, "tolerance");
+  // a run without --to: "none"
+  io::Values open_ended = stored;
+  open_ended["tilt_to_deg"] = -1.0;
+  asked = defaults;
+  asked.to_deg = 0.2;
+  const sim::InheritedOptions to = sim::inherit_options(open_ended, asked, {"to"}, 0.08, "run.h5");
+  ASSERT_EQ(to.changes.size(), 1u);
+  EXPECT_EQ(to.changes[0].run_value + " " + to.changes[0].value, "none 0.2");
   // a frame interval given is kept as given
   asked.frame_every = 7;
   EXPECT_EQ(sim::inherit_options(stored, asked, {"rate", "frame-every"}, 0.08, "run.h5").options.frame_every, 7);

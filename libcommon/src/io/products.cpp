@@ -380,11 +380,14 @@ std::string tsv_product_kind(const std::string& text) {
 ProductFile read_product(const Input& in, const std::string& expected_kind) {
   ProductFile p = in.is_hdf5() ? read_product_hdf5(in.hdf5()) : read_product_tsv(in.text(), in.name());
   p.product.source = in.name();
+  // Tables written with --table and no --header: the blocks are there, the file header not.
+  const bool bare_tables = !in.is_hdf5() && (in.text().rfind("# table: ", 0) == 0 || in.text().find("\n# table: ") != std::string::npos);
   if (!expected_kind.empty() && p.product.kind != expected_kind)
     throw Error(in.name(), "",
-                p.product.kind.empty()
-                    ? "not a cdpile " + expected_kind + " product (no '# kind:' header line)"
-                    : "is a '" + p.product.kind + "' product, expected '" + expected_kind + "'");
+                !p.product.kind.empty() ? "is a '" + p.product.kind + "' product, expected '" + expected_kind + "'"
+                : bare_tables ? "not a cdpile " + expected_kind + " product: tables without the file header "
+                                "(a tool's --table output; write it with --header)"
+                              : "not a cdpile " + expected_kind + " product (no '# kind:' header line)");
   return p;
 }
 

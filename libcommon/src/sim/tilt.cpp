@@ -572,8 +572,9 @@ TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string&
 }
 
 namespace {
-std::string message_text(const io::Value& v) {
-  if (auto* d = std::get_if<double>(&v)) return *d == -1.0 ? "-1" : io::format_number(*d);
+std::string message_text(const std::string& key, const io::Value& v) {
+  if (key == "tilt_to_deg" && v == io::Value(-1.0)) return "none";  // tilt_parameters' "no --to"
+  if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
   if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
   return std::get<std::string>(v);
 }
@@ -604,8 +605,8 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
     if (option == "frame-every-deg" || (start_deg && key == "tilt_from_deg")) continue;  // one entry per parameter
     if (merged.at(key) == before.at(key)) continue;
     const auto by = option_of.find(key);
-    out.changes.push_back({by == option_of.end() ? "" : by->second, key, message_text(before.at(key)),
-                           message_text(merged.at(key))});
+    out.changes.push_back({by == option_of.end() ? "" : by->second, key, message_text(key, before.at(key)),
+                           message_text(key, merged.at(key))});
   }
   return out;
 }

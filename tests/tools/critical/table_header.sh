@@ -11,3 +11,6 @@ grep -q '^# kind: critical$' header.tsv
 expect_eq "$(cat runs.tsv)" "$(sed -n '/^# table: runs$/,$p' header.tsv)"
 # every table, as before, has the header
 critical run.h5 --quiet | grep -q '^# kind: critical$'
+# read back without its header: said so
+expect_fail 1 "localnu: runs.tsv: not a cdpile critical product: tables without the file header (a tool's --table output; write it with --header)" \
+  localnu run.h5 --nu runs.tsv --quiet
