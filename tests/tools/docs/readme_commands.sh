@@ -1,4 +1,4 @@
-# The README's commands run as written: the first session (with a smaller pile: 150 grains
+# The README's commands, and docs/cli.md's pipe, run as written: the first session (with a smaller pile: 150 grains
 # in 15 D instead of 500 in 40 D, to keep the test to seconds), the branch of the session's
 # run, the pipe from deposit, to-xdmf, and from-lammps into localnu (on the example dumps of
 # docs/analysis.md). The commands are taken from README.md itself.
@@ -34,3 +34,8 @@ lammps=$(tr '\n' ' ' < "$readme" | grep -o '`from-lammps atoms.dump contacts.dum
 test -n "$lammps"
 eval "$lammps --radii 0.3,1 --quiet" > lammps.tsv
 grep -q '^# table: frames' lammps.tsv
+# docs/cli.md's pipe (60 grains for 500, in a folder of its own)
+mkdir cli
+awk '/^```sh$/{on=1; next} /^```/{on=0} on' "$CDPILE_SOURCE/docs/cli.md" > cli.sh
+expect_eq "deposit --grains 500 -o - | tilt-cd - --to 2 -o run.h5" "$(cat cli.sh)"
+(cd cli && bash -euo pipefail -c "$(sed 's/--grains 500 /--grains 60 --width 10 --quiet /' ../cli.sh) --quiet" && test -s run.h5)
