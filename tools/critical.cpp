@@ -70,7 +70,7 @@ static void usage(cli::Usage& u) {
       "--envelope-window degrees before theta_c, then mean and standard error over runs. A "
       "fourth reading keeps the pile's parts at rest while others move: per frame N_rest and "
       "Nc_rest count the contacts whose two bodies are slower than --rest-speed sqrt(g D) (a "
-      "wall is at rest), nu_rest = Nc_rest/N_rest, and nu_c_rest is the limit of its envelope "
+      "wall is at rest) and which do not slip (--slip-speed), nu_rest = Nc_rest/N_rest, and nu_c_rest is the limit of its envelope "
       "(columns *_rest).",
       "Per frame also: z_paper, the paper's coordination (active contacts of the free grains, "
       "walls and glued grains included, per free grain, rattlers included), the contacts that "

@@ -314,3 +314,38 @@ TEST(FrameMotion, MobilisationHistogramBinsByHand) {
   const std::vector<std::int64_t> h = mobilisation_histogram(set, 4);
   EXPECT_EQ(h, (std::vector<std::int64_t>{2, 0, 1, 2}));
 }
+
+// A contact at rest has neither bodies in motion nor slip: two grains each slower than the
+// rest speed can still slide on each other at up to twice that speed, which is motion.
+TEST(FrameMotion, ContactsAtRestNeitherMoveNorSlip) {
+  using S = ContactStatus;
+  Grains g;
+  g.add_disk(0.5, 1.0, Vec2(0.0, 0.5));
+  g.add_disk(0.5, 1.0, Vec2(1.0, 0.5));
+  g.add_disk(0.5, 1.0, Vec2(2.0, 0.5));
+  g.add_disk(0.5, 1.0, Vec2(3.0, 0.5));
+  // rest speed 0.01: grains 0 and 1 slow but sliding past each other (0.008 up, 0.008
+  // down: |u_t| = 0.016); grain 2 slow and moving down with 1 (no slip); grain 3 fast.
+  g.velocity = {Vec2(0.0, 0.008), Vec2(0.0, -0.008), Vec2(0.0, -0.008), Vec2(0.0, 0.5)};
+  g.angular_velocity = {0.0, 0.0, 0.0, 0.0};
+  Contacts c;
+  // mu = 0.5; contacts 0-1 and 1-2 critical (|f_t| = mu f_n), 2-3 critical, 0-floor not
+  c.push_back(0, 1, Vec2(0.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, S::slide);
+  c.push_back(1, 2, Vec2(1.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, S::slide);
+  c.push_back(2, 3, Vec2(2.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, S::slide);
+  c.push_back(0, wall_floor, Vec2(0.0, 0.0), Vec2(0.0, 1.0), 1.0, 0.1, 0.0, S::stick);
+  const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
+  ASSERT_EQ(set.size(), 4u);
+  const std::vector<double> u = slip_speeds(c, set, g);
+  EXPECT_DOUBLE_EQ(u[0], 0.016);  // 0-1: both slow, sliding
+  EXPECT_DOUBLE_EQ(u[1], 0.0);    // 1-2: both slow, moving together
+  // 0-1 slips, 2-3 has a fast body: at rest are 1-2 (critical) and 0-floor (not critical)
+  const RestCount n = contacts_at_rest(c, set, g, u, 0.01, 1e-4);
+  EXPECT_EQ(n.contacts, 2);
+  EXPECT_EQ(n.critical, 1);
+  // with a slip threshold above 0.016 the sliding pair counts as at rest
+  const RestCount loose = contacts_at_rest(c, set, g, u, 0.01, 0.02);
+  EXPECT_EQ(loose.contacts, 3);
+  EXPECT_EQ(loose.critical, 2);
+  EXPECT_THROW(contacts_at_rest(c, set, g, {}, 0.01, 1e-4), Error);
+}

@@ -281,6 +281,22 @@ std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const 
   return out;
 }
 
+RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g, const std::vector<double>& u_t,
+                           double rest_speed, double slip_speed) {
+  if (u_t.size() != set.size()) throw Error("contacts_at_rest: one slip speed per contact");
+  auto slow = [&](std::int32_t b) {
+    return b < 0 || static_cast<std::size_t>(b) >= g.size() || g.velocity[static_cast<std::size_t>(b)].norm() < rest_speed;
+  };
+  RestCount n;
+  for (std::size_t q = 0; q < set.size(); ++q) {
+    const std::size_t row = set.row[q];
+    if (!slow(c.i[row]) || !slow(c.j[row]) || u_t[q] > slip_speed) continue;
+    ++n.contacts;
+    n.critical += set.critical[q];
+  }
+  return n;
+}
+
 std::vector<std::int64_t> mobilisation_histogram(const ContactSet& set, std::size_t bins) {
   std::vector<std::int64_t> h(bins, 0);
   if (bins == 0) return h;

@@ -144,21 +144,10 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
       }
       f.slipping = slipping;
       f.critical_slipping = critical;
-      // contacts at rest: both bodies slower than the rest speed (a wall is at rest)
-      const double rest = rest_speed * std::sqrt(r.gravity * r.diameter);
-      auto slow = [&](std::int32_t b) {
-        return b < 0 || static_cast<std::size_t>(b) >= fr.grains.size() ||
-               fr.grains.velocity[static_cast<std::size_t>(b)].norm() < rest;
-      };
-      std::int64_t at_rest = 0, critical_at_rest = 0;
-      for (std::size_t q = 0; q < set.size(); ++q) {
-        const std::size_t row = set.row[q];
-        if (!slow(fr.contacts.i[row]) || !slow(fr.contacts.j[row])) continue;
-        ++at_rest;
-        critical_at_rest += set.critical[q];
-      }
-      f.contacts_at_rest = at_rest;
-      f.critical_at_rest = critical_at_rest;
+      const analysis::RestCount at_rest =
+          analysis::contacts_at_rest(fr.contacts, set, fr.grains, u, rest_speed * std::sqrt(r.gravity * r.diameter), slip);
+      f.contacts_at_rest = at_rest.contacts;
+      f.critical_at_rest = at_rest.critical;
     }
     f.mobilisation = analysis::mobilisation_histogram(set, analysis::mobilisation_bins);
     try {

@@ -25,9 +25,10 @@ assert np.all(fr["grains_without_contact"][()][s] == 0) and np.all(fr["converged
 m = ~s
 assert np.all((fr["agitation_norm"][()][m] >= 1e-6) | (fr["max_speed_norm"][()][m] >= 1e-2)
               | (fr["grains_without_contact"][()][m] > 0) | (fr["converged"][()][m] != 1))
-# contacts at rest: a part of the counted ones, all of them in a static frame
-N, Nr = fr["N"][()], fr["N_rest"][()]
-assert np.all(Nr <= N) and np.all(Nr[s] == N[s]), (N[s], Nr[s])
+# contacts at rest: neither a fast body nor slip, so never a slipping one, and in a static
+# frame (every grain slow) exactly the contacts that do not slip
+N, Nr, slip = fr["N"][()], fr["N_rest"][()], fr["slipping"][()]
+assert np.all(Nr <= N - slip) and np.all(Nr[s] == N[s] - slip[s]), (N[s], Nr[s], slip[s])
 assert np.all(fr["Nc_rest"][()] <= fr["Nc"][()])
 # past the avalanche the pile flows: no static frame there
 tc = res["theta_c_deg"]

@@ -155,6 +155,17 @@ FrameMotion frame_motion(const Grains& g, const Contacts& c);
 /// grains carry no velocities.
 std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const Grains& g);
 
+/// The contacts of `set` at rest and the critical ones among them: both bodies slower than
+/// `rest_speed` [m/s] (a wall is at rest) and the contact not slipping, |u_t| <= `slip_speed`
+/// [m/s] (`u_t` from slip_speeds). Two slow grains can still slide on each other at up to
+/// twice the rest speed, far above the slip speed: such a contact is motion, not a contact
+/// at rest, and is left out (docs/analysis.md, "Static and moving states").
+struct RestCount {
+  std::int64_t contacts = 0, critical = 0;
+};
+RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g, const std::vector<double>& u_t,
+                           double rest_speed, double slip_speed);
+
 /// Counts of the contacts of `set` per bin of the mobilisation |f_t| / (mu f_n) on [0, 1]
 /// in `bins` equal bins (a value at or above 1, a critical sliding contact, goes in the last).
 std::vector<std::int64_t> mobilisation_histogram(const ContactSet& set, std::size_t bins);
