@@ -50,7 +50,9 @@ static void usage(cli::Usage& u) {
       "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
       "file, bit for bit in every dataset, as a run never interrupted (the pile argument is then not "
       "read again). A resume takes the interrupted run's options; an option given with another value "
-      "than the run's is a usage error naming it. Ctrl-C writes a checkpoint of every completed step and exits with 130 (SIGTERM: 143). The "
+      "than the run's is a usage error naming it. Ctrl-C or SIGTERM, once or more (a scheduler signals "
+      "the tool and its make), abandons the step under way, writes a checkpoint of every completed step "
+      "and exits with 130 (SIGTERM: 143) within a second (docs/cluster.md). The "
       "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
       "does nothing. Writing to standard output (-o -) has no checkpoints.",
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "

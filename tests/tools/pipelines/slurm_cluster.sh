@@ -95,7 +95,7 @@ job_state() { scontrol -o show job "$1" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/
 wait_for() {
   local s=$1 what=$2; shift 2
   for _ in $(seq $(( s * 5 ))); do "$@" && return; sleep 0.2; done
-  echo "waited $s s for $what" >&2; squeue >&2; tail -5 "$study"/logs/*.log >&2 || true; return 1
+  echo "waited $s s for $what" >&2; squeue >&2; tail -n 5 "$study"/logs/*.log >&2 || true; return 1
 }
 partial_started() { [[ -e $study/run-$1.h5.partial ]]; }
 
