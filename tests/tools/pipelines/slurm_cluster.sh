@@ -72,6 +72,8 @@ MpiDefault=none
 ReturnToService=2
 KillWait=30
 MinJobAge=600
+# config_overrides: the node is used as configured even on a machine with fewer CPUs.
+SlurmdParameters=config_overrides
 NodeName=cdpiletest NodeHostname=$(hostname) NodeAddr=127.0.0.1 CPUs=2 RealMemory=500 State=UNKNOWN
 PartitionName=test Nodes=cdpiletest Default=YES MaxTime=INFINITE State=UP
 CONF
@@ -103,10 +105,10 @@ make -s -C "$CDPILE_SOURCE/pipelines" slurm-paper "${vars[@]}" SEEDS="1 2" SLURM
 read -r array analysis < submit.txt
 say "submitted: array $array, analysis $analysis"
 grep -q "pipelines $CDPILE_SOURCE/pipelines" submit.log  # the path the jobs run, printed
-# Both runs under way, a few seconds into them: requeue seed 1 (held, to read its checkpoint
-# before it runs again) and cancel seed 2.
+# Both runs under way (some thousands of steps of the 48 000, a few seconds each): requeue
+# seed 1 (held, to read its checkpoint before it runs again) and cancel seed 2.
 wait_for 120 "both runs to start" eval 'partial_started 1 && partial_started 2'
-sleep 2
+sleep 0.5
 say "both runs under way"
 scontrol requeuehold "${array}_0"
 scancel "${array}_1"
