@@ -126,6 +126,13 @@ case $mode in
   analysis) analysis_job ;;
   submit)
     command -v sbatch > /dev/null || { echo "slurm.sh: --submit: sbatch not found (is this a Slurm login node?)" >&2; exit 1; }
+    # Tasks of this study still queued or running would be submitted twice, and two
+    # tilt-cd would resume one checkpoint: refuse (their logs are in the study's folder).
+    queued=$(squeue -h -u "$(id -un)" -O "JobArrayID:40,StdOut:4000" 2> /dev/null | awk -v d="$logs/" 'index($2, d) == 1 { print $1 }' | paste -sd' ')
+    if [[ -n $queued ]]; then
+      echo "slurm.sh: jobs of this study are still queued or running ($queued): wait for them, or scancel them, then submit again" >&2
+      exit 1
+    fi
     mkdir -p "$study/slurm"
     todo=()
     for k in "${!seed_list[@]}"; do [[ -e $study/run-${seed_list[$k]}.h5 ]] || todo+=("$k"); done

@@ -14,8 +14,21 @@ chmod 755 "$here"  # munged wants its socket's folder reachable by every user
 mkdir -p munge state spool logs
 chmod 700 munge
 pids=()
+# Processes of this cluster only: started with its configuration in their environment.
+ours() {
+  local d
+  for d in /proc/[0-9]*; do
+    { tr '\0' '\n' < "$d/environ"; } 2> /dev/null | grep -qx "SLURM_CONF=$here/slurm.conf" && echo "${d#/proc/}"
+  done
+}
 stop_daemons() {
   local p
+  # The jobs first: a job step (slurmstepd and what it runs) outlives slurmd.
+  squeue -h -o %A 2> /dev/null | xargs -r scancel 2> /dev/null || true
+  for _ in $(seq 100); do [[ -z $(squeue -h 2> /dev/null) ]] && break; sleep 0.2; done
+  for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done
+  sleep 1
+  for p in $(ours); do [[ $p == "$$" || $p == "$BASHPID" ]] || pids+=("$p"); done  # steps left behind
   for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done
   for p in "${pids[@]}"; do
     for _ in $(seq 50); do kill -0 "$p" 2> /dev/null || break; sleep 0.1; done
@@ -120,6 +133,10 @@ ckpt=$("$PY" -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r")["checkpoint
 [[ $step -gt 0 ]] || { cat "$log1" >&2; exit 1; }
 expect_eq "$step" "$ckpt" "(checkpoint of the requeued run against the step it stopped at)"
 say "requeued at step $step, checkpoint $ckpt"
+# Submitting again while the study's jobs are queued is refused (two tilt-cd on one checkpoint).
+rc=0; make -s -C "$CDPILE_SOURCE/pipelines" slurm-paper "${vars[@]}" SEEDS="1 2" > /dev/null 2> again.log || rc=$?
+[[ $rc -ne 0 ]] && grep -q "slurm.sh: jobs of this study are still queued or running (.*${array}_0" again.log ||
+  { cat again.log >&2; exit 1; }
 scontrol release "${array}_0"
 # Meanwhile (a requeued job waits cred_expire before it starts again), the same runs on
 # this host as a workstation's uninterrupted make makes them.
