@@ -37,6 +37,8 @@ for v in "$@"; do
   case $v in
     SEEDS=*) echo "slurm.sh: '$v': give the seeds with --seeds" >&2; exit 2 ;;
     STUDY=*) echo "slurm.sh: '$v': the study folder is named by its variables (STUDIES=DIR says where the studies are)" >&2; exit 2 ;;
+    STUDIES=[^/]*|CDPILE_BIN=[^/]*)  # a relative folder is the caller's, resolved here for the jobs
+      v="${v%%=*}=$PWD/${v#*=}" ;;
     NAME=*)  # the same as --name, or in its place
       if [[ -n $name && ${v#NAME=} != "$name" ]]; then
         echo "slurm.sh: '$v' and --name $name disagree: the name is the study's, give it once" >&2; exit 2
@@ -56,7 +58,7 @@ done
 
 # Resolved now, on the submitting host: the jobs run these absolute paths, so the nodes
 # must see the repository and the studies at the same paths (a shared file system).
-pipelines=$(cd "$(dirname "$0")" && pwd -P)
+pipelines=$(cd "$(dirname "$0")" && pwd)
 make_vars=("NAME=$name" "${vars[@]}")
 study=$(make -s --no-print-directory -C "$pipelines" print-study "${make_vars[@]}") ||
   { echo "slurm.sh: cannot name the study folder (make print-study failed)" >&2; exit 1; }

@@ -39,6 +39,9 @@ expect_eq "-C $CDPILE_SOURCE/pipelines study NAME=variant POLYDISPERSITY=10 GRAI
 # --name is the study's name: another name, another folder.
 "$gen" --name other --seeds 1 -- STUDIES="$studies" > /dev/null 2> gen.log
 grep -q "study $studies/other-N4000-" gen.log
+# A relative STUDIES is the caller's folder, made absolute for the jobs (they start elsewhere).
+"$gen" --name rel --seeds 1 -- STUDIES=here GRAINS=10 2> /dev/null | grep -qx "exec make -C $CDPILE_SOURCE/pipelines runs NAME=rel STUDIES=$PWD/here GRAINS=10 SEEDS=\$seed"
+test -d "$PWD/here/rel-N10-R1.5-mu0.5-rate0.001-tol1e-4/logs"
 # Bad arguments: one line, exit 2, nothing on stdout.
 expect_fail 2 "slurm.sh: --seeds: 'x' is not a non-negative integer" "$gen" --seeds "1 x"
 expect_eq "" "$(cat stdout.txt)"
