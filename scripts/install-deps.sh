@@ -14,6 +14,8 @@ packages=(
   util-linux                         # script(1), used by one test of terminal output
   python3-paraview xvfb              # ParaView's Python and a virtual X display: the to-xdmf test
   gnuplot-nox                        # the docs' gnuplot recipes, run by tests/tools/docs/gnuplot_recipes.sh
+  slurm-wlm munge                    # a one-node Slurm cluster on localhost: the test
+                                     # pipelines/slurm_cluster (docs/cluster.md)
 )
 missing=()
 for p in "${packages[@]}"; do

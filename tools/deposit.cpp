@@ -110,6 +110,7 @@ static void run(const cli::Args& a) {
     progress_line.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 1}, {buf[3], 3}});
   };
   const sim::Pile pile = sim::deposit(o, progress, [] { return cli::interrupted(); });
+  cli::end_deferral();  // writing the pile: a signal from here on ends the tool at once
   progress_line.finish();
   if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130 or 143
     std::cerr << cli::tool_name() << ": interrupted at step " << pile.steps << "; no pile written" << std::endl;

@@ -50,7 +50,9 @@ static void usage(cli::Usage& u) {
       "(kill -9 included) leaves the last checkpoint intact. --resume continues it and gives the same "
       "file, bit for bit in every dataset, as a run never interrupted (the pile argument is then not "
       "read again). A resume takes the interrupted run's options; an option given with another value "
-      "than the run's is a usage error naming it. Ctrl-C writes a checkpoint of every completed step and exits with 130 (SIGTERM: 143). The "
+      "than the run's is a usage error naming it. Ctrl-C or SIGTERM, once or more (a scheduler signals "
+      "the tool and its make), abandons the step under way, writes a checkpoint of every completed step "
+      "and exits with 130 (SIGTERM: 143) within a second (docs/cluster.md). The "
       "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
       "does nothing. Writing to standard output (-o -) has no checkpoints.",
       "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if none), "
@@ -155,13 +157,15 @@ static void run(const cli::Args& a) {
     return;
   }
 
-  cli::defer_interrupts();
   const bool show = tools::progress_wanted(a);
   const auto t0 = std::chrono::steady_clock::now();
   auto last_print = t0;
   std::int64_t first = -1, last_step_seen = 0;
   sim::TiltHooks hooks;
   hooks.stop = [] { return cli::interrupted(); };
+  // Signals wait for the loop only while it runs and saves: reading the input or writing
+  // the final copy, the tool ends at once (nothing is lost that a resume does not redo).
+  hooks.deferring = [](bool on) { on ? cli::defer_interrupts() : cli::end_deferral(); };
   // The progress line is rewritten at most twice a second, and once more at the end, so
   // even a run shorter than that shows where it stopped.
   std::optional<sim::TiltProgress> latest;
@@ -241,10 +245,12 @@ static void run(const cli::Args& a) {
   progress_line.finish();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double sps = static_cast<double>(outcome.steps - outcome.first_step) / std::max(secs, 1e-9);
-  if (outcome.interrupted) {
-    cli::info("interrupted at step " + std::to_string(outcome.steps) + " (" + std::to_string(outcome.final_angle_deg) +
-              " deg); " + (output == "-" ? std::string("the run so far was written") :
-                           sim::partial_path(output) + " holds it; run again with --resume to continue"));
+  if (outcome.interrupted) {  // said even with --quiet (as deposit does): a log must say where a run stopped
+    std::cerr << cli::tool_name() << ": interrupted at step " << outcome.steps << " ("
+              << std::to_string(outcome.final_angle_deg) << " deg); "
+              << (output == "-" ? std::string("the run so far was written")
+                                : sim::partial_path(output) + " holds it; run again with --resume to continue")
+              << std::endl;
     std::cout.flush();
     std::exit(cli::interrupt_exit_code());
   }

@@ -178,6 +178,60 @@ TEST(Tilt, InterruptLeavesAValidRunAndResumes) {
   expect_same_run(s / "ref.h5", s / "run.h5");
 }
 
+// A signal while a step is being solved (a large pile at the sweep cap can take longer
+// than a second): the solver polls stop() before every sweep, abandons the step, and the
+// checkpoint is the last completed step's; resuming finishes the same run.
+TEST(Tilt, StopInsideAStepCheckpointsTheLastCompletedStep) {
+  Scratch s;
+  const auto prov = io::provenance_now("test", "", "");
+  sim::run_tilt(pile(), short_run(), s / "ref.h5", false, prov);
+  sim::TiltHooks hooks;
+  std::int64_t step = 0;
+  int polls = 0;
+  hooks.progress = [&](const sim::TiltProgress& p) { step = p.step; };
+  hooks.stop = [&] { return step == 41 && ++polls == 2; };  // after step 41, then before a sweep of 42
+  const auto o = sim::run_tilt(pile(), short_run(), s / "run.h5", false, prov, hooks);
+  EXPECT_TRUE(o.interrupted);
+  EXPECT_EQ(o.steps, 41);
+  {
+    io::h5::File f = io::h5::open_read(sim::partial_path(s / "run.h5"), "partial");
+    io::RunReader r(f);
+    EXPECT_EQ(r.series().step.back(), 41);
+    EXPECT_EQ(io::h5::attr_int(f, "/checkpoint", "step"), 41);
+  }
+  sim::resume_tilt(short_run(), s / "run.h5", false);
+  expect_same_run(s / "ref.h5", s / "run.h5");
+}
+
+// Signals are deferred while the run steps and saves, and no longer once OUTPUT.partial
+// holds the whole run: then a stop leaves that partial, and a resume only writes the file.
+TEST(Tilt, DeferralEndsWhenThePartialHoldsTheWholeRun) {
+  Scratch s;
+  const auto prov = io::provenance_now("test", "", "");
+  sim::run_tilt(pile(), short_run(), s / "ref.h5", false, prov);
+  sim::TiltHooks hooks;
+  std::vector<bool> calls;
+  std::int64_t checkpoint_at_end = -1;
+  bool stopping = false;
+  hooks.deferring = [&](bool on) {
+    calls.push_back(on);
+    if (on) return;
+    io::h5::File f = io::h5::open_read(sim::partial_path(s / "run.h5"), "partial");
+    checkpoint_at_end = io::h5::attr_int(f, "/checkpoint", "step");
+    stopping = true;  // a signal that comes now
+  };
+  hooks.stop = [&] { return stopping; };
+  const auto o = sim::run_tilt(pile(), short_run(), s / "run.h5", false, prov, hooks);
+  EXPECT_EQ(calls, (std::vector<bool>{true, false}));
+  EXPECT_EQ(checkpoint_at_end, 150);
+  EXPECT_TRUE(o.interrupted);
+  EXPECT_EQ(o.steps, 150);
+  EXPECT_FALSE(fs::exists(s / "run.h5"));
+  const auto r = sim::resume_tilt(short_run(), s / "run.h5", false);
+  EXPECT_EQ(r.first_step, 150);
+  expect_same_run(s / "ref.h5", s / "run.h5");
+}
+
 // The avalanche rule on a small pile tilted at 0.01 degree per step: the pile is static
 // at small tilt, the avalanche is detected at a finite angle, and the agitation obeys
 // the rule there: below the threshold just before, above it for the whole hold.

@@ -91,6 +91,7 @@ SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) co
   const int every = settings_.check_every;
   const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
+    if (system.cancel && system.cancel()) throw StepCancelled();
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
     measure_sweep(nsgs_sweep(system, backward, order), gravity_velocity, report);
     report.sweeps = k + 1;
@@ -110,6 +111,7 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
   const int every = settings_.check_every;
   const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
+    if (system.cancel && system.cancel()) throw StepCancelled();
     for (std::size_t a = 0; a < m; ++a) {
       before[2 * a] = system.rows[a].rn;
       before[2 * a + 1] = system.rows[a].rt;

@@ -29,13 +29,18 @@ bool g_quiet = false;
 std::atomic<bool> g_deferred{false};
 volatile std::sig_atomic_t g_interrupted = 0;
 
+// The first SIGINT or SIGTERM is the one the tool reports (exit 128 + it). While a tool
+// defers signals (it is stepping, or writing the checkpoint of its last completed step),
+// every signal only asks it to stop: a scheduler signals the tool and its parent make
+// together, and make forwards its SIGTERM, so a second signal is the rule there, not a
+// user's impatience; ending at it would lose the checkpoint being written. The tool then
+// stops within a second (it polls interrupted() within every step). Otherwise the tool
+// has nothing to save and ends at once.
 extern "C" void on_signal(int sig) {
-  if (g_deferred.load() && g_interrupted == 0) {  // first Ctrl-C: finish the step, then stop
-    g_interrupted = sig;
-    return;
-  }
+  if (g_interrupted == 0) g_interrupted = sig;
+  if (g_deferred.load()) return;
   io::remove_temporaries();
-  _exit(128 + sig);
+  _exit(128 + g_interrupted);
 }
 
 std::string format_number(double x) {
@@ -636,6 +641,7 @@ void info(const std::string& what) {
 }
 
 void defer_interrupts() { g_deferred.store(true); }
+void end_deferral() { g_deferred.store(false); }
 bool interrupted() { return g_interrupted != 0; }
 int interrupt_exit_code() { return g_interrupted != 0 ? 128 + g_interrupted : 0; }
 

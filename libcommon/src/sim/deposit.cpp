@@ -203,8 +203,14 @@ Pile deposit(const DepositOptions& o, const std::function<void(const DepositProg
   pile.series = observables_series();
   std::int64_t quiet = 0, unconverged = 0;
   double last_agitation = 0.0;
+  engine.set_cancel(stop);  // a step at the sweep cap may take longer than a signal may wait
   for (std::int64_t k = 1; k <= o.max_steps; ++k) {
-    const cd::StepReport r = engine.step(0.0);
+    cd::StepReport r;
+    try {
+      r = engine.step(0.0);
+    } catch (const cd::StepCancelled&) {
+      break;
+    }
     const Contacts c = engine.contacts();
     append_observables(pile.series, r,
                        count_critical(c, engine.grains().species, o.settings.mu_grain,

@@ -176,6 +176,9 @@ class Recorder {
   virtual void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) = 0;
   /// Ctrl-C: leave a valid file up to the last completed step.
   virtual void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
+  /// Whether commit() makes the run durable (a checkpoint file) rather than only
+  /// gathering it in memory for a final write.
+  virtual bool checkpoints() const = 0;
 };
 
 /// A partial written by an earlier version may lack an observable added since (residual_rms):
@@ -227,9 +230,17 @@ class FileRecorder : public Recorder {
     io::rename_onto(tmp, partial_);
     io::unregister_temporary(tmp);
     p.clear();
+    committed_step_ = e.state().step;
   }
 
+  /// The partial already holds everything up to `step` (a resumed run's checkpoint).
+  void mark_committed(std::int64_t step) { committed_step_ = step; }
+  bool checkpoints() const override { return true; }
+
   void commit(Pending& p, const cd::Engine& e, const LoopState& s) override {
+    // Nothing new since the last checkpoint: the partial is already it (copying a large
+    // partial to rewrite the same checkpoint would only delay an interrupted run's end).
+    if (p.frames.empty() && p.rows.size() == 0 && e.state().step == committed_step_) return;
     const std::string tmp = io::make_temporary_beside(partial_);
     std::error_code ec;
     std::filesystem::copy_file(partial_, tmp, std::filesystem::copy_options::overwrite_existing, ec);
@@ -245,6 +256,7 @@ class FileRecorder : public Recorder {
     io::rename_onto(tmp, partial_);
     io::unregister_temporary(tmp);
     p.clear();
+    committed_step_ = e.state().step;
   }
 
   void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) override {
@@ -275,6 +287,7 @@ class FileRecorder : public Recorder {
  private:
   std::string output_, partial_;
   bool force_;
+  std::int64_t committed_step_ = -1;
 };
 
 /// A run to standard output: an in-memory file written out at the end.
@@ -295,6 +308,7 @@ class StreamRecorder : public Recorder {
   void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override {
     finish(p, e, s, {{"interrupted", std::int64_t{1}}, {"steps", e.state().step}});
   }
+  bool checkpoints() const override { return false; }
 
  private:
   io::Output out_;
@@ -322,9 +336,34 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   TiltOutcome out;
   std::int64_t step = engine.state().step;
   out.first_step = step;
+  auto stop = [&] { return hooks.stop && hooks.stop(); };
+  auto deferring = [&](bool on) {
+    if (hooks.deferring) hooks.deferring(on);
+  };
+  // The end of an interrupted run: what is done up to the last completed step is saved,
+  // a checkpoint in OUTPUT.partial or the run so far on standard output.
+  auto interrupted = [&] {
+    if (!rec.checkpoints()) deferring(false);  // a blocked standard output must not hold the tool
+    rec.interrupt(pending, engine, st);
+    out.steps = step;
+    out.final_angle_deg = angle_deg(o, step);
+    out.avalanche = st.detector.detected;
+    out.avalanche_deg = st.detector.angle_deg;
+    out.interrupted = true;
+    out.stop_reason = "interrupted";
+    out.unconverged_steps = st.unconverged;
+    return out;
+  };
+  engine.set_cancel(stop);
+  deferring(true);
   while (step < last_step()) {
     const double deg = angle_deg(o, step + 1);
-    const cd::StepReport r = engine.step(deg * kDeg);
+    cd::StepReport r;
+    try {
+      r = engine.step(deg * kDeg);
+    } catch (const cd::StepCancelled&) {  // the engine is still at the last completed step
+      return interrupted();
+    }
     step = r.step;
     Contacts c = engine.contacts();
     append_observables(pending.rows, r, count_critical(c, species, o.settings.mu_grain, o.settings.mu_wall, o.eps));
@@ -354,18 +393,15 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
       hooks.progress(p);
     }
     if (step >= last) break;
-    if (hooks.stop && hooks.stop()) {
-      rec.interrupt(pending, engine, st);
-      out.steps = step;
-      out.final_angle_deg = deg;
-      out.avalanche = st.detector.detected;
-      out.avalanche_deg = st.detector.angle_deg;
-      out.interrupted = true;
-      out.stop_reason = "interrupted";
-      out.unconverged_steps = st.unconverged;
-      return out;
-    }
+    if (stop()) return interrupted();
     if (step % o.checkpoint_every == 0) rec.commit(pending, engine, st);
+  }
+  // The last step made durable: from here on a kill loses nothing but the final copy
+  // (resumed, the run only writes its output), so a signal may end the tool at once.
+  if (rec.checkpoints()) {
+    rec.commit(pending, engine, st);
+    deferring(false);
+    if (stop()) return interrupted();
   }
   out.steps = step;
   out.final_angle_deg = angle_deg(o, step);
@@ -399,6 +435,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
     results["avalanche_step"] = st.detector.start_step;
     results["avalanche_confirmed_step"] = st.detector.confirmed_step;
   }
+  deferring(false);
   rec.finish(pending, engine, st, results);
   return out;
 }
@@ -772,6 +809,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
   st.detector.hold = hold_steps(o);
   Pending pending;
   FileRecorder rec(output, force);
+  rec.mark_committed(rs.engine.step);
   return drive(engine, rec, o, st, pending, hooks);
 }
 

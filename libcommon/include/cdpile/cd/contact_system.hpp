@@ -18,6 +18,8 @@
 #include "cdpile/model.hpp"
 
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <vector>
 
 namespace cdpile::cd {
@@ -43,6 +45,13 @@ struct ContactRow {
   ContactStatus status;
 };
 
+/// Thrown by a solver when ContactSystem::cancel says so. The engine's grains, clock and
+/// warm-start impulses are still those of the last completed step (Engine::step changes
+/// them only after the solve), so a checkpoint written then resumes bit for bit.
+struct StepCancelled : std::exception {
+  const char* what() const noexcept override { return "step cancelled"; }
+};
+
 /// The step's contact system. Rows are sorted by pair_key(i, j) (engine.hpp).
 struct ContactSystem {
   std::vector<Body> bodies;
@@ -50,6 +59,10 @@ struct ContactSystem {
   double compliance_n = 0.0;  ///< c_n = 1/(k_n h^2) [1/kg per m], 0 for rigid contacts
   double compliance_t = 0.0;  ///< c_t = 1/(k_t h^2)
   std::int64_t step = 0;      ///< the step being solved (seeds a scrambled sweep order)
+  /// Polled by the solvers before every sweep (may be empty): true abandons the step with
+  /// StepCancelled. A signalled tool stops within a second even when one step takes
+  /// longer (a large pile at the sweep cap), with its last completed step intact.
+  std::function<bool()> cancel;
 
   bool compliant() const { return compliance_n != 0.0 || compliance_t != 0.0; }
 

@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -117,8 +118,12 @@ class Engine {
   /// cdpile::Error on invalid grains (non-positive radius or mass, sizes differ).
   Engine(Box box, Grains grains, Settings settings);
 
-  /// One Moreau-Jean step under gravity tilted by `tilt_angle` [rad].
+  /// One Moreau-Jean step under gravity tilted by `tilt_angle` [rad]. Throws StepCancelled
+  /// (contact_system.hpp) when the cancel predicate turns true during the solve, leaving
+  /// grains() and state() as they were before the call.
   StepReport step(double tilt_angle);
+  /// The predicate polled before every sweep (empty: never cancelled).
+  void set_cancel(std::function<bool()> cancel) { system_.cancel = std::move(cancel); }
 
   const Grains& grains() const { return grains_; }
   const Box& box() const { return box_; }

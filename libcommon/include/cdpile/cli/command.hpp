@@ -170,9 +170,13 @@ const std::string& tool_name();
 
 /// Ctrl-C and SIGTERM: by default they remove every registered temporary output and
 /// exit with 128 + the signal (130, 143). A tool with a long loop calls defer_interrupts()
-/// and polls interrupted() to stop cleanly after the current step, then exits with
-/// interrupt_exit_code().
+/// and polls interrupted() at least once a second to stop cleanly (after the current
+/// step, with its checkpoint), then exits with interrupt_exit_code(); while deferred, no
+/// signal, first or later, ends the process. end_deferral() returns to ending at once
+/// (for what an immediate end loses nothing by: a final copy of a saved run), leaving a
+/// signal already received to the tool.
 void defer_interrupts();
+void end_deferral();
 bool interrupted();
 int interrupt_exit_code();
 

@@ -128,9 +128,17 @@ struct TiltHooks {
   /// Called after every step (may be empty). An exception thrown here ends the run
   /// abruptly, as a crash would (the tests use it).
   std::function<void(const TiltProgress&)> progress;
-  /// Polled after every step (may be empty): true writes a checkpoint of everything
-  /// done so far and returns (Ctrl-C).
+  /// Polled after every step and before every solver sweep (may be empty): true writes a
+  /// checkpoint of everything done up to the last completed step and returns (Ctrl-C,
+  /// SIGTERM), within a second of turning true however long a step takes.
   std::function<bool()> stop;
+  /// Called with true before the first step and with false once what is left is writing
+  /// output that ending at once loses nothing of (may be empty): the final file, copied
+  /// from OUTPUT.partial once that holds the whole run, or a run to standard output. In
+  /// between the run only ends through stop(), so that a second signal (a scheduler
+  /// signals the tool and its parent make, which forwards its own) cannot cut the
+  /// checkpoint being written. tilt-cd defers its signals to stop() meanwhile.
+  std::function<void(bool)> deferring;
 };
 
 struct TiltOutcome {
