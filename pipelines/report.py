@@ -145,7 +145,7 @@ def rows_of(study):
     nu_row("nu_c, static states", "nu_c_static",
            "critical: the same over static steps (converged, at rest, no grain in flight)", "static states: ")
     nu_row("nu_c, contacts at rest", "nu_c_rest",
-           "critical: the same over the frames' contacts between grains at rest", "contacts at rest: ")
+           "critical: the same over the frames' contacts at rest (both grains slow, no slip)", "contacts at rest: ")
     v = r.get("nu_theta_c")
     if v is None:
         why = "none: no run has a static state in the last envelope window before its theta_c" if tc is not None \
