@@ -40,16 +40,25 @@ Frame random_frame(std::size_t n, std::size_t k, std::uint64_t seed) {
   fr.time = 0.1 + u();
   fr.tilt_angle = 0.3 * u();
   for (std::size_t q = 0; q < n; ++q) {
-    fr.grains.add_disk(1e-3 * (0.4 + u()), 2500, Vec2(u() - 0.5, 1e-300 + u()),
+    // Inside the box of write_run (0.12 x 0.05 m) enlarged by its width, as the reader asks.
+    fr.grains.add_disk(1e-3 * (0.4 + u()), 2500, Vec2(0.3 * u() - 0.1, 1e-300 + 0.15 * u()),
                        q % 3 == 0 ? Species::floor : Species::free);
     fr.grains.velocity.back() = Vec2(-u(), 1e-12 * u());
     fr.grains.orientation.back() = 100 * u();
     fr.grains.angular_velocity.back() = -1e5 * u();
   }
+  // Every pair at most once (the reader refuses a pair listed twice): grain pairs, with
+  // every fourth contact on a wall.
+  std::vector<std::pair<std::int32_t, std::int32_t>> grain_pairs, wall_pairs;
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < a; ++b) grain_pairs.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+    for (std::int32_t w : {wall_floor, wall_left, wall_right}) wall_pairs.emplace_back(static_cast<std::int32_t>(a), w);
+  }
+  std::size_t next_grain = 0, next_wall = 0;
   for (std::size_t q = 0; q < k; ++q) {
-    const auto i = static_cast<std::int32_t>(q % n);
-    const auto j = q % 4 == 0 ? wall_floor : static_cast<std::int32_t>((q + 1) % n);
-    fr.contacts.push_back(i, j == i ? wall_left : j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
+    const bool wall = (q % 4 == 0 && next_wall < wall_pairs.size()) || next_grain == grain_pairs.size();
+    const auto [i, j] = wall ? wall_pairs.at(next_wall++) : grain_pairs.at(next_grain++);
+    fr.contacts.push_back(i, j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
                           1e-9 + u(), u() - 0.5, -1e-7 * u(), static_cast<ContactStatus>(q % 3));
   }
   return fr;
@@ -241,6 +250,23 @@ TEST(Schema, AuthorTextIsNameAndOptionalEmail) {
   EXPECT_FALSE(io::author().name.empty());  // the environment or the password database
 }
 
+/// A variable-length UTF-8 string attribute, as cdpile wrote every text attribute before
+/// the fixed-length ones (a scalar unless `list`).
+void set_variable_attr(const h5::File& f, const std::string& path, const std::string& name,
+                       const std::vector<std::string>& v, bool list) {
+  h5::Handle obj(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT));
+  if (H5Aexists(obj.id(), name.c_str()) > 0) H5Adelete(obj.id(), name.c_str());
+  h5::Handle t(H5Tcopy(H5T_C_S1));
+  H5Tset_size(t.id(), H5T_VARIABLE);
+  H5Tset_cset(t.id(), H5T_CSET_UTF8);
+  const hsize_t n = v.size();
+  h5::Handle space(list ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_SCALAR));
+  h5::Handle a(H5Acreate2(obj.id(), name.c_str(), t.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT));
+  std::vector<const char*> p;
+  for (const auto& x : v) p.push_back(x.c_str());
+  ASSERT_GE(H5Awrite(a.id(), t.id(), p.data()), 0);
+}
+
 TEST(Schema, FilesWithVariableLengthMetadataStillRead) {
   // Files written before the H5MD fixes: variable-length UTF-8 author, creator and
   // boundary, unit 'deg', no units module. Every reader still takes them.
@@ -251,12 +277,12 @@ TEST(Schema, FilesWithVariableLengthMetadataStillRead) {
     io::Output out(path, false);
     h5::File& f = out.create_hdf5();
     frames = write_run(f, 4, 2, 6);
-    h5::set_attr(f, "/h5md/author", "name", std::string("cdpile user"));
-    h5::set_attr(f, "/h5md/creator", "name", std::string("cdpile"));
-    h5::set_attr(f, "/h5md/creator", "version", std::string("0.1.0"));
-    h5::set_attr(f, "/particles/grains/box", "boundary", std::vector<std::string>{"none", "none"});
-    h5::set_attr(f, "/observables/tilt_angle/value", "unit", std::string("deg"));
-    h5::set_attr(f, "/contacts/tilt_angle", "unit", std::string("deg"));
+    set_variable_attr(f, "/h5md/author", "name", {"cdpile user"}, false);
+    set_variable_attr(f, "/h5md/creator", "name", {"cdpile"}, false);
+    set_variable_attr(f, "/h5md/creator", "version", {"0.1.0"}, false);
+    set_variable_attr(f, "/particles/grains/box", "boundary", {"none", "none"}, true);
+    set_variable_attr(f, "/observables/tilt_angle/value", "unit", {"deg"}, false);
+    set_variable_attr(f, "/contacts/tilt_angle", "unit", {"deg"}, false);
     H5Ldelete(f.id(), "/h5md/modules/units", H5P_DEFAULT);
     H5Ldelete(f.id(), "/h5md/modules", H5P_DEFAULT);
     out.commit();
