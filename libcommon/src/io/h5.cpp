@@ -3,6 +3,7 @@
 #include <H5LTpublic.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +29,10 @@ hid_t checked_id(hid_t id, const File& f, const std::string& path, const std::st
   if (id < 0) fail(f, path, what);
   return id;
 }
+
+/// The system's reason for a failed write (HDF5's file driver leaves errno set), or a
+/// guess when there is none.
+std::string reason(int err) { return err != 0 ? std::strerror(err) : "disk full?"; }
 
 std::string dims_text(const std::vector<hsize_t>& d) {
   std::string s = "[";
@@ -137,7 +142,15 @@ std::vector<T> allocate(const File& f, const std::string& path, hsize_t n) {
 
 void silence_errors() {
   static std::once_flag once;
-  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+  std::call_once(once, [] {
+    // No library shutdown at exit: after a close that failed (a full disk), HDF5 1.10's
+    // atexit handler closes the half-closed file again and crashes in H5F__close_cb,
+    // turning the tool's one error line and exit 1 into a SIGSEGV. Every file a tool
+    // writes is closed explicitly (Output::commit) before it exits, and read-only files
+    // need no flush, so nothing is lost. Must come before the first other HDF5 call.
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  });
 }
 
 void Handle::reset() noexcept {
@@ -158,9 +171,11 @@ void Handle::reset() noexcept {
 void File::close() {
   if (!h_.valid()) return;
   const hid_t raw = h_.release();
+  errno = 0;
   const bool flushed = H5Fflush(raw, H5F_SCOPE_LOCAL) >= 0;
+  const int flush_errno = errno;
   const bool closed = H5Fclose(raw) >= 0;
-  if (!flushed || !closed) throw Error(name_, "", "cannot write the file (disk full?)");
+  if (!flushed || !closed) throw Error(name_, "", "cannot write the file: " + reason(flushed ? errno : flush_errno));
 }
 
 File create(const std::string& path, const std::string& name) {
@@ -173,8 +188,9 @@ File create(const std::string& path, const std::string& name) {
   H5Pset_libver_bounds(fapl.id(), H5F_LIBVER_V110, H5F_LIBVER_V110);
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE));
   H5Pset_link_creation_order(fcpl.id(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
+  errno = 0;
   hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id());
-  if (id < 0) throw Error(name, "", "cannot create HDF5 file");
+  if (id < 0) throw Error(name, "", "cannot create HDF5 file: " + reason(errno));
   return File(Handle(id), name);
 }
 

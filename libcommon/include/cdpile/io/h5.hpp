@@ -14,7 +14,8 @@
 
 namespace cdpile::io::h5 {
 
-/// Turns off HDF5's automatic error-stack printing (once per process).
+/// Turns off HDF5's automatic error-stack printing and its shutdown at exit (once per
+/// process, before any other HDF5 call: cli::run_tool calls it first; see h5.cpp).
 void silence_errors();
 
 /// An owned HDF5 identifier, closed with the right H5*close on destruction.
