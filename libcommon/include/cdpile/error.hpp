@@ -29,7 +29,7 @@ class Error : public std::runtime_error {
   }
 };
 
-/// `text` made safe to print on a terminal: control bytes (C0, DEL, the C1 controls
+/// `text` made safe to print on a terminal: control bytes (C0 but the tab, DEL, the C1 controls
 /// U+0080..U+009F) and bytes that are not valid UTF-8 are written as `\xNN`, so that a
 /// name or a string read from a damaged file can neither move the cursor nor switch the
 /// terminal's mode. Every message a tool prints passes
@@ -46,7 +46,7 @@ inline std::string printable(const std::string& text) {
   const std::size_t n = text.size();
   for (std::size_t k = 0; k < n;) {
     const auto c = static_cast<unsigned char>(text[k]);
-    if (c < 0x20 || c == 0x7f) { escape(c); ++k; continue; }
+    if ((c < 0x20 && c != '\t') || c == 0x7f) { escape(c); ++k; continue; }
     if (c < 0x80) { out += static_cast<char>(c); ++k; continue; }
     // A multi-byte UTF-8 sequence: its length from the lead byte, its continuation bytes
     // 10xxxxxx, no overlong form, no surrogate, at most U+10FFFF, and not a C1 control.

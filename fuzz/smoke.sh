@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# smoke.sh HARNESS CORPUS RUNS: a bounded libFuzzer run of HARNESS from the seeds in
+# CORPUS (copied to a scratch folder, where libFuzzer adds the inputs it finds new), with
+# a fixed seed so the CI run is repeatable. Exit non-zero on a crash, a sanitizer report,
+# a leak of time past -timeout, or more memory than -rss_limit_mb.
+set -euo pipefail
+harness=$1 corpus=$2 runs=$3
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/cdpile-fuzz.XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+cp "$corpus"/* "$scratch"/
+cd "$scratch"
+"$harness" -runs="$runs" -seed=1 -timeout=20 -rss_limit_mb=2048 -max_len=262144 \
+  -print_final_stats=1 "$scratch"
