@@ -541,3 +541,94 @@ TEST(ReaderErrors, MissingFile) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/x.h5: no such file");
   }
 }
+
+TEST(ReaderErrors, MagnitudesNoPileCanHave) {
+  // The box of write_run is 0.12 x 0.05 m: L = 0.12 m, speeds up to 1000 sqrt(9.81 L).
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, 0.07, 1e-3, 1e-3}, {4}); }),
+            p + ": /particles/grains/radius: radius of grain 1 is 0.07 m, more than half the box width 0.12 m");
+  auto state = [](const std::string& element, std::size_t at, double value) {
+    return [=](h5::File& f) {
+      std::vector<hsize_t> dims;
+      auto v = h5::read<double>(f, element, {}, &dims);
+      v[at] = value;
+      replace(f, element, v, dims);
+    };
+  };
+  EXPECT_EQ(error_after(p, state("/particles/grains/position/value", 8 + 2 * 2, -0.25)),
+            p + ": /particles/grains/position/value: frame 1: grain 2 at (-0.25, " +
+                [&] {
+                  io::Input in(p);
+                  char b[32];
+                  std::snprintf(b, sizeof b, "%.6g", h5::read<double>(in.hdf5(), "/particles/grains/position/value", {})[13]);
+                  return std::string(b);
+                }() +
+                ") m is outside the box [0, 0.12] x [0, 0.05] m enlarged by 0.12 m");
+  const std::string fast = error_after(p, state("/particles/grains/velocity/value", 3, 2e3));
+  EXPECT_EQ(fast.rfind(p + ": /particles/grains/velocity/value: frame 0: grain 1 moves at 20", 0), 0u) << fast;
+  EXPECT_NE(fast.find(" m/s (its rim included), more than 1000 sqrt(g L) = 1084.99 m/s"), std::string::npos) << fast;
+}
+
+TEST(ReaderErrors, PairListedTwiceInAFrame) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  std::int32_t i = 0, j = 0;
+  // Row 2 of frame 0 becomes row 1's pair, the other way round: the same two grains.
+  const std::string e = error_after(p, [&](h5::File& f) {
+    auto vi = h5::read<std::int32_t>(f, "/contacts/i", {}), vj = h5::read<std::int32_t>(f, "/contacts/j", {});
+    i = vi[1];
+    j = vj[1];
+    ASSERT_GE(j, 0);
+    vi[2] = j;
+    vj[2] = i;
+    H5Ldelete(f.id(), "/contacts/i", H5P_DEFAULT);
+    H5Ldelete(f.id(), "/contacts/j", H5P_DEFAULT);
+    h5::write(f, "/contacts/i", vi);
+    h5::write(f, "/contacts/j", vj);
+  });
+  EXPECT_EQ(e, p + ": /contacts/i: rows 1 and 2: the contact of " + std::to_string(i) + " and " + std::to_string(j) +
+                   " is listed twice in frame 0");
+}
+
+TEST(ReaderErrors, ClaimsMoreThanTheFileHolds) {
+  // An extendible dataset stretched to 4e8 rows without a byte written: the file stays
+  // small, and the reader refuses before allocating 3.2 GB.
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  const std::string e = error_after(p, [](h5::File& f) {
+    const hsize_t rows[1] = {400000000};
+    h5::Handle d(H5Dopen2(f.id(), "/observables/tilt_angle/value", H5P_DEFAULT));
+    ASSERT_GE(H5Dset_extent(d.id(), rows), 0);
+  });
+  EXPECT_NE(e.find(": /observables/tilt_angle/value: "), std::string::npos) << e;
+  EXPECT_NE(e.find("expected shape"), std::string::npos) << e;  // checked against the clock first
+  const std::string g = error_after(p, [](h5::File& f) {
+    for (const char* c : {"/observables/tilt_angle/step", "/observables/tilt_angle/value"}) {
+      h5::Handle d(H5Dopen2(f.id(), c, H5P_DEFAULT));
+      const hsize_t rows[1] = {400000000};
+      ASSERT_GE(H5Dset_extent(d.id(), rows), 0);
+    }
+  });
+  // The step of the series' clock (the first observable, whose step the others link to).
+  EXPECT_EQ(g.rfind(p + ": /observables/", 0), 0u) << g;
+  EXPECT_NE(g.find("/step: too large (claims 400000000 elements, 3.2 GB, in a file of "), std::string::npos) << g;
+}
+
+TEST(Schema, FilesHaveChecksummedMetadataAndFixedLengthText) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  {
+    io::Output out(p, false);
+    write_run(out.create_hdf5(), 3, 1, 2);
+    out.commit();
+  }
+  std::ifstream in(p, std::ios::binary);
+  char head[9];
+  in.read(head, 9);
+  EXPECT_EQ(head[8], 3) << "superblock version (HDF5 1.10's format, with checksums)";
+  io::Input f(p);
+  for (const auto& [path, name] : std::vector<std::pair<std::string, std::string>>{
+           {"/", "kind"}, {"/", "schema"}, {"/provenance/000", "tool"}, {"/provenance/000", "command_line"}})
+    EXPECT_FALSE(string_kind(f.hdf5(), path, name).variable) << path << " " << name;
+}

@@ -148,8 +148,8 @@ void Series::clear() {
 
 void write_values(const h5::File& f, const std::string& group, const Values& v) {
   h5::create_group(f, group);
-  for (const auto& [name, value] : v)
-    std::visit([&](const auto& x) { h5::set_attr(f, group, name, x); }, value);
+  for (const auto& [name, value] : v)  // name bound by reference: clang 14 cannot capture a binding
+    std::visit([&, &key = name](const auto& x) { h5::set_attr(f, group, key, x); }, value);
 }
 
 Values read_values(const h5::File& f, const std::string& group) {
