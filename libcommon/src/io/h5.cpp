@@ -119,10 +119,22 @@ void check_claim(const File& f, const std::string& path, double elements, double
 }
 
 /// Whether a dataset's chunks pass through a filter (deflate): its data may then be
-/// larger than the file.
-bool filtered(hid_t dataset) {
+/// larger than the file. Also refuses storage or a chunk larger than the file could hold
+/// (found by fuzz_run on files of the earlier format).
+bool filtered(const File& f, const std::string& path, hid_t dataset, double element_bytes) {
+  // What the dataset's index says it stores cannot exceed the file: HDF5 allocates a
+  // chunk's stored size to read it, and a damaged index claiming 4 GB made it try.
+  check_claim(f, path + " (stored bytes)", static_cast<double>(H5Dget_storage_size(dataset)), 1.0, false);
   Handle dcpl(H5Dget_create_plist(dataset));
-  return dcpl.valid() && H5Pget_layout(dcpl.id()) == H5D_CHUNKED && H5Pget_nfilters(dcpl.id()) > 0;
+  if (!dcpl.valid() || H5Pget_layout(dcpl.id()) != H5D_CHUNKED) return false;
+  const bool compressed = H5Pget_nfilters(dcpl.id()) > 0;
+  std::array<hsize_t, H5S_MAX_RANK> chunk{};
+  const int rank = H5Pget_chunk(dcpl.id(), H5S_MAX_RANK, chunk.data());
+  if (rank < 0) fail(f, path, "cannot read the chunk size");
+  double elements = 1;
+  for (int k = 0; k < rank; ++k) elements *= static_cast<double>(chunk[static_cast<std::size_t>(k)]);
+  check_claim(f, path + " (one chunk)", std::max(elements, 1.0), element_bytes, true);
+  return compressed;
 }
 
 /// A vector of n elements, or an Error naming the file if memory runs out.
@@ -473,7 +485,8 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
   hsize_t n = 1;
   double elements = 1;
   for (auto x : dims) { n *= x; elements *= static_cast<double>(x); }
-  check_claim(f, path, elements, static_cast<double>(H5Tget_size(type.id())), filtered(d.id()));
+  const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
+  check_claim(f, path, elements, type_bytes, filtered(f, path, d.id(), type_bytes));
   std::vector<T> out = allocate<T>(f, path, n);
   if (n > 0)
     check(H5Dread(d.id(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), f, path,
@@ -506,7 +519,8 @@ std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, 
   for (auto x : cnt) { n *= x; elements *= static_cast<double>(x); }
   {
     Handle type(H5Dget_type(d.id()));
-    check_claim(f, path, elements, static_cast<double>(H5Tget_size(type.id())), filtered(d.id()));
+    const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
+    check_claim(f, path, elements, type_bytes, filtered(f, path, d.id(), type_bytes));
   }
   std::vector<T> out = allocate<T>(f, path, n);
   if (n == 0) return out;
