@@ -444,7 +444,9 @@ TEST(ClusterFit, ThetaCOnTheLastAngleIsDegenerateNotABeta) {
   // r_c that fluctuates without growing over the power range (as in one noisy run): the
   // fit drives theta_c onto the last window, where any beta "fits"; no beta is reported.
   const double rcs[] = {3.377, 2.345, 4.243, 2.385};
-  auto rc_of = [&](double th) { return th < 15.0 ? 2.0 : rcs[static_cast<int>(th) - 15]; };
+  // Windows run to 19 deg, outside the power range: its r_c repeats the last (it read
+  // past the array before, found by the asan preset's UBSan).
+  auto rc_of = [&](double th) { return th < 15.0 ? 2.0 : rcs[std::min(static_cast<int>(th) - 15, 3)]; };
   Product cor = synthetic_correlate_rc(0.08, rc_of, 0.0, 1);
   ClusterFitOptions o;
   o.nu_c = 0.08;

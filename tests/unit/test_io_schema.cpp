@@ -40,16 +40,25 @@ Frame random_frame(std::size_t n, std::size_t k, std::uint64_t seed) {
   fr.time = 0.1 + u();
   fr.tilt_angle = 0.3 * u();
   for (std::size_t q = 0; q < n; ++q) {
-    fr.grains.add_disk(1e-3 * (0.4 + u()), 2500, Vec2(u() - 0.5, 1e-300 + u()),
+    // Inside the box of write_run (0.12 x 0.05 m) enlarged by its width, as the reader asks.
+    fr.grains.add_disk(1e-3 * (0.4 + u()), 2500, Vec2(0.3 * u() - 0.1, 1e-300 + 0.15 * u()),
                        q % 3 == 0 ? Species::floor : Species::free);
     fr.grains.velocity.back() = Vec2(-u(), 1e-12 * u());
     fr.grains.orientation.back() = 100 * u();
     fr.grains.angular_velocity.back() = -1e5 * u();
   }
+  // Every pair at most once (the reader refuses a pair listed twice): grain pairs, with
+  // every fourth contact on a wall.
+  std::vector<std::pair<std::int32_t, std::int32_t>> grain_pairs, wall_pairs;
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < a; ++b) grain_pairs.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+    for (std::int32_t w : {wall_floor, wall_left, wall_right}) wall_pairs.emplace_back(static_cast<std::int32_t>(a), w);
+  }
+  std::size_t next_grain = 0, next_wall = 0;
   for (std::size_t q = 0; q < k; ++q) {
-    const auto i = static_cast<std::int32_t>(q % n);
-    const auto j = q % 4 == 0 ? wall_floor : static_cast<std::int32_t>((q + 1) % n);
-    fr.contacts.push_back(i, j == i ? wall_left : j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
+    const bool wall = (q % 4 == 0 && next_wall < wall_pairs.size()) || next_grain == grain_pairs.size();
+    const auto [i, j] = wall ? wall_pairs.at(next_wall++) : grain_pairs.at(next_grain++);
+    fr.contacts.push_back(i, j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
                           1e-9 + u(), u() - 0.5, -1e-7 * u(), static_cast<ContactStatus>(q % 3));
   }
   return fr;
@@ -241,6 +250,23 @@ TEST(Schema, AuthorTextIsNameAndOptionalEmail) {
   EXPECT_FALSE(io::author().name.empty());  // the environment or the password database
 }
 
+/// A variable-length UTF-8 string attribute, as cdpile wrote every text attribute before
+/// the fixed-length ones (a scalar unless `list`).
+void set_variable_attr(const h5::File& f, const std::string& path, const std::string& name,
+                       const std::vector<std::string>& v, bool list) {
+  h5::Handle obj(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT));
+  if (H5Aexists(obj.id(), name.c_str()) > 0) H5Adelete(obj.id(), name.c_str());
+  h5::Handle t(H5Tcopy(H5T_C_S1));
+  H5Tset_size(t.id(), H5T_VARIABLE);
+  H5Tset_cset(t.id(), H5T_CSET_UTF8);
+  const hsize_t n = v.size();
+  h5::Handle space(list ? H5Screate_simple(1, &n, nullptr) : H5Screate(H5S_SCALAR));
+  h5::Handle a(H5Acreate2(obj.id(), name.c_str(), t.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT));
+  std::vector<const char*> p;
+  for (const auto& x : v) p.push_back(x.c_str());
+  ASSERT_GE(H5Awrite(a.id(), t.id(), p.data()), 0);
+}
+
 TEST(Schema, FilesWithVariableLengthMetadataStillRead) {
   // Files written before the H5MD fixes: variable-length UTF-8 author, creator and
   // boundary, unit 'deg', no units module. Every reader still takes them.
@@ -251,12 +277,12 @@ TEST(Schema, FilesWithVariableLengthMetadataStillRead) {
     io::Output out(path, false);
     h5::File& f = out.create_hdf5();
     frames = write_run(f, 4, 2, 6);
-    h5::set_attr(f, "/h5md/author", "name", std::string("cdpile user"));
-    h5::set_attr(f, "/h5md/creator", "name", std::string("cdpile"));
-    h5::set_attr(f, "/h5md/creator", "version", std::string("0.1.0"));
-    h5::set_attr(f, "/particles/grains/box", "boundary", std::vector<std::string>{"none", "none"});
-    h5::set_attr(f, "/observables/tilt_angle/value", "unit", std::string("deg"));
-    h5::set_attr(f, "/contacts/tilt_angle", "unit", std::string("deg"));
+    set_variable_attr(f, "/h5md/author", "name", {"cdpile user"}, false);
+    set_variable_attr(f, "/h5md/creator", "name", {"cdpile"}, false);
+    set_variable_attr(f, "/h5md/creator", "version", {"0.1.0"}, false);
+    set_variable_attr(f, "/particles/grains/box", "boundary", {"none", "none"}, true);
+    set_variable_attr(f, "/observables/tilt_angle/value", "unit", {"deg"}, false);
+    set_variable_attr(f, "/contacts/tilt_angle", "unit", {"deg"}, false);
     H5Ldelete(f.id(), "/h5md/modules/units", H5P_DEFAULT);
     H5Ldelete(f.id(), "/h5md/modules", H5P_DEFAULT);
     out.commit();
@@ -514,4 +540,95 @@ TEST(ReaderErrors, MissingFile) {
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/x.h5: no such file");
   }
+}
+
+TEST(ReaderErrors, MagnitudesNoPileCanHave) {
+  // The box of write_run is 0.12 x 0.05 m: L = 0.12 m, speeds up to 1000 sqrt(9.81 L).
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, 0.07, 1e-3, 1e-3}, {4}); }),
+            p + ": /particles/grains/radius: radius of grain 1 is 0.07 m, more than half the box width 0.12 m");
+  auto state = [](const std::string& element, std::size_t at, double value) {
+    return [=](h5::File& f) {
+      std::vector<hsize_t> dims;
+      auto v = h5::read<double>(f, element, {}, &dims);
+      v[at] = value;
+      replace(f, element, v, dims);
+    };
+  };
+  EXPECT_EQ(error_after(p, state("/particles/grains/position/value", 8 + 2 * 2, -0.25)),
+            p + ": /particles/grains/position/value: frame 1: grain 2 at (-0.25, " +
+                [&] {
+                  io::Input in(p);
+                  char b[32];
+                  std::snprintf(b, sizeof b, "%.6g", h5::read<double>(in.hdf5(), "/particles/grains/position/value", {})[13]);
+                  return std::string(b);
+                }() +
+                ") m is outside the box [0, 0.12] x [0, 0.05] m enlarged by 0.12 m");
+  const std::string fast = error_after(p, state("/particles/grains/velocity/value", 3, 2e3));
+  EXPECT_EQ(fast.rfind(p + ": /particles/grains/velocity/value: frame 0: grain 1 moves at 20", 0), 0u) << fast;
+  EXPECT_NE(fast.find(" m/s (its rim included), more than 1000 sqrt(g L) = 1084.99 m/s"), std::string::npos) << fast;
+}
+
+TEST(ReaderErrors, PairListedTwiceInAFrame) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  std::int32_t i = 0, j = 0;
+  // Row 2 of frame 0 becomes row 1's pair, the other way round: the same two grains.
+  const std::string e = error_after(p, [&](h5::File& f) {
+    auto vi = h5::read<std::int32_t>(f, "/contacts/i", {}), vj = h5::read<std::int32_t>(f, "/contacts/j", {});
+    i = vi[1];
+    j = vj[1];
+    ASSERT_GE(j, 0);
+    vi[2] = j;
+    vj[2] = i;
+    H5Ldelete(f.id(), "/contacts/i", H5P_DEFAULT);
+    H5Ldelete(f.id(), "/contacts/j", H5P_DEFAULT);
+    h5::write(f, "/contacts/i", vi);
+    h5::write(f, "/contacts/j", vj);
+  });
+  EXPECT_EQ(e, p + ": /contacts/i: rows 1 and 2: the contact of " + std::to_string(i) + " and " + std::to_string(j) +
+                   " is listed twice in frame 0");
+}
+
+TEST(ReaderErrors, ClaimsMoreThanTheFileHolds) {
+  // An extendible dataset stretched to 4e8 rows without a byte written: the file stays
+  // small, and the reader refuses before allocating 3.2 GB.
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  const std::string e = error_after(p, [](h5::File& f) {
+    const hsize_t rows[1] = {400000000};
+    h5::Handle d(H5Dopen2(f.id(), "/observables/tilt_angle/value", H5P_DEFAULT));
+    ASSERT_GE(H5Dset_extent(d.id(), rows), 0);
+  });
+  EXPECT_NE(e.find(": /observables/tilt_angle/value: "), std::string::npos) << e;
+  EXPECT_NE(e.find("expected shape"), std::string::npos) << e;  // checked against the clock first
+  const std::string g = error_after(p, [](h5::File& f) {
+    for (const char* c : {"/observables/tilt_angle/step", "/observables/tilt_angle/value"}) {
+      h5::Handle d(H5Dopen2(f.id(), c, H5P_DEFAULT));
+      const hsize_t rows[1] = {400000000};
+      ASSERT_GE(H5Dset_extent(d.id(), rows), 0);
+    }
+  });
+  // The step of the series' clock (the first observable, whose step the others link to).
+  EXPECT_EQ(g.rfind(p + ": /observables/", 0), 0u) << g;
+  EXPECT_NE(g.find("/step: too large (claims 400000000 elements, 3.2 GB, in a file of "), std::string::npos) << g;
+}
+
+TEST(Schema, FilesHaveChecksummedMetadataAndFixedLengthText) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  {
+    io::Output out(p, false);
+    write_run(out.create_hdf5(), 3, 1, 2);
+    out.commit();
+  }
+  std::ifstream in(p, std::ios::binary);
+  char head[9];
+  in.read(head, 9);
+  EXPECT_EQ(head[8], 3) << "superblock version (HDF5 1.10's format, with checksums)";
+  io::Input f(p);
+  for (const auto& [path, name] : std::vector<std::pair<std::string, std::string>>{
+           {"/", "kind"}, {"/", "schema"}, {"/provenance/000", "tool"}, {"/provenance/000", "command_line"}})
+    EXPECT_FALSE(string_kind(f.hdf5(), path, name).variable) << path << " " << name;
 }

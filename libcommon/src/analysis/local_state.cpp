@@ -295,9 +295,11 @@ Field nu_field(std::span<const Vec2> points, std::span<const std::uint8_t> criti
   }
   f.x0 = xmin;
   f.y0 = ymin;
-  f.nx = static_cast<std::size_t>(std::floor((xmax - xmin) / dx)) + 1;
-  f.ny = static_cast<std::size_t>(std::floor((ymax - ymin) / dx)) + 1;
-  if (f.nx * f.ny > 100'000'000) throw Error("field grid too fine: more than 1e8 nodes");
+  // Counted in doubles: points far apart (a damaged file) would overflow size_t.
+  const double nodes_x = std::floor((xmax - xmin) / dx) + 1, nodes_y = std::floor((ymax - ymin) / dx) + 1;
+  if (!(nodes_x * nodes_y <= max_field_nodes)) throw FieldTooLarge(nodes_x * nodes_y);
+  f.nx = static_cast<std::size_t>(nodes_x);
+  f.ny = static_cast<std::size_t>(nodes_y);
   std::vector<Vec2> nodes;
   nodes.reserve(f.nx * f.ny);
   for (std::size_t b = 0; b < f.ny; ++b)

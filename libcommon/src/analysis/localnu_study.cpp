@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace cdpile::analysis {
@@ -124,7 +125,17 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
                  {"map_radius_D", opt_.map_radius}, {"map_spacing_D", opt_.map_spacing},
                  {"map_nu_c", opt_.nu_c}, {"map_diameter_m", diameter}};
     if (theta) map_info_["map_theta_deg"] = *theta;
-    const Field f = nu_field(set.point, set.critical, opt_.map_radius * diameter, opt_.map_spacing * diameter);
+    Field f;
+    try {
+      f = nu_field(set.point, set.critical, opt_.map_radius * diameter, opt_.map_spacing * diameter);
+    } catch (const FieldTooLarge& e) {
+      char what[240];
+      std::snprintf(what, sizeof what,
+                    "frame %lld: --map-spacing %g D gives a map of %.3g nodes over its contacts, more than %.0e; "
+                    "give a larger --map-spacing",
+                    static_cast<long long>(frame), opt_.map_spacing, e.nodes, max_field_nodes);
+      throw Error(run_name, "", what);
+    }
     map_t_.name = "map";
     map_t_.title = "the nu field on a grid over the pile at one frame (Fig 5); row-major, x fastest";
     for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{

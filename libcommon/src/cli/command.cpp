@@ -14,6 +14,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <typeinfo>
@@ -633,11 +634,30 @@ std::string help_man(const Usage& u) {
 // ----------------------------------------------------------------------------------------
 // Running
 
+void check_output_is_not_an_input(const Args& a) {
+  // Only an existing output can be an input; --force would otherwise replace the input
+  // with the product read from it. Inputs are the arguments and the files named by text
+  // options (--nu, --script A,B): a text option that is not a file never matches.
+  const std::string& out = a.output();
+  std::error_code ec;
+  if (out.empty() || out == "-" || !std::filesystem::exists(out, ec)) return;
+  std::vector<std::string> inputs;
+  for (const auto& [name, values] : a.positional_) inputs.insert(inputs.end(), values.begin(), values.end());
+  for (const auto& [name, kind] : a.kinds_)
+    if (kind == Kind::text && name != "output")
+      for (const auto& item : split_list(a.text(name))) inputs.push_back(item);
+  for (const auto& in : inputs) {
+    if (in.empty() || in == "-") continue;
+    if (std::filesystem::equivalent(in, out, ec))
+      throw UsageError("-o " + out + ": is also an input (" + in + "); write to another file");
+  }
+}
+
 const std::string& tool_name() { return g_tool; }
 
-void warn(const std::string& what) { std::cerr << g_tool << ": warning: " << what << std::endl; }
+void warn(const std::string& what) { std::cerr << g_tool << ": warning: " << printable(what) << std::endl; }
 void info(const std::string& what) {
-  if (!g_quiet) std::cerr << g_tool << ": " << what << std::endl;
+  if (!g_quiet) std::cerr << g_tool << ": " << printable(what) << std::endl;
 }
 
 void defer_interrupts() { g_deferred.store(true); }
@@ -675,6 +695,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
   }
   try {
     Args a = parse(usage, args);
+    check_output_is_not_an_input(a);
     g_quiet = a.quiet();
     if (a.given("author")) {
       if (io::parse_author(a.text("author")).name.empty()) throw UsageError("--author: expected a name, got '" + a.text("author") + "'");
@@ -694,11 +715,11 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
     std::raise(SIGPIPE);
     return 128 + SIGPIPE;
   } catch (const UsageError& e) {
-    std::cerr << name << ": " << e.what() << " (see '" << name << " --help')" << std::endl;
+    std::cerr << name << ": " << printable(e.what()) << " (see '" << name << " --help')" << std::endl;
     io::remove_temporaries();
     return 2;
   } catch (const Error& e) {
-    std::cerr << name << ": " << e.what() << std::endl;
+    std::cerr << name << ": " << printable(e.what()) << std::endl;
     io::remove_temporaries();
     return 1;
   } catch (const std::bad_alloc&) {
@@ -706,7 +727,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
     io::remove_temporaries();
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << name << ": " << e.what() << std::endl;
+    std::cerr << name << ": " << printable(e.what()) << std::endl;
     io::remove_temporaries();
     return 1;
   }

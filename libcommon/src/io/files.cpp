@@ -150,10 +150,21 @@ void rename_onto(const std::string& source, const std::string& target) {
     throw Error(target, "", "cannot rename the finished output into place: " + system_reason());
 }
 
-std::string make_temporary_beside(const std::string& target) {
+std::string temporary_prefix(const std::string& target) {
   std::filesystem::path t(target);
   std::filesystem::path dir = t.has_parent_path() ? t.parent_path() : std::filesystem::path(".");
-  std::string pattern = (dir / ("." + t.filename().string() + ".tmp-XXXXXX")).string();
+  // "." + NAME + ".tmp-XXXXXX" is 12 bytes longer than NAME: a legal output name of more
+  // than NAME_MAX - 12 bytes (255 on Linux) would have no legal temporary, so its name is
+  // cut; mkstemp's six random characters keep it unique.
+  const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  const std::size_t room = static_cast<std::size_t>(name_max > 0 ? name_max : 255) - 12;
+  std::string name = t.filename().string();
+  if (name.size() > room) name.resize(room);
+  return (dir / ("." + name + ".tmp-")).string();
+}
+
+std::string make_temporary_beside(const std::string& target) {
+  std::string pattern = temporary_prefix(target) + "XXXXXX";
   std::vector<char> buf(pattern.begin(), pattern.end());
   buf.push_back('\0');
   int fd = mkstemp(buf.data());

@@ -3,9 +3,13 @@
 #include <H5LTpublic.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <new>
+#include <stdexcept>
 
 namespace cdpile::io::h5 {
 
@@ -25,6 +29,10 @@ hid_t checked_id(hid_t id, const File& f, const std::string& path, const std::st
   if (id < 0) fail(f, path, what);
   return id;
 }
+
+/// The system's reason for a failed write (HDF5's file driver leaves errno set), or a
+/// guess when there is none.
+std::string reason(int err) { return err != 0 ? std::strerror(err) : "disk full?"; }
 
 std::string dims_text(const std::vector<hsize_t>& d) {
   std::string s = "[";
@@ -80,11 +88,81 @@ hssize_t attr_points(const Handle& attr) {
   return H5Sget_simple_extent_npoints(space.id());
 }
 
+std::string bytes_text(double b) {
+  char buf[32];
+  if (b >= 1e9) std::snprintf(buf, sizeof buf, "%.3g GB", b / 1e9);
+  else if (b >= 1e6) std::snprintf(buf, sizeof buf, "%.3g MB", b / 1e6);
+  else if (b >= 1e3) std::snprintf(buf, sizeof buf, "%.3g kB", b / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f bytes", b);
+  return buf;
+}
+
+// The most a compressed chunk can expand: deflate's limit is 1032 to 1.
+constexpr double kMaxExpansion = 1100.0;
+
+/// Refuses, before anything is allocated, a dataset or attribute whose extent claims more
+/// bytes than the file could hold: `elements` of `element_bytes` each must fit in the
+/// file's size, times deflate's largest ratio when `compressed`. A damaged or hostile file
+/// claiming 4e8 contacts is then one line, not an allocation of gigabytes.
+void check_claim(const File& f, const std::string& path, double elements, double element_bytes,
+                 bool compressed) {
+  hsize_t file_bytes = 0;
+  if (H5Fget_filesize(f.id(), &file_bytes) < 0) fail(f, path, "cannot get the file's size");
+  const double claim = elements * element_bytes;
+  const double limit = static_cast<double>(file_bytes) * (compressed ? kMaxExpansion : 1.0);
+  if (claim > limit) {
+    char n[32];
+    std::snprintf(n, sizeof n, "%.0f", elements);
+    fail(f, path, std::string("too large (claims ") + n + " elements, " + bytes_text(claim) + ", in a file of " +
+                      bytes_text(static_cast<double>(file_bytes)) + ")");
+  }
+}
+
+/// Whether a dataset's chunks pass through a filter (deflate): its data may then be
+/// larger than the file. Also refuses storage or a chunk larger than the file could hold
+/// (found by fuzz_run on files of the earlier format).
+bool filtered(const File& f, const std::string& path, hid_t dataset, double element_bytes) {
+  // What the dataset's index says it stores cannot exceed the file: HDF5 allocates a
+  // chunk's stored size to read it, and a damaged index claiming 4 GB made it try.
+  check_claim(f, path + " (stored bytes)", static_cast<double>(H5Dget_storage_size(dataset)), 1.0, false);
+  Handle dcpl(H5Dget_create_plist(dataset));
+  if (!dcpl.valid() || H5Pget_layout(dcpl.id()) != H5D_CHUNKED) return false;
+  const bool compressed = H5Pget_nfilters(dcpl.id()) > 0;
+  std::array<hsize_t, H5S_MAX_RANK> chunk{};
+  const int rank = H5Pget_chunk(dcpl.id(), H5S_MAX_RANK, chunk.data());
+  if (rank < 0) fail(f, path, "cannot read the chunk size");
+  double elements = 1;
+  for (int k = 0; k < rank; ++k) elements *= static_cast<double>(chunk[static_cast<std::size_t>(k)]);
+  check_claim(f, path + " (one chunk)", std::max(elements, 1.0), element_bytes, true);
+  return compressed;
+}
+
+/// A vector of n elements, or an Error naming the file if memory runs out.
+template <class T>
+std::vector<T> allocate(const File& f, const std::string& path, hsize_t n) {
+  try {
+    return std::vector<T>(n);
+  } catch (const std::bad_alloc&) {
+    fail(f, path, "too large (" + std::to_string(n) + " elements, " +
+                      bytes_text(static_cast<double>(n) * sizeof(T)) + "; out of memory)");
+  } catch (const std::length_error&) {
+    fail(f, path, "too large (" + std::to_string(n) + " elements)");
+  }
+}
+
 }  // namespace
 
 void silence_errors() {
   static std::once_flag once;
-  std::call_once(once, [] { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); });
+  std::call_once(once, [] {
+    // No library shutdown at exit: after a close that failed (a full disk), HDF5 1.10's
+    // atexit handler closes the half-closed file again and crashes in H5F__close_cb,
+    // turning the tool's one error line and exit 1 into a SIGSEGV. Every file a tool
+    // writes is closed explicitly (Output::commit) before it exits, and read-only files
+    // need no flush, so nothing is lost. Must come before the first other HDF5 call.
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  });
 }
 
 void Handle::reset() noexcept {
@@ -105,20 +183,26 @@ void Handle::reset() noexcept {
 void File::close() {
   if (!h_.valid()) return;
   const hid_t raw = h_.release();
+  errno = 0;
   const bool flushed = H5Fflush(raw, H5F_SCOPE_LOCAL) >= 0;
+  const int flush_errno = errno;
   const bool closed = H5Fclose(raw) >= 0;
-  if (!flushed || !closed) throw Error(name_, "", "cannot write the file (disk full?)");
+  if (!flushed || !closed) throw Error(name_, "", "cannot write the file: " + reason(flushed ? errno : flush_errno));
 }
 
 File create(const std::string& path, const std::string& name) {
   silence_errors();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
-  // Default (earliest) file format, as for the in-memory files below, so a file and the
-  // same product piped through stdout are laid out alike and readable by any HDF5 1.8+.
+  // The file format of HDF5 1.10 (superblock version 3, version-2 object headers, new-
+  // style groups): its metadata carries checksums, so a damaged header is refused as a
+  // checksum error instead of being followed into a wild read (docs/fuzzing.md). HDF5
+  // 1.10 and later (h5py, ParaView) read it; 1.8 does not.
+  H5Pset_libver_bounds(fapl.id(), H5F_LIBVER_V110, H5F_LIBVER_V110);
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE));
   H5Pset_link_creation_order(fcpl.id(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
+  errno = 0;
   hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id());
-  if (id < 0) throw Error(name, "", "cannot create HDF5 file");
+  if (id < 0) throw Error(name, "", "cannot create HDF5 file: " + reason(errno));
   return File(Handle(id), name);
 }
 
@@ -126,8 +210,10 @@ File create_in_memory(const std::string& name) {
   silence_errors();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
   H5Pset_fapl_core(fapl.id(), 1 << 20, 0);  // grow by 1 MiB, no backing store
-  // No libver bounds here: with a version-2 superblock, H5Fget_file_image of HDF5 1.10
-  // returns an image whose superblock checksum is stale (found by test_io_schema).
+  // The format of files (create): with its version-3 superblock, H5Fget_file_image of
+  // HDF5 1.10 returns an image whose superblock checksum is stale (found by
+  // test_io_schema); image_of reseals it.
+  H5Pset_libver_bounds(fapl.id(), H5F_LIBVER_V110, H5F_LIBVER_V110);
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE));
   H5Pset_link_creation_order(fcpl.id(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
   hid_t id = H5Fcreate(("cdpile-memory-" + name).c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id());
@@ -161,6 +247,66 @@ File open_image(const std::vector<char>& bytes, const std::string& name) {
   return File(Handle(id), name);
 }
 
+namespace {
+/// Bob Jenkins' lookup3 hashlittle (public domain, 2006): the checksum of HDF5's metadata.
+std::uint32_t lookup3(const unsigned char* k, std::size_t length, std::uint32_t initval) {
+  auto rot = [](std::uint32_t x, int r) { return (x << r) | (x >> (32 - r)); };
+  std::uint32_t a, b, c;
+  a = b = c = 0xdeadbeef + static_cast<std::uint32_t>(length) + initval;
+  while (length > 12) {
+    a += k[0] + (std::uint32_t{k[1]} << 8) + (std::uint32_t{k[2]} << 16) + (std::uint32_t{k[3]} << 24);
+    b += k[4] + (std::uint32_t{k[5]} << 8) + (std::uint32_t{k[6]} << 16) + (std::uint32_t{k[7]} << 24);
+    c += k[8] + (std::uint32_t{k[9]} << 8) + (std::uint32_t{k[10]} << 16) + (std::uint32_t{k[11]} << 24);
+    a -= c; a ^= rot(c, 4); c += b;
+    b -= a; b ^= rot(a, 6); a += c;
+    c -= b; c ^= rot(b, 8); b += a;
+    a -= c; a ^= rot(c, 16); c += b;
+    b -= a; b ^= rot(a, 19); a += c;
+    c -= b; c ^= rot(b, 4); b += a;
+    length -= 12;
+    k += 12;
+  }
+  switch (length) {  // the last 1..12 bytes, fall through
+    case 12: c += std::uint32_t{k[11]} << 24; [[fallthrough]];
+    case 11: c += std::uint32_t{k[10]} << 16; [[fallthrough]];
+    case 10: c += std::uint32_t{k[9]} << 8; [[fallthrough]];
+    case 9: c += k[8]; [[fallthrough]];
+    case 8: b += std::uint32_t{k[7]} << 24; [[fallthrough]];
+    case 7: b += std::uint32_t{k[6]} << 16; [[fallthrough]];
+    case 6: b += std::uint32_t{k[5]} << 8; [[fallthrough]];
+    case 5: b += k[4]; [[fallthrough]];
+    case 4: a += std::uint32_t{k[3]} << 24; [[fallthrough]];
+    case 3: a += std::uint32_t{k[2]} << 16; [[fallthrough]];
+    case 2: a += std::uint32_t{k[1]} << 8; [[fallthrough]];
+    case 1: a += k[0]; break;
+    case 0: return c;
+  }
+  c ^= b; c -= rot(b, 14);
+  a ^= c; a -= rot(c, 11);
+  b ^= a; b -= rot(a, 25);
+  c ^= b; c -= rot(b, 16);
+  a ^= c; a -= rot(c, 4);
+  b ^= a; b -= rot(a, 14);
+  c ^= b; c -= rot(b, 24);
+  return c;
+}
+}  // namespace
+
+void reseal_superblock(std::vector<char>& image) {
+  // HDF5 1.10's H5Fget_file_image writes the end-of-file address into the image's
+  // superblock without updating the checksum that versions 2 and 3 carry: the image then
+  // fails its own check when opened. Superblock v2/v3: signature (8), version, sizes of
+  // offsets and lengths, flags (4), four addresses, then the lookup3 checksum of the
+  // bytes before it (HDF5 File Format Specification, "Superblock").
+  if (image.size() < 12 || !std::equal(image.begin(), image.begin() + 8, "\x89HDF\r\n\x1a\n")) return;
+  const auto version = static_cast<unsigned char>(image[8]), offsets = static_cast<unsigned char>(image[9]);
+  if (version < 2 || version > 3) return;
+  const std::size_t at = 12 + 4 * std::size_t{offsets};
+  if (image.size() < at + 4) return;
+  const std::uint32_t sum = lookup3(reinterpret_cast<const unsigned char*>(image.data()), at, 0);
+  for (int b = 0; b < 4; ++b) image[at + static_cast<std::size_t>(b)] = static_cast<char>((sum >> (8 * b)) & 0xff);
+}
+
 std::vector<char> image_of(const File& f) {
   if (H5Fflush(f.id(), H5F_SCOPE_GLOBAL) < 0) throw Error(f.name(), "", "cannot flush");
   ssize_t size = H5Fget_file_image(f.id(), nullptr, 0);
@@ -168,6 +314,7 @@ std::vector<char> image_of(const File& f) {
   std::vector<char> buf(static_cast<std::size_t>(size));
   if (H5Fget_file_image(f.id(), buf.data(), buf.size()) != size)
     throw Error(f.name(), "", "cannot copy the file image");
+  reseal_superblock(buf);
   return buf;
 }
 
@@ -336,8 +483,11 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
     }
   }
   hsize_t n = 1;
-  for (auto x : dims) n *= x;
-  std::vector<T> out(n);
+  double elements = 1;
+  for (auto x : dims) { n *= x; elements *= static_cast<double>(x); }
+  const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
+  check_claim(f, path, elements, type_bytes, filtered(f, path, d.id(), type_bytes));
+  std::vector<T> out = allocate<T>(f, path, n);
   if (n > 0)
     check(H5Dread(d.id(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), f, path,
           [] { return "cannot read (truncated file?)"; });
@@ -358,15 +508,21 @@ std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, 
   int rank = H5Sget_simple_extent_ndims(space.id());
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
-  if (rank < 1 || first + count > dims[0])
+  if (rank < 1 || first > dims[0] || count > dims[0] - first)
     fail(f, path, "rows " + std::to_string(first) + ".." + std::to_string(first + count) +
                       " out of range " + dims_text(dims));
   std::vector<hsize_t> start(dims.size(), 0), cnt = dims;
   start[0] = first;
   cnt[0] = count;
   hsize_t n = 1;
-  for (auto x : cnt) n *= x;
-  std::vector<T> out(n);
+  double elements = 1;
+  for (auto x : cnt) { n *= x; elements *= static_cast<double>(x); }
+  {
+    Handle type(H5Dget_type(d.id()));
+    const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
+    check_claim(f, path, elements, type_bytes, filtered(f, path, d.id(), type_bytes));
+  }
+  std::vector<T> out = allocate<T>(f, path, n);
   if (n == 0) return out;
   H5Sselect_hyperslab(space.id(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
   Handle mspace(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
@@ -397,10 +553,11 @@ CDPILE_H5_INSTANTIATE(std::int8_t)
 CDPILE_H5_INSTANTIATE(std::uint8_t)
 #undef CDPILE_H5_INSTANTIATE
 
+// Text attributes are fixed-length strings: their bytes sit in the attribute itself, so a
+// reader never follows a global-heap reference, where damaged files made HDF5 1.10 loop
+// for ever (docs/fuzzing.md); H5MD 1.1 asks for them too.
 void set_attr(const File& f, const std::string& path, const std::string& name, const std::string& v) {
-  Handle t = string_type();
-  const char* p = v.c_str();
-  write_attr_raw(f, path, name, t.id(), {}, &p);
+  set_attr_fixed(f, path, name, v);
 }
 void set_attr(const File& f, const std::string& path, const std::string& name, double v) {
   write_attr_raw(f, path, name, H5T_NATIVE_DOUBLE, {}, &v);
@@ -418,10 +575,7 @@ void set_attr(const File& f, const std::string& path, const std::string& name,
 }
 void set_attr(const File& f, const std::string& path, const std::string& name,
               const std::vector<std::string>& v) {
-  Handle t = string_type();
-  std::vector<const char*> p;
-  for (auto& s : v) p.push_back(s.c_str());
-  write_attr_raw(f, path, name, t.id(), {v.size()}, p.data());
+  set_attr_fixed(f, path, name, v);
 }
 
 namespace {
@@ -475,7 +629,9 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path, co
   if (H5Tget_class(t.id()) != H5T_STRING) fail(f, path, "attribute '" + name + "' is not text");
   hssize_t n = attr_points(a);
   std::vector<std::string> out;
+  if (n < 0) fail(f, path, "cannot read attribute " + name);
   if (n == 0) return out;  // an empty list: H5Aread refuses a null buffer
+  check_claim(f, path, static_cast<double>(n), static_cast<double>(H5Tget_size(t.id())), false);
   if (H5Tis_variable_str(t.id()) > 0) {
     Handle mt = string_type();
     H5Tset_cset(mt.id(), H5Tget_cset(t.id()));  // HDF5 does not convert between ASCII and UTF-8
@@ -511,7 +667,10 @@ std::vector<T> attr_numbers(const File& f, const std::string& path, const std::s
   if (cls != H5T_INTEGER && cls != H5T_FLOAT) fail(f, path, "attribute '" + name + "' is not a number");
   if (std::is_integral_v<T> && cls != H5T_INTEGER)
     fail(f, path, "attribute '" + name + "' should be an integer");
-  std::vector<T> out(static_cast<std::size_t>(attr_points(a)));
+  const hssize_t n = attr_points(a);
+  if (n < 0) fail(f, path, "cannot read attribute " + name);
+  check_claim(f, path, static_cast<double>(n), static_cast<double>(H5Tget_size(t.id())), false);
+  std::vector<T> out(static_cast<std::size_t>(n));
   if (out.empty()) return out;  // an empty list: H5Aread refuses a null buffer
   check(H5Aread(a.id(), native_type<T>(), out.data()), f, path, [&] { return "cannot read attribute " + name; });
   if constexpr (std::is_floating_point_v<T>)

@@ -359,7 +359,8 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
   }
   if (!header_seen && tables.empty()) throw Error(name, "", "empty input: no table");
   for (const auto& [table, rows] : declared) {
-    const auto t = std::find_if(p.tables.begin(), p.tables.end(), [&](const Table& x) { return x.name == table; });
+    // A structured binding cannot be captured by clang 14 (the fuzz preset's compiler).
+    const auto t = std::find_if(p.tables.begin(), p.tables.end(), [&wanted = table](const Table& x) { return x.name == wanted; });
     if (t == p.tables.end())
       throw Error(name, "", "table '" + table + "' missing (the header lists it): a truncated file?");
     if (t->rows() != rows)

@@ -3,6 +3,7 @@
 #include <pwd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,12 @@ std::string grain_path(const std::string& element) { return std::string(kGrains)
 
 [[noreturn]] void bad(const h5::File& f, const std::string& where, const std::string& what) {
   throw Error(f.name(), where, what);
+}
+
+std::string number_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
 }
 
 std::vector<Vec2> to_vec2(const std::vector<double>& xy) {
@@ -141,8 +148,8 @@ void Series::clear() {
 
 void write_values(const h5::File& f, const std::string& group, const Values& v) {
   h5::create_group(f, group);
-  for (const auto& [name, value] : v)
-    std::visit([&](const auto& x) { h5::set_attr(f, group, name, x); }, value);
+  for (const auto& [name, value] : v)  // name bound by reference: clang 14 cannot capture a binding
+    std::visit([&, &key = name](const auto& x) { h5::set_attr(f, group, key, x); }, value);
 }
 
 Values read_values(const h5::File& f, const std::string& group) {
@@ -476,9 +483,13 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   grains_.mass = h5::read<double>(f, grain_path("mass"), {n_});
   grains_.inertia = h5::read<double>(f, grain_path("inertia"), {n_});
   auto species = h5::read<std::uint8_t>(f, grain_path("species"), {n_});
+  const double width = header_.box.width;
   for (std::size_t k = 0; k < n_; ++k) {
     if (!(grains_.radius[k] > 0))
       bad(f, grain_path("radius"), "radius of grain " + std::to_string(k) + " is not positive");
+    if (grains_.radius[k] > width / 2)
+      bad(f, grain_path("radius"), "radius of grain " + std::to_string(k) + " is " + number_text(grains_.radius[k]) +
+                                       " m, more than half the box width " + number_text(width) + " m");
     if (!(grains_.mass[k] > 0)) bad(f, grain_path("mass"), "mass of grain " + std::to_string(k) + " is not positive");
     if (!(grains_.inertia[k] > 0))
       bad(f, grain_path("inertia"), "inertia of grain " + std::to_string(k) + " is not positive");
@@ -531,6 +542,23 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
       bad(f, cg + "/" + e, "expected shape [" + std::to_string(k) + " x 2]");
 }
 
+namespace {
+/// A contact of two grains is the same whichever is i; a wall contact is (grain, wall).
+std::uint64_t unordered_pair(std::int32_t i, std::int32_t j) {
+  const auto a = j < 0 ? i : std::max(i, j), b = j < 0 ? j : std::min(i, j);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+}  // namespace
+
+double RunReader::length_scale() const { return std::max(header_.box.width, header_.box.height); }
+
+double RunReader::speed_bound() const {
+  double g = 9.81;
+  if (auto it = header_.parameters.find("gravity_m_s2"); it != header_.parameters.end())
+    if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v)) g = *v;
+  return 1e3 * std::sqrt(g * length_scale());
+}
+
 Contacts RunReader::contacts(std::size_t k) const {
   const h5::File& f = *f_;
   if (k >= frame_count()) bad(f, kContacts, "no frame " + std::to_string(k));
@@ -557,6 +585,18 @@ Contacts RunReader::contacts(std::size_t k) const {
     if (st[q] < 0 || st[q] > 2) bad(f, cg + "/status", row + ": unknown status " + std::to_string(st[q]));
     c.status[q] = static_cast<ContactStatus>(st[q]);
   }
+  // One contact per pair: a pair listed twice would be counted twice by critical and
+  // would give the engine two warm starts for one contact.
+  std::vector<std::pair<std::uint64_t, std::size_t>> keys(n);
+  for (std::size_t q = 0; q < n; ++q) keys[q] = {unordered_pair(c.i[q], c.j[q]), q};
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t q = 1; q < n; ++q)
+    if (keys[q].first == keys[q - 1].first) {
+      const std::size_t a = keys[q - 1].second, b = keys[q].second;
+      bad(f, cg + "/i", "rows " + std::to_string(first + a) + " and " + std::to_string(first + b) +
+                            ": the contact of " + std::to_string(c.i[a]) + " and " + std::to_string(c.j[a]) +
+                            " is listed twice in frame " + std::to_string(k));
+    }
   return c;
 }
 
@@ -572,6 +612,24 @@ Frame RunReader::frame(std::size_t k) const {
   fr.grains.velocity = to_vec2(h5::read_rows<double>(f, grain_path("velocity") + "/value", k, 1));
   fr.grains.orientation = h5::read_rows<double>(f, grain_path("orientation") + "/value", k, 1);
   fr.grains.angular_velocity = h5::read_rows<double>(f, grain_path("angular_velocity") + "/value", k, 1);
+  // Magnitudes a pile can have (docs/cli.md, "What is refused"): every centre inside the
+  // box enlarged by L = max(width, height) on every side, and no grain faster than
+  // 1000 sqrt(g L) (1000 times the speed of a fall through the box), its rim included.
+  // Beyond them the engine's cell grid would need more cells than memory holds.
+  const double w = header_.box.width, h = header_.box.height, L = length_scale(), vmax = speed_bound();
+  for (std::size_t q = 0; q < n_; ++q) {
+    const Vec2& x = fr.grains.position[q];
+    if (x.x() < -L || x.x() > w + L || x.y() < -L || x.y() > h + L)
+      bad(f, grain_path("position") + "/value",
+          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " at (" + number_text(x.x()) + ", " +
+              number_text(x.y()) + ") m is outside the box [0, " + number_text(w) + "] x [0, " + number_text(h) +
+              "] m enlarged by " + number_text(L) + " m");
+    const double v = fr.grains.velocity[q].norm() + std::fabs(fr.grains.angular_velocity[q]) * grains_.radius[q];
+    if (!(v <= vmax))
+      bad(f, grain_path("velocity") + "/value",
+          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " moves at " + number_text(v) +
+              " m/s (its rim included), more than 1000 sqrt(g L) = " + number_text(vmax) + " m/s");
+  }
   fr.contacts = contacts(k);
   return fr;
 }

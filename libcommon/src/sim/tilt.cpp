@@ -11,12 +11,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <map>
 #include <optional>
 #include <string>
+
+#include <unistd.h>
 
 namespace cdpile::sim {
 namespace h5 = io::h5;
@@ -202,8 +205,8 @@ void remove_stale_temporaries(const std::string& output) {
   namespace fs = std::filesystem;
   const fs::path p(output);
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  const std::string a = "." + p.filename().string() + ".tmp-";
-  const std::string b = "." + p.filename().string() + ".partial.tmp-";
+  const std::string a = fs::path(io::temporary_prefix(output)).filename().string();
+  const std::string b = fs::path(io::temporary_prefix(partial_path(output))).filename().string();
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
@@ -650,8 +653,27 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
 
 namespace {
 
+/// The physical parameters a tilt takes from its pile unless options override them: a
+/// bad one is the file's error (exit 1, the file named), not a usage error.
+void check_pile_parameters(const io::Values& v, const std::string& file) {
+  auto check = [&](const char* key, bool positive) {
+    if (!v.count(key)) return;
+    const double x = io::as_real(v, key, file);
+    if (positive ? !(x > 0) : !(x >= 0)) {
+      char what[160];
+      std::snprintf(what, sizeof what, "%s must be %s 0, got %g", key, positive ? ">" : ">=", x);
+      throw Error(file, "/parameters", what);
+    }
+  };
+  check("mu_grain", false);
+  check("mu_wall", false);
+  check("gravity_m_s2", false);
+  check("diameter_mean_m", true);
+}
+
 /// Frame k of a pile or run as the start of a tilt.
 PileInput start_from_frame(const io::h5::File& f, const io::RunReader& r, std::size_t k) {
+  check_pile_parameters(r.header().parameters, f.name());
   PileInput p;
   p.name = f.name();
   p.box = r.header().box;
@@ -712,7 +734,24 @@ PileInput read_branch(const io::h5::File& f, double at_deg) {
   return p;
 }
 
-std::string partial_path(const std::string& output) { return output + ".partial"; }
+std::string partial_path(const std::string& output) {
+  // OUTPUT.partial, unless that name is longer than the file system allows (NAME_MAX,
+  // 255 bytes) for a legal OUTPUT of 248 bytes or more: then OUTPUT's name cut to leave
+  // room for a hash of the whole name (FNV-1a, 64 bits), so that --resume finds the same
+  // partial again and two long names sharing a beginning get different partials.
+  const std::filesystem::path p(output);
+  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
+  const std::size_t limit = static_cast<std::size_t>(name_max > 0 ? name_max : 255);
+  std::string name = p.filename().string();
+  if (name.size() + 8 <= limit) return output + ".partial";
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : name) h = (h ^ c) * 1099511628211ull;
+  char tail[32];
+  std::snprintf(tail, sizeof tail, "-%016llx.partial", static_cast<unsigned long long>(h));
+  name.resize(limit - std::strlen(tail));
+  return (dir / (name + tail)).string();
+}
 
 PileInput read_partial(const std::string& output) {
   const std::string partial = partial_path(output);
@@ -775,7 +814,18 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
   }
   FileRecorder rec(output, force);
   rec.start(h, pile.grains, pending, engine, st);
-  return drive(engine, rec, o, st, pending, hooks);
+  try {
+    return drive(engine, rec, o, st, pending, hooks);
+  } catch (...) {
+    // A run that fails in its first step (a pile the engine cannot handle) never
+    // started: its partial holds only the pile, and is removed. A run that did steps
+    // keeps its partial for --resume, as after a kill.
+    if (engine.state().step == 0) {
+      std::error_code ec;
+      std::filesystem::remove(partial_path(output), ec);
+    }
+    throw;
+  }
 }
 
 TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force, const TiltHooks& hooks) {

@@ -9,11 +9,12 @@ clusterfit w.h5 --nu c.h5 -o f.h5 --quiet
 # the correlate chain, then critical's, then clusterfit itself, which names both inputs
 "$PY" - <<'P'
 import h5py
+def t(v): return v.decode() if isinstance(v, bytes) else v  # fixed-length strings read as bytes
 with h5py.File("f.h5", "r") as f:
     g = f["provenance"]
-    got = [(g[k].attrs["tool"], g[k].attrs.get("via", "")) for k in g]
+    got = [(t(g[k].attrs["tool"]), t(g[k].attrs.get("via", ""))) for k in g]
     last = g[list(g)[-1]].attrs
-    inputs, command = last["inputs"], last["command_line"]
+    inputs, command = t(last["inputs"]), t(last["command_line"])
 want = [("deposit", "w.h5"), ("tilt-cd", "w.h5"), ("localnu", "w.h5"), ("correlate", "w.h5"),
         ("deposit", "c.h5"), ("tilt-cd", "c.h5"), ("critical", "c.h5"),
         ("clusterfit", "")]
@@ -24,9 +25,10 @@ P
 # The critical entry is the one of c.h5, copied as it is (same command line and date).
 "$PY" - <<'P'
 import h5py
+def t(v): return v.decode() if isinstance(v, bytes) else v  # fixed-length strings read as bytes
 with h5py.File("c.h5", "r") as c, h5py.File("f.h5", "r") as f:
     mine = c["provenance"][list(c["provenance"])[-1]].attrs
-    copied = [f["provenance"][k].attrs for k in f["provenance"] if f["provenance"][k].attrs["tool"] == "critical"]
+    copied = [f["provenance"][k].attrs for k in f["provenance"] if t(f["provenance"][k].attrs["tool"]) == "critical"]
     assert len(copied) == 1
     for key in ("tool", "version", "command_line", "inputs", "date"):
         assert copied[0][key] == mine[key], (key, copied[0][key], mine[key])

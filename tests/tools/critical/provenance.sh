@@ -7,9 +7,10 @@ critical run1.h5 run2.h5 -o c.h5 --quiet
 # deposit and tilt-cd of run 1, then of run 2, then critical itself
 "$PY" - <<'P'
 import h5py
+def t(v): return v.decode() if isinstance(v, bytes) else v  # fixed-length strings read as bytes
 with h5py.File("c.h5", "r") as f:
     g = f["provenance"]
-    got = [(g[k].attrs["tool"], g[k].attrs.get("via", ""), g[k].attrs["command_line"]) for k in g]
+    got = [(t(g[k].attrs["tool"]), t(g[k].attrs.get("via", "")), t(g[k].attrs["command_line"])) for k in g]
 want = [("deposit", "run1.h5", "deposit --grains 40 --width 8 --seed 1 -o p1.h5 --quiet"),
         ("tilt-cd", "run1.h5", "tilt-cd p1.h5 --rate 1 --to 2 -o run1.h5 --quiet"),
         ("deposit", "run2.h5", "deposit --grains 40 --width 8 --seed 2 -o p2.h5 --quiet"),

@@ -12,9 +12,10 @@ expect_eq "c.tsv" "$(sed -n 's/^# parameter map_nu_c_from = //p' l.tsv)"
 localnu run.h5 --nu c.tsv --radii 1,2 -o - --quiet | correlate - -o w.h5 --quiet
 "$PY" - <<'P'
 import h5py
+def t(v): return v.decode() if isinstance(v, bytes) else v  # fixed-length strings read as bytes
 with h5py.File("w.h5", "r") as f:
     g = f["provenance"]
-    got = [(g[k].attrs["tool"], g[k].attrs.get("via", "")) for k in g]
+    got = [(t(g[k].attrs["tool"]), t(g[k].attrs.get("via", ""))) for k in g]
 want = [("deposit", "run.h5"), ("tilt-cd", "run.h5"), ("deposit", "c.tsv"), ("tilt-cd", "c.tsv"),
         ("critical", "c.tsv"), ("localnu", ""), ("correlate", "")]
 assert got == want, got

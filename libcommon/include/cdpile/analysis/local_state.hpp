@@ -15,6 +15,8 @@
 /// edge rule) are empty, never NaN.
 #pragma once
 
+#include "cdpile/error.hpp"
+
 #include "cdpile/analysis/stats.hpp"
 #include "cdpile/model.hpp"
 
@@ -168,7 +170,19 @@ struct Field {
   }
 };
 
-/// The field over the bounding box of the contact points, with node spacing `dx` [m].
+/// The most nodes a field may have (8 bytes a node in each of three arrays: 2.4 GB).
+inline constexpr double max_field_nodes = 1e8;
+
+/// nu_field's grid would have more than max_field_nodes nodes; the caller names the
+/// option that set the spacing.
+class FieldTooLarge : public Error {
+ public:
+  explicit FieldTooLarge(double n) : Error("field grid too fine"), nodes(n) {}
+  double nodes;
+};
+
+/// The field over the bounding box of the contact points, with node spacing `dx` [m];
+/// FieldTooLarge beyond max_field_nodes.
 Field nu_field(std::span<const Vec2> points, std::span<const std::uint8_t> critical, double radius,
                double dx);
 

@@ -144,6 +144,10 @@ class Args {
 /// `--help` and `--version` are handled by run_tool, not here.
 Args parse(const Usage& usage, const std::vector<std::string>& argv);
 
+/// Refuses an output (-o) that is the same file as an input (an argument, or a file named
+/// by a text option), with or without --force: a UsageError. run_tool calls it.
+void check_output_is_not_an_input(const Args& a);
+
 /// The help text: synopsis, usage line, description, arguments, options with their
 /// default and unit, examples, exit codes.
 std::string help_text(const Usage& usage);

@@ -100,7 +100,11 @@ void remove_temporaries() noexcept;
 /// Atomic replacement of `target` by `source` (rename within a folder).
 void rename_onto(const std::string& source, const std::string& target);
 
-/// A unique temporary path beside `target`: DIR/.NAME.tmp-XXXXXX (file created, empty).
+/// A unique temporary path beside `target`: DIR/.NAME.tmp-XXXXXX (file created, empty);
+/// NAME is cut to fit the file system's limit on a name (NAME_MAX, 255 bytes), so that
+/// every legal output name has a temporary.
 std::string make_temporary_beside(const std::string& target);
+/// The fixed part of make_temporary_beside's names for `target`: DIR/.NAME.tmp-
+std::string temporary_prefix(const std::string& target);
 
 }  // namespace cdpile::io

@@ -14,7 +14,8 @@
 
 namespace cdpile::io::h5 {
 
-/// Turns off HDF5's automatic error-stack printing (once per process).
+/// Turns off HDF5's automatic error-stack printing and its shutdown at exit (once per
+/// process, before any other HDF5 call: cli::run_tool calls it first; see h5.cpp).
 void silence_errors();
 
 /// An owned HDF5 identifier, closed with the right H5*close on destruction.
@@ -59,6 +60,9 @@ File open_read(const std::string& path, const std::string& name);
 File open_write(const std::string& path, const std::string& name);  ///< read-write
 File open_image(const std::vector<char>& bytes, const std::string& name);
 std::vector<char> image_of(const File& f);  ///< flushes and copies the file image
+/// Rewrites the checksum of a version-2 or -3 superblock at the start of a file image
+/// (image_of calls it: HDF5 1.10 leaves it stale).
+void reseal_superblock(std::vector<char>& image);
 
 bool exists(const File& f, const std::string& path);  ///< a link at this absolute path
 void create_group(const File& f, const std::string& path);  ///< creates parents too

@@ -138,7 +138,10 @@ class RunWriter {
 
 /// Reads and validates a pile or run. Every problem (missing group, wrong schema
 /// version, wrong shape, NaN or infinite value, negative radius, inconsistent
-/// offsets) is an Error naming the file and the path inside it.
+/// offsets) is an Error naming the file and the path inside it; so are magnitudes no
+/// pile can have (a radius over half the box width; in frame(), a grain outside the box
+/// by more than length_scale() or faster than speed_bound()) and a contact listed twice
+/// in a frame.
 class RunReader {
  public:
   explicit RunReader(const h5::File& f);
@@ -160,6 +163,12 @@ class RunReader {
   /// pile may lack them.
   void check_observables() const;
   const std::string& name() const { return f_->name(); }
+  /// L = max(box width, box height) [m]: frame() refuses a grain centre farther than L
+  /// outside the box.
+  double length_scale() const;
+  /// The fastest a grain may move, rim included: 1000 sqrt(g L) [m/s], g the file's
+  /// gravity_m_s2 (9.81 if absent or zero).
+  double speed_bound() const;
 
  private:
   const h5::File* f_;

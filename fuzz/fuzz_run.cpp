@@ -1,0 +1,26 @@
+// libFuzzer harness: the pile and run reader (io::RunReader) on arbitrary bytes, as the
+// tools read a file or standard input: open the HDF5 image, read the header, every
+// frame's grains and contacts (the first 8 frames), the per-step series. A cdpile::Error
+// is the expected outcome of a damaged file; anything else (a crash, a sanitizer report,
+// another exception, a hang past -timeout) is a finding (docs/fuzzing.md).
+#include "cdpile/io/files.hpp"
+#include "cdpile/io/schema.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::vector<char> bytes(data, data + size);
+  // Without the signature no tool hands the bytes to HDF5 (io::Input reads them as text).
+  if (!cdpile::io::has_hdf5_signature(bytes)) return -1;
+  try {
+    const cdpile::io::h5::File f = cdpile::io::h5::open_image(bytes, "fuzz");
+    const cdpile::io::RunReader r(f);
+    for (std::size_t k = 0; k < std::min<std::size_t>(r.frame_count(), 8); ++k) r.frame(k);
+    r.series();
+  } catch (const cdpile::Error&) {
+  }
+  return 0;
+}
