@@ -85,36 +85,29 @@ std::vector<char> read_all(const std::string& path) {
 Input::Input(const std::string& path) : path_(path), name_(path == "-" ? "stdin" : path) {
   if (path == "-") {
     if (isatty(STDIN_FILENO)) throw Error("stdin", "", "standard input is a terminal; pipe data in or give a file");
-    image_ = read_all(path);
-    if (has_hdf5_signature(image_)) {
-      file_ = h5::open_image(image_, name_);
-    } else {
-      text_.assign(image_.begin(), image_.end());
-      image_.clear();
-    }
-    return;
-  }
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
-  if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    // A FIFO, a process substitution (<(tool -o -)) or a device: it can be read once, from
-    // the start, so it is read whole and opened like standard input.
-    image_ = read_all(path);
-    if (image_.empty()) throw Error(path, "", "no data (did the tool writing it fail?)");
-    if (has_hdf5_signature(image_)) {
-      file_ = h5::open_image(image_, name_);
-    } else {
-      text_.assign(image_.begin(), image_.end());
-      image_.clear();
-    }
-    return;
-  }
-  if (has_hdf5_signature(path)) {
-    file_ = h5::open_read(path, name_);
   } else {
-    auto bytes = read_all(path);
-    text_.assign(bytes.begin(), bytes.end());
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
+    if (std::filesystem::is_directory(path, ec)) throw Error(path, "", "is a directory");
+    if (std::filesystem::is_regular_file(path, ec)) {
+      if (has_hdf5_signature(path)) {
+        file_ = h5::open_read(path, name_);
+      } else {
+        auto bytes = read_all(path);
+        text_.assign(bytes.begin(), bytes.end());
+      }
+      return;
+    }
+  }
+  // Standard input, a FIFO, a process substitution (<(tool -o -)) or a device: it can be
+  // read once, from the start, so it is read whole and opened from memory.
+  image_ = read_all(path);
+  if (path != "-" && image_.empty()) throw Error(path, "", "no data (did the tool writing it fail?)");
+  if (has_hdf5_signature(image_)) {
+    file_ = h5::open_image(image_, name_);
+  } else {
+    text_.assign(image_.begin(), image_.end());
+    image_.clear();
   }
 }
 
