@@ -11,15 +11,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <limits>
-#include <memory>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
-
-#include <unistd.h>
 
 namespace cdpile::sim {
 namespace h5 = io::h5;
