@@ -55,9 +55,9 @@ def envelope_reason(notes, label, study_size):
     return f"none: no envelope ({study_size})"
 
 
-def systematic(study):
-    """The relative systematic error of nu (rms over windows of the spread across paths),
-    the windows it comes from, or None when the solver-path ensemble has not been made."""
+def spread_rows(study):
+    """The rows of the study's solver-path ensemble (indeterminacy/spread.tsv), or None when
+    it has not been made."""
     here = os.path.abspath(study)
     candidates = [os.path.join(here, "indeterminacy", "spread.tsv")]
     if os.path.basename(here).startswith("eps"):  # an analysis at another eps: its study's paths
@@ -66,11 +66,28 @@ def systematic(study):
     if path is None:
         return None
     with open(path) as f:
-        rows = list(csv.DictReader(f, delimiter="\t"))
-    cv = np.array([float(r["nu_cv"]) for r in rows if r["nu_cv"] != "NA"])
+        return list(csv.DictReader(f, delimiter="\t"))
+
+
+def systematic(rows):
+    """The relative systematic error of nu (rms over windows of the spread across paths) and
+    the windows it comes from, or None."""
+    cv = np.array([float(r["nu_cv"]) for r in rows or [] if r["nu_cv"] != "NA"])
     if cv.size == 0:
         return None
     return float(np.sqrt(np.mean(cv ** 2))), int(cv.size)
+
+
+def systematic_alpha(rows, theta):
+    """The systematic error of alpha near theta: the rms over runs of the standard deviation
+    of alpha across paths in the ensemble's windows at the angle nearest theta, that angle
+    and the number of runs; None when the ensemble has no alpha there."""
+    rows = [r for r in rows or [] if r.get("alpha_sd", "NA") != "NA"]
+    if not rows:
+        return None
+    angle = min({float(r["angle_deg"]) for r in rows}, key=lambda a: abs(a - theta))
+    sd = np.array([float(r["alpha_sd"]) for r in rows if float(r["angle_deg"]) == angle])
+    return float(np.sqrt(np.mean(sd ** 2))), angle, int(sd.size)
 
 
 Row = collections.namedtuple("Row", "quantity paper ours systematic how value se sys_abs ref")
@@ -89,7 +106,8 @@ def rows_of(study):
     runs = int(r.get("runs", 0))
     grains = crit.table("runs")["grains"]
     size = f"{runs} run{'s' if runs != 1 else ''} of {int(np.max(grains)) if grains.size else 0} grains"
-    sys_nu = systematic(study)
+    paths = spread_rows(study)
+    sys_nu = systematic(paths)
     no_sys = "not measured: `make -C pipelines indeterminacy`"
 
     def sys_of(v, power=1.0):
@@ -186,10 +204,12 @@ def rows_of(study):
         ok = np.isfinite(f["alpha"])
         if ok.any():
             k = np.argmin(np.where(ok, np.abs(f["theta"] - 6.0), np.inf))
-            add("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]), no_sys if sys_nu is None
-                         else "not measured", f"clusterfit, window at {f['theta'][k]:.3g} deg, r <= "
-                         f"{fit.parameters.get('r_max_D', 10):g} D", float(f["alpha"][k]), float(f["alpha_se"][k]),
-                         None, -1.5)
+            sa = systematic_alpha(paths, float(f["theta"][k]))
+            sy = (f"± {sa[0]:.2g} (sd across paths at {sa[1]:g} deg, {sa[2]} runs; holds the fit's noise)" if sa
+                  else no_sys if paths is None else "not measured: the ensemble has no alpha fits; make it again")
+            add("alpha at 6 deg", "about -1.5", pm(f["alpha"][k], f["alpha_se"][k]), sy,
+                f"clusterfit, window at {f['theta'][k]:.3g} deg, r <= {fit.parameters.get('r_max_D', 10):g} D",
+                float(f["alpha"][k]), float(f["alpha_se"][k]), sa[0] if sa else None, -1.5)
         else:
             add("alpha at 6 deg", "about -1.5", "none: no window's fit of eq (4) converged", "", "clusterfit", ref=-1.5)
         w = cor.table("windows")

@@ -21,6 +21,10 @@ summary.md. Definitions (docs/reproduction.md, "Systematic error"):
   standard deviation of nu over the paths, relative to their mean (cv); the mean Jaccard of
   every pair of paths; the relative standard deviation of nu_bar(r) at each r.
 - rules: the branch with another stiffness, along the run's own order, against path 0.
+- alpha of a branch: eq (4) fitted by clusterfit to nu_bar(r) pooled over the frames after
+  the window's start (path-P.fit.tsv); its sample standard deviation across the paths at
+  the study's rule is the systematic error of alpha (an upper bound: one run's 0.2 degree
+  against the study's 1-degree windows of every run, so it holds the fit's noise too).
 """
 import argparse
 import csv
@@ -101,6 +105,22 @@ def nu_bar(states_path):
     return {rr: s / k for rr, (s, k) in sums.items() if k > 0}
 
 
+def alpha_of(fit_path):
+    """alpha of the one window of clusterfit's fits table, or NaN (no fit, not converged)."""
+    if not os.path.exists(fit_path):
+        return math.nan
+    rows = [l for l in open(fit_path) if l.strip() and not l.startswith("#")]
+    for r in csv.DictReader(rows, delimiter="\t"):
+        if r["converged"] == "1" and r["alpha"] != "NA":
+            return float(r["alpha"])
+    return math.nan
+
+
+def sd(values):
+    v = np.array([x for x in values if math.isfinite(x)])
+    return float(np.std(v, ddof=1)) if v.size >= 2 else math.nan
+
+
 def jaccard(a, b):
     u = len(a | b)
     return len(a & b) / u if u else math.nan
@@ -135,9 +155,10 @@ def main():
             b = branch(h5, a.eps)
             st = os.path.join(base, p + ".states.tsv")
             b["nu_bar"] = nu_bar(st) if os.path.exists(st) else {}
+            b["alpha"] = alpha_of(os.path.join(base, p + ".fit.tsv"))
             got[p] = b
             path_rows.append([s, ang, p, b["nu"], b["nu_end"], b["nu_static"], b["static_fraction"],
-                              len(b["critical"]), b["steps"], b["sweeps"], b["capped"]])
+                              len(b["critical"]), b["steps"], b["sweeps"], b["capped"], b["alpha"]])
         if not got:
             continue
         at_rule = [got[f"path-{p}"] for p in paths if f"path-{p}" in got]
@@ -154,18 +175,22 @@ def main():
         row = [s, ang, len(at_rule), float(np.mean(nus)), float(np.std(nus, ddof=1)),
                float(np.std(nus, ddof=1) / np.mean(nus)) if np.mean(nus) > 0 else math.nan,
                float(np.mean(jac)), float(np.min(jac)), nb_cv.get(6.0, math.nan),
-               max(nb_cv.values()) if nb_cv else math.nan]
+               max(nb_cv.values()) if nb_cv else math.nan,
+               float(np.nanmean([b["alpha"] for b in at_rule])) if any(math.isfinite(b["alpha"]) for b in at_rule)
+               else math.nan, sd([b["alpha"] for b in at_rule])]
         ref = got.get("path-0")
         for k in rules:
             other = got.get(f"k{k}")
             row += [other["nu"] if other else math.nan,
-                    jaccard(ref["critical"], other["critical"]) if other and ref else math.nan]
+                    jaccard(ref["critical"], other["critical"]) if other and ref else math.nan,
+                    other["alpha"] if other else math.nan]
         spread_rows.append(row)
 
     path_cols = ["seed", "angle_deg", "path", "nu", "nu_end", "nu_static", "static_fraction", "critical_end",
-                 "steps", "sweeps", "capped"]
+                 "steps", "sweeps", "capped", "alpha"]
     spread_cols = ["seed", "angle_deg", "paths", "nu_mean", "nu_sd", "nu_cv", "jaccard_mean", "jaccard_min",
-                   "nu_bar_cv_6D", "nu_bar_cv_max"] + [c for k in rules for c in (f"nu_k{k}", f"jaccard_k{k}")]
+                   "nu_bar_cv_6D", "nu_bar_cv_max", "alpha_mean", "alpha_sd"] + \
+        [c for k in rules for c in (f"nu_k{k}", f"jaccard_k{k}", f"alpha_k{k}")]
     for name, cols, rows in (("paths.tsv", path_cols, path_rows), ("spread.tsv", spread_cols, spread_rows)):
         with open(os.path.join(a.out, name), "w") as f:
             f.write("\t".join(cols) + "\n")
@@ -180,11 +205,11 @@ def main():
         print("No (run, angle) has two paths yet.\n")
     else:
         print("| run | angle [deg] | paths | nu (mean) | sd | cv | Jaccard mean (min) | nu_bar cv at 6 D (max over r) |"
-              + "".join(f" nu at k={k} | Jaccard k={k} vs path 0 |" for k in rules))
-        print("|---|---:|---:|---:|---:|---:|---:|---:|" + "---:|---:|" * len(rules))
+              " alpha (sd) |" + "".join(f" nu at k={k} | Jaccard k={k} vs path 0 | alpha at k={k} |" for k in rules))
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|" + "---:|---:|---:|" * len(rules))
         for r in spread_rows:
             cells = [r[0], r[1], r[2], fmt(r[3]), fmt(r[4], 2), fmt(r[5], 2), f"{fmt(r[6], 3)} ({fmt(r[7], 3)})",
-                     f"{fmt(r[8], 2)} ({fmt(r[9], 2)})"] + [fmt(v, 3) for v in r[10:]]
+                     f"{fmt(r[8], 2)} ({fmt(r[9], 2)})", f"{fmt(r[10], 3)} ({fmt(r[11], 2)})"] + [fmt(v, 3) for v in r[12:]]
             print("| " + " | ".join(str(c) for c in cells) + " |")
         cv = np.array([r[5] for r in spread_rows], dtype=float)
         jac = np.array([r[6] for r in spread_rows], dtype=float)
@@ -193,10 +218,16 @@ def main():
               f" nu at the study's rule) is {fmt(float(np.sqrt(np.nanmean(cv ** 2))), 2)} (rms of cv;"
               f" largest {fmt(float(np.nanmax(cv)), 2)}); the critical sets overlap by"
               f" {fmt(float(np.nanmean(jac)), 3)} (mean Jaccard); nu_bar(6 D) spreads by"
-              f" {fmt(float(np.sqrt(np.nanmean(nbc ** 2))), 2)} (rms of cv).\n")
+              f" {fmt(float(np.sqrt(np.nanmean(nbc ** 2))), 2)} (rms of cv); alpha spreads by"
+              f" {fmt(rms_sd([r[11] for r in spread_rows]), 2)} (rms of sd).\n")
     for s, ang, why in sorted(set(skipped)):
         print(f"- run {s} at {ang} deg: {why}")
     draw(a.out, spread_rows, curves, rules)
+
+
+def rms_sd(values):
+    v = np.array([x for x in values if math.isfinite(x)])
+    return float(np.sqrt(np.mean(v ** 2))) if v.size else math.nan
 
 
 def draw(out, spread_rows, curves, rules):

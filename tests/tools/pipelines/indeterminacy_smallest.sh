@@ -28,5 +28,23 @@ grep -q '^| 1 | 2 | 3 |' $out/summary.md || { cat $out/summary.md >&2; exit 1; }
 grep -q 'run 1 at 9 deg: skip: the run ends at 8' $out/summary.md || { cat $out/summary.md >&2; exit 1; }
 expect_eq 4 "$(grep -vc '^seed' $out/paths.tsv)" "(branch rows: 1 window x 4 branches)"
 [[ -s $out/figure.png ]]
+# Every branch has its eq (4) fit (alpha over the frames after the start); paths.tsv carries
+# each branch's alpha as that fit gives it (NA when it did not converge).
+"$PY" - $out <<'PYEOF'
+import csv, math, os, sys
+out = sys.argv[1]
+rows = list(csv.DictReader(open(os.path.join(out, "paths.tsv")), delimiter="\t"))
+for r in rows:
+    fit = os.path.join(out, f"run-{r['seed']}", f"theta-{r['angle_deg']}", r["path"] + ".fit.tsv")
+    assert os.path.exists(fit), fit
+    data = [l for l in open(fit) if l.strip() and not l.startswith("#")]
+    fits = list(csv.DictReader(data, delimiter="\t"))
+    assert len(fits) == 1, (fit, fits)  # one window: the frames after the start
+    want = fits[0]["alpha"] if fits[0]["converged"] == "1" else "NA"
+    got = r["alpha"]
+    assert (want == "NA" and got == "NA") or abs(float(want) - float(got)) <= 1e-5 * abs(float(want)), (fit, want, got)
+spread = list(csv.DictReader(open(os.path.join(out, "spread.tsv")), delimiter="\t"))
+assert "alpha_sd" in spread[0] and "alpha_k0" in spread[0], spread[0].keys()
+PYEOF
 mk > make2.log 2>&1 || { cat make2.log >&2; exit 1; }
 if grep -q 'tilt-cd' make2.log; then echo "branches were made again" >&2; cat make2.log >&2; exit 1; fi
