@@ -13,6 +13,12 @@
 namespace cdpile::sim {
 namespace h5 = io::h5;
 
+double mean_mass(const DepositOptions& o) {
+  // rho pi <D^2> / 4, <D^2> = (Dmin^2 + Dmin Dmax + Dmax^2) / 3.
+  const double d_min = 2.0 * o.diameter / (1.0 + o.ratio), d_max = o.ratio * d_min;
+  return o.density * M_PI / 4.0 * (d_min * d_min + d_min * d_max + d_max * d_max) / 3.0;
+}
+
 void validate(const DepositOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
   if (o.grains < 1) bad("--grains must be >= 1");
