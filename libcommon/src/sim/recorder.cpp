@@ -134,13 +134,16 @@ void FileRecorder::start(const io::RunHeader& h, const Grains& g, Pending& p, co
                          const LoopState& s) {
   remove_stale_temporaries(output_);
   const std::string tmp = io::make_temporary_beside(partial_);
-  {
-    h5::File f = h5::create(tmp, partial_);
-    io::RunWriter w(f, h, g);
-    append_pending(w, p);
-    write_checkpoint(f, e, s);
-    f.close();
-  }
+  h5::File f = h5::create(tmp, partial_);
+  io::RunWriter w(f, h, g);
+  seal(f, w, tmp, p, e, s);
+}
+
+void FileRecorder::seal(h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p, const cd::Engine& e,
+                        const LoopState& s) {
+  append_pending(w, p);
+  write_checkpoint(f, e, s);
+  f.close();
   io::rename_onto(tmp, partial_);
   io::unregister_temporary(tmp);
   p.clear();
@@ -155,18 +158,10 @@ void FileRecorder::commit(Pending& p, const cd::Engine& e, const LoopState& s) {
   std::error_code ec;
   std::filesystem::copy_file(partial_, tmp, std::filesystem::copy_options::overwrite_existing, ec);
   if (ec) throw Error(partial_, "", "cannot copy for a checkpoint: " + ec.message());
-  {
-    h5::File f = h5::open_write(tmp, partial_);
-    io::RunWriter w = io::RunWriter::reopen(f, std::numeric_limits<std::int64_t>::max());
-    keep_recorded_columns(f, p.rows);
-    append_pending(w, p);
-    write_checkpoint(f, e, s);
-    f.close();
-  }
-  io::rename_onto(tmp, partial_);
-  io::unregister_temporary(tmp);
-  p.clear();
-  committed_step_ = e.state().step;
+  h5::File f = h5::open_write(tmp, partial_);
+  io::RunWriter w = io::RunWriter::reopen(f, std::numeric_limits<std::int64_t>::max());
+  keep_recorded_columns(f, p.rows);
+  seal(f, w, tmp, p, e, s);
 }
 
 void FileRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) {

@@ -93,6 +93,12 @@ class FileRecorder : public Recorder {
   void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override { commit(p, e, s); }
 
  private:
+  /// The end of every write of the partial: the pending data and the checkpoint go into
+  /// the temporary `f`, which is closed and renamed over the partial, so that the partial
+  /// on disk is always a complete, closed HDF5 file (tilt.hpp).
+  void seal(io::h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p, const cd::Engine& e,
+            const LoopState& s);
+
   std::string output_, partial_;
   bool force_;
   std::int64_t committed_step_ = -1;
