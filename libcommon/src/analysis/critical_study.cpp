@@ -5,6 +5,7 @@
 #include "cdpile/analysis/studies.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -139,7 +140,7 @@ void note_step_series(Product& p, const std::vector<RunRecord>& runs,
     p.notes.push_back(name + (mismatch[k]->unknown ? " does not record the rule of its per-step critical count ("
                                                    : " recorded its per-step critical count with another rule (") +
                       mismatch[k]->why + "): its per-step Nc, nu and lambda are NA and nu(theta) comes from "
-                      "its frames unless --series sliding");
+                      "its frames unless " + field("series") + " sliding");
   }
 }
 
@@ -309,8 +310,8 @@ void require_step_rule(const std::string& name, const RecordedRule& rec, const C
                        const Friction& mu) {
   const auto m = step_rule_mismatch(rec, rule, mu);
   if (!m || m->unknown) return;
-  throw UsageError("--series steps: " + name + " recorded its per-step critical count with another rule (" +
-                   m->why + "); use --series frames or auto");
+  throw UsageError(field("series") + " steps: " + name + " recorded its per-step critical count with another rule (" +
+                   m->why + "); use " + field("series") + " frames or auto");
 }
 
 std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule) {
@@ -358,16 +359,16 @@ SeriesChoice choose_series(const std::vector<RunRecord>& runs, const CriticalOpt
   SeriesSource src = opt.source;
   if (src == SeriesSource::automatic) src = all_critical && all_follow ? SeriesSource::steps : SeriesSource::frames;
   if (src == SeriesSource::steps && !all_critical && !runs.empty())
-    throw Error("--series steps: a run does not record a per-step critical count "
-                "(observable critical_grain or critical); use --series frames or sliding");
+    throw Error(field("series") + " steps: a run does not record a per-step critical count "
+                "(observable critical_grain or critical); use " + field("series") + " frames or sliding");
   for (std::size_t k = 0; src == SeriesSource::steps && k < runs.size(); ++k) {
     require_step_rule(runs[k].name, runs[k].recorded_rule, opt.rule, runs[k].mu);
     if (c.mismatch[k])  // not recorded: the counts may follow any rule
-      throw Error(runs[k].name, "", "--series steps: the rule of the per-step critical count is not recorded (" +
-                                        c.mismatch[k]->why + "); use --series frames");
+      throw Error(runs[k].name, "", field("series") + " steps: the rule of the per-step critical count is not recorded (" +
+                                        c.mismatch[k]->why + "); use " + field("series") + " frames");
   }
   if (src == SeriesSource::sliding && !all_sliding && !runs.empty())
-    throw Error("--series sliding: a run does not record the per-step sliding count");
+    throw Error(field("series") + " sliding: a run does not record the per-step sliding count");
   c.source = src;
   return c;
 }

@@ -1,5 +1,8 @@
 #include "cdpile/cli/command.hpp"
 
+#include "cdpile/cli/fields.hpp"
+#include "cdpile/fields.hpp"
+
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -673,6 +676,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   io::h5::silence_errors();
+  set_field_spelling(option_of_field);  // the library's messages name fields by their options
 
   Usage usage;
   usage.name = name;

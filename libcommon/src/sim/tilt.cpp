@@ -3,6 +3,7 @@
 #include "cdpile/sim/tilt.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/common.hpp"
 
@@ -165,7 +166,9 @@ std::string value_text(const io::Value& v) {
 void check_output(const std::string& output, bool force) {
   io::Output check(output, force, true);  // an existing output, a missing folder, a terminal
   if (output != "-" && !force && has_partial(output))
-    throw Error(partial_path(output), "", "an interrupted run exists; use --resume to continue it or --force to start over");
+    throw Error(partial_path(output), "",
+                "an interrupted run exists; use " + field("resume") + " to continue it or " + field("force") +
+                    " to start over");
 }
 
 TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output, bool force,
@@ -225,7 +228,8 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
 
 TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force, const TiltHooks& hooks) {
   validate(o);
-  if (output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
+  if (output == "-")
+    throw UsageError(field("resume") + " needs an output file (" + field("output") + " FILE), not standard output");
   const std::string partial = partial_path(output);
   if (!has_partial(output)) throw Error(partial, "", "no partial run to resume");
   remove_stale_temporaries(output);

@@ -3,6 +3,7 @@
 #include "cdpile/sim/tilt_options.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/products.hpp"
 #include "cdpile/sim/avalanche.hpp"
 #include "cdpile/sim/common.hpp"
@@ -15,19 +16,19 @@ namespace cdpile::sim {
 
 void validate(const TiltOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
-  if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad("--rate must be > 0");
-  if (!std::isfinite(o.from_deg)) bad("--from must be finite");
-  // The start is --from, or with --branch-at the tilt of the frame branched from.
+  if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad(field("rate_deg") + " must be > 0");
+  if (!std::isfinite(o.from_deg)) bad(field("from_deg") + " must be finite");
+  // The start is from_deg, or with a branch the tilt of the frame branched from.
   if (o.to_deg && !(*o.to_deg >= o.from_deg))
-    bad("--to " + io::format_number(*o.to_deg) + " is below the starting tilt " + io::format_number(o.from_deg) +
-        " deg (--from, or the frame of --branch-at)");
-  if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= --from");
-  if (!(o.margin_deg >= 0.0)) bad("--margin must be >= 0");
-  if (!(o.avalanche_energy > 0.0)) bad("--avalanche-ek must be > 0");
-  if (!(o.avalanche_hold_deg >= 0.0)) bad("--avalanche-hold must be >= 0");
+    bad(field("to_deg") + " " + io::format_number(*o.to_deg) + " is below the starting tilt " +
+        io::format_number(o.from_deg) + " deg (" + field("from_deg") + ", or the frame of " + field("branch_at") + ")");
+  if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= " + field("from_deg"));
+  if (!(o.margin_deg >= 0.0)) bad(field("margin_deg") + " must be >= 0");
+  if (!(o.avalanche_energy > 0.0)) bad(field("avalanche_energy") + " must be > 0");
+  if (!(o.avalanche_hold_deg >= 0.0)) bad(field("avalanche_hold_deg") + " must be >= 0");
   if (o.frame_every < 1) bad("the frame interval must be >= 1 step");
-  if (o.checkpoint_every < 1) bad("--checkpoint-every must be >= 1");
-  if (!(o.eps >= 0.0 && o.eps < 1.0)) bad("--eps must be in [0, 1)");
+  if (o.checkpoint_every < 1) bad(field("checkpoint_every") + " must be >= 1");
+  if (!(o.eps >= 0.0 && o.eps < 1.0)) bad(field("eps") + " must be in [0, 1)");
   cd::validate(o.settings);
 }
 

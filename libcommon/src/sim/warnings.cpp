@@ -1,6 +1,8 @@
 // The warnings of a tilt run (warnings.hpp; docs/method.md, "Warnings").
 #include "cdpile/sim/warnings.hpp"
 
+#include "cdpile/fields.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -16,9 +18,9 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
   if (steps > 0 && unconverged * 100 > steps) {
     std::snprintf(line, sizeof line,
                   "%lld of %lld steps (%.1f %%) hit the sweep cap; their forces are not converged "
-                  "(raise --max-sweeps; docs/performance.md)",
+                  "(raise %s; docs/performance.md)",
                   static_cast<long long>(unconverged), static_cast<long long>(steps),
-                  100.0 * static_cast<double>(unconverged) / static_cast<double>(steps));
+                  100.0 * static_cast<double>(unconverged) / static_cast<double>(steps), field("max_sweeps").c_str());
     w.emplace_back(line);
   }
   // 1e-3 D: the documented bound of the overlaps (docs/method.md); larger ones mean grains
@@ -34,8 +36,8 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
     else
       std::snprintf(line, sizeof line,
                     "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
-                    "speeds (lower --time-step)",
-                    max_overlap_m / diameter_m);
+                    "speeds (lower %s)",
+                    max_overlap_m / diameter_m, field("time_step").c_str());
     w.emplace_back(line);
   }
   return w;
@@ -51,8 +53,8 @@ std::vector<std::string> settings_warnings(const cd::Settings& s, double diamete
   if (h_hat > 0.02) {
     std::snprintf(line, sizeof line,
                   "h sqrt(g/D) = %.3g is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
-                  "from 0.04 on (lower --time-step; docs/performance.md)",
-                  h_hat);
+                  "from 0.04 on (lower %s; docs/performance.md)",
+                  h_hat, field("time_step").c_str());
     w.emplace_back(line);
   }
   // At 1e-2 and 1e-1 every run of the map at h >= 1e-4 s overlapped, or avalanched more
@@ -61,8 +63,8 @@ std::vector<std::string> settings_warnings(const cd::Settings& s, double diamete
   if (s.tolerance >= 1e-2 && s.criterion != cd::Criterion::law) {
     std::snprintf(line, sizeof line,
                   "the tolerance %.3g is 1e-2 or looser; runs of the stability map overlapped or moved "
-                  "the avalanche there (lower --tolerance; docs/performance.md)",
-                  s.tolerance);
+                  "the avalanche there (lower %s; docs/performance.md)",
+                  s.tolerance, field("tolerance").c_str());
     w.emplace_back(line);
   }
   return w;
