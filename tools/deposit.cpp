@@ -2,9 +2,9 @@
 // Contact Dynamics engine (docs/method.md, "Deposit").
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/progress.hpp"
+#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/deposit.hpp"
-#include "cdpile/cli/solver_options.hpp"
 
 #include <cstdio>
 #include <iostream>

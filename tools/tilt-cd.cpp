@@ -4,9 +4,9 @@
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/progress.hpp"
+#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/tilt.hpp"
-#include "cdpile/cli/solver_options.hpp"
 
 #include <algorithm>
 #include <cmath>

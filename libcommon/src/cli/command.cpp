@@ -2,7 +2,6 @@
 
 #include "cdpile/cli/fields.hpp"
 #include "cdpile/fields.hpp"
-
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/schema.hpp"
 
