@@ -2,13 +2,11 @@
 // Contact Dynamics engine (docs/method.md, "Deposit").
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/progress.hpp"
+#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/deposit.hpp"
-#include "solver_options.hpp"
 
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <iostream>
 
 using namespace cdpile;
@@ -56,7 +54,7 @@ static void usage(cli::Usage& u) {
   u.real("rest-speed", 1e-2, "largest grain speed below this times sqrt(g D)", "", 1e-300, 1e3);
   u.integer("rest-steps", 100, "both held for this many consecutive steps", 1, 1000000000);
   u.integer("max-steps", 200000, "give up settling after this many steps (reported)", 1, 1000000000000);
-  tools::declare_solver_options(u);
+  cli::declare_solver_options(u);
   u.alias("mu-grain", "mu");
   u.example("The paper's pile", "deposit --grains 4000 --seed 1 -o pile.h5",
             "4000 grains in a box 120 D wide; prints the bed height, packing fraction and z");
@@ -64,7 +62,7 @@ static void usage(cli::Usage& u) {
             "the pile goes through a pipe");
 }
 
-static void run(const cli::Args& a) {
+static int run(const cli::Args& a) {
   sim::DepositOptions o;
   o.grains = a.integer("grains");
   o.diameter = a.real("diameter");
@@ -77,13 +75,7 @@ static void run(const cli::Args& a) {
   o.rest_speed = a.real("rest-speed");
   o.rest_steps = a.integer("rest-steps");
   o.max_steps = a.integer("max-steps");
-  {
-    // The mean mass per unit thickness of disks with diameters uniform in [Dmin, Dmax]:
-    // rho pi <D^2> / 4, <D^2> = (Dmin^2 + Dmin Dmax + Dmax^2) / 3.
-    const double ratio = a.real("ratio"), d_min = 2.0 * o.diameter / (1.0 + ratio), d_max = ratio * d_min;
-    const double mass = a.real("density") * M_PI / 4.0 * (d_min * d_min + d_min * d_max + d_max * d_max) / 3.0;
-    o.settings = tools::solver_settings(a, o.diameter, mass, a.real("gravity"));
-  }
+  o.settings = cli::solver_settings(a, o.diameter, sim::mean_mass(o), a.real("gravity"));
   o.settings.mu_grain = a.real("mu");
   o.settings.mu_wall = a.real("mu-wall");
   o.settings.gravity = a.real("gravity");
@@ -91,32 +83,25 @@ static void run(const cli::Args& a) {
   io::Output out(a.output(), a.force(), true);  // refuse a bad target (a terminal too) before the work
 
   cli::defer_interrupts();
-  const bool show = tools::progress_wanted(a);
-  const auto t0 = std::chrono::steady_clock::now();
-  auto last = t0;
-  cli::ProgressLine progress_line;
-  auto progress = [&](const sim::DepositProgress& p) {
-    if (!show) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last).count() < 0.5) return;
-    last = now;
-    const double secs = std::chrono::duration<double>(now - t0).count();
+  cli::Progress progress(a);
+  auto show = [&](const sim::DepositProgress& p) {
+    if (!progress.due()) return;
     char buf[4][64];
     std::snprintf(buf[0], sizeof buf[0], "%s: step %lld", cli::tool_name().c_str(), static_cast<long long>(p.step));
     std::snprintf(buf[1], sizeof buf[1], "Ek/(N m g D) %.2e", p.agitation);
     std::snprintf(buf[2], sizeof buf[2], "at rest %lld/%lld", static_cast<long long>(p.quiet_steps),
                   static_cast<long long>(o.rest_steps));
-    std::snprintf(buf[3], sizeof buf[3], "%.0f steps/s", static_cast<double>(p.step) / std::max(secs, 1e-9));
-    progress_line.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 1}, {buf[3], 3}});
+    std::snprintf(buf[3], sizeof buf[3], "%.0f steps/s", progress.rate(static_cast<double>(p.step)));
+    progress.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 1}, {buf[3], 3}});
   };
-  const sim::Pile pile = sim::deposit(o, progress, [] { return cli::interrupted(); });
+  const sim::Pile pile = sim::deposit(o, show, [] { return cli::interrupted(); });
   cli::end_deferral();  // writing the pile: a signal from here on ends the tool at once
-  progress_line.finish();
+  progress.finish();
   if (cli::interrupted()) {  // docs/cli.md: an interrupted tool leaves no output, exit 130 or 143
     std::cerr << cli::tool_name() << ": interrupted at step " << pile.steps << "; no pile written" << std::endl;
-    std::exit(cli::interrupt_exit_code());
+    return cli::interrupt_exit_code();
   }
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double secs = progress.seconds();
   if (!pile.settled)
     cli::warn("not at rest after " + std::to_string(pile.steps) + " steps (--max-steps); written with settled = 0");
   sim::write_pile(out.create_hdf5(), pile, io::provenance_now(a.tool(), a.command_line(), ""));
@@ -131,6 +116,7 @@ static void run(const cli::Args& a) {
                 r("bed_height_D"), r("packing_fraction"), r("coordination_number"),
                 static_cast<long long>(io::as_int(pile.results, "unconverged_steps", out.name())));
   cli::info(line);
+  return 0;
 }
 
 CDPILE_TOOL(usage, run)

@@ -4,18 +4,17 @@
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/progress.hpp"
+#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/tilt.hpp"
-#include "solver_options.hpp"
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <set>
+#include <vector>
 
 using namespace cdpile;
 
@@ -85,7 +84,7 @@ static void usage(cli::Usage& u) {
   u.group("Friction");
   u.real_opt("mu", "grain-grain friction coefficient (default: the pile's mu_grain)", "", 0.0, 1e3);
   u.real_opt("mu-wall", "grain-wall friction coefficient (default: the pile's mu_wall)", "", 0.0, 1e3);
-  tools::declare_solver_options(u);
+  cli::declare_solver_options(u);
   u.alias("avalanche-energy", "avalanche-ek");  // critical's and localnu's name
   u.alias("mu-grain", "mu");
   u.example("The paper's run", "tilt-cd pile.h5 -o run.h5",
@@ -106,7 +105,7 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
   const double gravity = param("gravity_m_s2", cd::Settings{}.gravity);
   sim::TiltOptions o;
-  o.settings = tools::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
+  o.settings = cli::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
   o.settings.gravity = gravity;
   o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
@@ -142,108 +141,72 @@ static std::string change_text(const cli::Args& a, const sim::OptionChange& c) {
   return "--" + c.option + " " + a.text(c.option) + ": " + c.parameter + " " + c.value + " instead of the run's " + c.run_value;
 }
 
-static void run(const cli::Args& a) {
-  const std::string output = a.output();
-  if (output.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
-  if (a.given("branch-at") && a.given("from"))
-    throw UsageError("give --from or --branch-at, not both (a branch starts at its frame's tilt)");
-  const bool resume = a.flag("resume");
-  if (resume && output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
-  std::error_code ec;
-  const bool has_partial = output != "-" && std::filesystem::exists(sim::partial_path(output), ec);
-  if (resume && std::filesystem::exists(output, ec)) {
-    if (has_partial) std::filesystem::remove(sim::partial_path(output), ec);  // left by a kill after the rename
-    cli::info(output + ": already complete; nothing to resume");
-    return;
-  }
+// The progress line: where the tilt is, and the time left at the present speed (which
+// changes as the contacts do; before the avalanche, the time to the maximum angle, the
+// latest the run can end).
+static std::vector<cli::ProgressField> progress_fields(const sim::TiltProgress& p, double sps) {
+  char buf[5][64];
+  std::snprintf(buf[0], sizeof buf[0], "%s: %.3f deg", cli::tool_name().c_str(), p.angle_deg);
+  std::snprintf(buf[1], sizeof buf[1], "step %lld", static_cast<long long>(p.step));
+  std::snprintf(buf[2], sizeof buf[2], "%.0f steps/s", sps);
+  std::snprintf(buf[3], sizeof buf[3], "Ek/(Np m g D) %.1e", p.agitation);
+  if (p.last_step >= 0)
+    std::snprintf(buf[4], sizeof buf[4], "%sest. %.0f s left", p.avalanche ? "avalanche confirmed, " : "",
+                  static_cast<double>(p.last_step - p.step) / sps);
+  else
+    std::snprintf(buf[4], sizeof buf[4], "est. at most %.0f s left", static_cast<double>(p.cap_step - p.step) / sps);
+  return {{buf[0], 0}, {buf[1], 2}, {buf[2], 4}, {buf[3], 3}, {buf[4], 1}};
+}
 
-  const bool show = tools::progress_wanted(a);
-  const auto t0 = std::chrono::steady_clock::now();
-  auto last_print = t0;
-  std::int64_t first = -1, last_step_seen = 0;
-  sim::TiltHooks hooks;
-  hooks.stop = [] { return cli::interrupted(); };
-  // Signals wait for the loop only while it runs and saves: reading the input or writing
-  // the final copy, the tool ends at once (nothing is lost that a resume does not redo).
-  hooks.deferring = [](bool on) { on ? cli::defer_interrupts() : cli::end_deferral(); };
-  // The progress line is rewritten at most twice a second, and once more at the end, so
-  // even a run shorter than that shows where it stopped.
-  std::optional<sim::TiltProgress> latest;
-  cli::ProgressLine progress_line;
-  auto print = [&](const sim::TiltProgress& p, std::chrono::steady_clock::time_point now) {
-    last_print = now;
-    const double secs = std::chrono::duration<double>(now - t0).count();
-    const double sps = static_cast<double>(p.step - first) / std::max(secs, 1e-9);
-    // The time left is an estimate at the present speed, which changes as the contacts do;
-    // before the avalanche it is the time to the maximum angle, the latest the run can end.
-    char buf[5][64];
-    std::snprintf(buf[0], sizeof buf[0], "%s: %.3f deg", cli::tool_name().c_str(), p.angle_deg);
-    std::snprintf(buf[1], sizeof buf[1], "step %lld", static_cast<long long>(p.step));
-    std::snprintf(buf[2], sizeof buf[2], "%.0f steps/s", sps);
-    std::snprintf(buf[3], sizeof buf[3], "Ek/(Np m g D) %.1e", p.agitation);
-    if (p.last_step >= 0)
-      std::snprintf(buf[4], sizeof buf[4], "%sest. %.0f s left", p.avalanche ? "avalanche confirmed, " : "",
-                    static_cast<double>(p.last_step - p.step) / sps);
-    else
-      std::snprintf(buf[4], sizeof buf[4], "est. at most %.0f s left", static_cast<double>(p.cap_step - p.step) / sps);
-    progress_line.show({{buf[0], 0}, {buf[1], 2}, {buf[2], 4}, {buf[3], 3}, {buf[4], 1}});
-  };
-  hooks.progress = [&](const sim::TiltProgress& p) {
-    if (first < 0) first = p.step - 1;
-    last_step_seen = p.step;
-    if (!show) return;
-    latest = p;
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_print).count() < 0.5) return;
-    print(p, now);
-  };
+// The settings' warnings are said before the run starts (a user can stop a long run at
+// once) and are not repeated at the end; the run's file records them all. Returns how many.
+static std::size_t warn_settings(const sim::TiltOptions& o, const sim::PileInput& p) {
+  const auto w = sim::settings_warnings(o.settings, analysis::mean_diameter(p.grains));
+  for (const auto& line : w) cli::warn(line);
+  return w.size();
+}
 
-  // The settings' warnings are said before the run starts (a user can stop a long run
-  // at once) and are not repeated at the end; the run's file records them all.
-  std::size_t warned = 0;
-  auto warn_settings = [](const sim::TiltOptions& o, const sim::PileInput& p) {
-    const auto w = sim::settings_warnings(o.settings, analysis::mean_diameter(p.grains));
-    for (const auto& line : w) cli::warn(line);
-    return w.size();
-  };
-  sim::TiltOutcome outcome;
-  if (resume && has_partial) {
-    sim::PileInput partial = sim::read_partial(output);
-    if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
-      partial.branch = sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
-    const sim::InheritedOptions inh = inherited(a, partial, options(a, partial), std::nullopt);
-    if (!inh.changes.empty()) {  // the partial is the run: another value would change it halfway
-      const sim::OptionChange& c = inh.changes.front();
-      throw UsageError(change_text(a, c) + " in the interrupted run " + partial.name + "; resume with its options (" +
-                       (c.option.empty() ? std::string("leave them out") : "leave --" + c.option + " out") + ")");
-    }
-    const sim::TiltOptions o = inh.options;
-    warned = warn_settings(o, partial);
-    outcome = sim::resume_tilt(o, output, a.force(), hooks);
-  } else {
-    if (resume) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
-    sim::check_output(output, a.force());  // before standard input is read, and the run made
-    const io::Input in(a.argument("pile"));
-    const auto branch_at = a.real_opt("branch-at");
-    const sim::PileInput pile = branch_at ? sim::read_branch(in.hdf5(), *branch_at) : sim::read_pile(in.hdf5());
-    if (pile.branch) {
-      char what[160];
-      std::snprintf(what, sizeof what, ": branching from the frame of step %lld at %.6g deg",
-                    static_cast<long long>(pile.branch->step), pile.branch->tilt_deg);
-      cli::info(in.name() + what);
-    }
-    sim::TiltOptions o = options(a, pile);
-    if (pile.branch) {
-      const sim::InheritedOptions inh = inherited(a, pile, o, pile.branch->tilt_deg);
-      for (const auto& c : inh.changes) cli::info(in.name() + ": branch: " + change_text(a, c));
-      o = inh.options;
-    }
-    warned = warn_settings(o, pile);
-    outcome = sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
+// Continues OUTPUT.partial with the interrupted run's options.
+static sim::TiltOutcome resume(const cli::Args& a, const std::string& output, const sim::TiltHooks& hooks,
+                               std::size_t& warned) {
+  sim::PileInput partial = sim::read_partial(output);
+  if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
+    partial.branch = sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
+  const sim::InheritedOptions inh = inherited(a, partial, options(a, partial), std::nullopt);
+  if (!inh.changes.empty()) {  // the partial is the run: another value would change it halfway
+    const sim::OptionChange& c = inh.changes.front();
+    throw UsageError(change_text(a, c) + " in the interrupted run " + partial.name + "; resume with its options (" +
+                     (c.option.empty() ? std::string("leave them out") : "leave --" + c.option + " out") + ")");
   }
-  if (show && latest) print(*latest, std::chrono::steady_clock::now());
-  progress_line.finish();
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  warned = warn_settings(inh.options, partial);
+  return sim::resume_tilt(inh.options, output, a.force(), hooks);
+}
+
+// A new run from a pile, or a branch from a run's frame.
+static sim::TiltOutcome start(const cli::Args& a, const std::string& output, const sim::TiltHooks& hooks,
+                              std::size_t& warned) {
+  sim::check_output(output, a.force());  // before standard input is read, and the run made
+  const io::Input in(a.argument("pile"));
+  const auto branch_at = a.real_opt("branch-at");
+  const sim::PileInput pile = branch_at ? sim::read_branch(in.hdf5(), *branch_at) : sim::read_pile(in.hdf5());
+  if (pile.branch) {
+    char what[160];
+    std::snprintf(what, sizeof what, ": branching from the frame of step %lld at %.6g deg",
+                  static_cast<long long>(pile.branch->step), pile.branch->tilt_deg);
+    cli::info(in.name() + what);
+  }
+  sim::TiltOptions o = options(a, pile);
+  if (pile.branch) {
+    const sim::InheritedOptions inh = inherited(a, pile, o, pile.branch->tilt_deg);
+    for (const auto& c : inh.changes) cli::info(in.name() + ": branch: " + change_text(a, c));
+    o = inh.options;
+  }
+  warned = warn_settings(o, pile);
+  return sim::run_tilt(pile, o, output, a.force(), io::provenance_now(a.tool(), a.command_line(), in.name()), hooks);
+}
+
+// What the run did, on stderr; an interrupted run's exit code (docs/cli.md).
+static int report(const std::string& output, const sim::TiltOutcome& outcome, double secs, std::size_t warned) {
   const double sps = static_cast<double>(outcome.steps - outcome.first_step) / std::max(secs, 1e-9);
   if (outcome.interrupted) {  // said even with --quiet (as deposit does): a log must say where a run stopped
     std::cerr << cli::tool_name() << ": interrupted at step " << outcome.steps << " ("
@@ -251,8 +214,7 @@ static void run(const cli::Args& a) {
               << (output == "-" ? std::string("the run so far was written")
                                 : sim::partial_path(output) + " holds it; run again with --resume to continue")
               << std::endl;
-    std::cout.flush();
-    std::exit(cli::interrupt_exit_code());
+    return cli::interrupt_exit_code();
   }
   char line[400];
   if (outcome.avalanche)
@@ -266,6 +228,43 @@ static void run(const cli::Args& a) {
             std::to_string(static_cast<long long>(secs)) + " s wall, " + std::to_string(static_cast<long long>(sps)) +
             " steps/s");
   for (std::size_t k = warned; k < outcome.warnings.size(); ++k) cli::warn(outcome.warnings[k]);
+  return 0;
+}
+
+static int run(const cli::Args& a) {
+  const std::string output = a.output();
+  if (output.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
+  if (a.given("branch-at") && a.given("from"))
+    throw UsageError("give --from or --branch-at, not both (a branch starts at its frame's tilt)");
+  const bool resuming = a.flag("resume");
+  if (resuming && output == "-") throw UsageError("--resume needs an output file (-o FILE), not standard output");
+  if (resuming && sim::finished_run(output)) {
+    cli::info(output + ": already complete; nothing to resume");
+    return 0;
+  }
+  const bool has_partial = output != "-" && sim::has_partial(output);
+  if (resuming && !has_partial) cli::info(sim::partial_path(output) + ": no partial run; starting from the pile");
+
+  cli::Progress progress(a);
+  std::int64_t first = -1;
+  std::optional<sim::TiltProgress> latest;  // shown once more at the end, where the run stopped
+  sim::TiltHooks hooks;
+  hooks.stop = [] { return cli::interrupted(); };
+  // Signals wait for the loop only while it runs and saves: reading the input or writing
+  // the final copy, the tool ends at once (nothing is lost that a resume does not redo).
+  hooks.deferring = [](bool on) { on ? cli::defer_interrupts() : cli::end_deferral(); };
+  hooks.progress = [&](const sim::TiltProgress& p) {
+    if (first < 0) first = p.step - 1;
+    if (!progress.shown()) return;
+    latest = p;
+    if (progress.due()) progress.show(progress_fields(p, progress.rate(static_cast<double>(p.step - first))));
+  };
+  std::size_t warned = 0;
+  const sim::TiltOutcome outcome =
+      resuming && has_partial ? resume(a, output, hooks, warned) : start(a, output, hooks, warned);
+  if (latest) progress.show(progress_fields(*latest, progress.rate(static_cast<double>(latest->step - first))));
+  progress.finish();
+  return report(output, outcome, progress.seconds(), warned);
 }
 
 CDPILE_TOOL(usage, run)

@@ -1,5 +1,6 @@
 // Messages on hostile input: control bytes escaped, an output that is an input refused.
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/fields.hpp"
 #include "cdpile/error.hpp"
 
 #include <gtest/gtest.h>
@@ -58,4 +59,12 @@ TEST(OutputIsNotAnInput, SameFileByAnyNameIsRefused) {
   EXPECT_EQ(refusal({"-", "-o", "-"}), "accepted");                      // stdin and stdout
   EXPECT_EQ(refusal({a, "--nu", "0.5", "-o", b}), "accepted");
   fs::remove_all(dir);
+}
+
+// The tools' spelling of the library's fields: the option that sets each one.
+TEST(Fields, TheToolsSpellAFieldAsItsOption) {
+  EXPECT_EQ(cli::option_of_field("rate_deg"), "--rate");
+  EXPECT_EQ(cli::option_of_field("avalanche_energy"), "--avalanche-ek");
+  EXPECT_EQ(cli::option_of_field("output"), "-o");
+  EXPECT_EQ(cli::option_of_field("max_sweeps"), "--max-sweeps");  // an option of the field's name
 }

@@ -6,6 +6,8 @@
 
 #include <cstdlib>
 
+#include <unistd.h>
+
 using cdpile::cli::fit_progress;
 using cdpile::cli::ProgressField;
 using cdpile::cli::ProgressLine;
@@ -46,4 +48,26 @@ TEST(Progress, ColumnsOverridesTheTerminal) {
   ::setenv("COLUMNS", "junk", 1);
   EXPECT_GT(cdpile::cli::terminal_width(), 0u);
   ::unsetenv("COLUMNS");
+}
+
+// cli::Progress, deposit's and tilt-cd's: a hidden progress (not a terminal, or --quiet) is
+// never due and writes nothing; a shown one is due half a second after its start. (That
+// it is not due sooner is not asserted: a loaded machine may stall that long.)
+TEST(Progress, ALineIsDueOnlyWhenShown) {
+  cdpile::cli::Progress hidden(false);
+  EXPECT_FALSE(hidden.due());
+  testing::internal::CaptureStderr();
+  hidden.show({{"never", 0}});
+  hidden.finish();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+
+  cdpile::cli::Progress shown(true);
+  ::usleep(600000);
+  EXPECT_TRUE(shown.due());
+  testing::internal::CaptureStderr();
+  shown.show({{"line", 0}});
+  shown.finish();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "\rline\n");
+  EXPECT_GT(shown.rate(1000.0), 0.0);
+  EXPECT_LT(shown.rate(1000.0), 1000.0 / 0.6);  // over the time since the start
 }

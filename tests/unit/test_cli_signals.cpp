@@ -51,3 +51,14 @@ TEST(SignalsDeathTest, AfterTheDeferralASignalEndsTheToolAtOnce) {
               }),
               testing::ExitedWithCode(128 + SIGTERM), "");
 }
+
+// A tool's exit code is its body's return value, through the runner (no std::exit in the
+// tools): an interrupted run returns 130 or 143 after its message, a body returning
+// nothing succeeds.
+TEST(Runner, ReturnsTheBodysExitCode) {
+  char name[] = "runner";
+  char* argv[] = {name, nullptr};
+  auto declare = [](cli::Usage& u) { u.synopsis = "runner test"; };
+  EXPECT_EQ(cli::run_tool(1, argv, declare, [](const cli::Args&) { return 130; }), 130);
+  EXPECT_EQ(cli::run_tool(1, argv, declare, [](const cli::Args&) {}), 0);
+}

@@ -5,6 +5,7 @@
 #include "cdpile/analysis/studies.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -80,7 +81,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   if (src == NuInfSource::automatic) src = critical ? NuInfSource::ensemble : NuInfSource::pile;
   const Table* ens = nullptr;
   if (src == NuInfSource::ensemble) {
-    if (!critical) throw Error("--nu-inf ensemble needs the critical product (--nu FILE)");
+    if (!critical) throw Error(field("nu_inf") + " ensemble needs the critical product (" + field("nu") + " FILE)");
     ens = &critical->table("ensemble");
   }
   std::optional<double> nu_c = opt.nu_c;
@@ -308,7 +309,9 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   rcse_col.num.assign(nrows, nan);
   fits.column("r_c_fit").num.assign(nrows, nan);
   fits.column("in_power").num.assign(nrows, 0.0);
-  if (!nu_c) p.omit("r_c not computed: no nu_c (give --nu-c, or --nu with a critical product that has one)");
+  if (!nu_c)
+    p.omit("r_c not computed: no nu_c (give " + field("nu_c") + ", or " + field("nu") +
+           " with a critical product that has one)");
   std::vector<double> pth, prc, pse;
   std::vector<std::size_t> prow;
   bool p_w = true;
@@ -355,7 +358,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
         p.results["power_degenerate"] = std::int64_t{1};
         p.omit("power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
                           "power range (r_c does not grow toward a theta_c in these windows); no beta. "
-                          "Give --theta-c, or more runs or a wider --power-from range");
+                          "Give " + field("theta_c") + ", or more runs or a wider " + field("power_from") + " range");
       } else if (d.fit.converged) {
         p.results["beta"] = d.beta;
         if (d.se_beta) p.results["beta_se"] = *d.se_beta;

@@ -4,6 +4,7 @@
 #include "cdpile/analysis/studies.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -130,10 +131,12 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
       f = nu_field(set.point, set.critical, opt_.map_radius * diameter, opt_.map_spacing * diameter);
     } catch (const FieldTooLarge& e) {
       char what[240];
+      const std::string spacing = field("map_spacing");
       std::snprintf(what, sizeof what,
-                    "frame %lld: --map-spacing %g D gives a map of %.3g nodes over its contacts, more than %.0e; "
-                    "give a larger --map-spacing",
-                    static_cast<long long>(frame), opt_.map_spacing, e.nodes, max_field_nodes);
+                    "frame %lld: %s %g D gives a map of %.3g nodes over its contacts, more than %.0e; "
+                    "give a larger %s",
+                    static_cast<long long>(frame), spacing.c_str(), opt_.map_spacing, e.nodes, max_field_nodes,
+                    spacing.c_str());
       throw Error(run_name, "", what);
     }
     map_t_.name = "map";

@@ -1,5 +1,7 @@
 #include "cdpile/cli/command.hpp"
 
+#include "cdpile/cli/fields.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -665,8 +667,7 @@ void end_deferral() { g_deferred.store(false); }
 bool interrupted() { return g_interrupted != 0; }
 int interrupt_exit_code() { return g_interrupted != 0 ? 128 + g_interrupted : 0; }
 
-int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
-             const std::function<void(const Args&)>& body) {
+int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, const Body& body) {
   std::string name = argc > 0 ? argv[0] : "cdpile";
   if (auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
   g_tool = name;
@@ -674,6 +675,7 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   io::h5::silence_errors();
+  set_field_spelling(option_of_field);  // the library's messages name fields by their options
 
   Usage usage;
   usage.name = name;
@@ -701,12 +703,12 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
       if (io::parse_author(a.text("author")).name.empty()) throw UsageError("--author: expected a name, got '" + a.text("author") + "'");
       io::set_author(a.text("author"));
     }
-    body(a);
+    const int code = body(a);
     if (std::fflush(stdout) != 0 || !std::cout.flush()) {
       if (errno == EPIPE) throw io::BrokenPipe();
       throw Error("stdout", "", "write failed");
     }
-    return 0;
+    return code;
   } catch (const io::BrokenPipe&) {
     // The reader has what it wanted (`| head`): end quietly, as coreutils do, with the
     // shell's status for SIGPIPE (141), which `set -o pipefail` treats like theirs.

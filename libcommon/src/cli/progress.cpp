@@ -70,4 +70,22 @@ void ProgressLine::finish() {
   previous_ = 0;
 }
 
+bool progress_wanted(const Args& a) { return !a.quiet() && isatty(STDERR_FILENO) != 0; }
+
+Progress::Progress(bool shown) : shown_(shown), start_(Clock::now()), last_(start_) {}
+
+double Progress::seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+double Progress::rate(double count) const { return count / std::max(seconds(), 1e-9); }
+
+bool Progress::due() const {
+  return shown_ && std::chrono::duration<double>(Clock::now() - last_).count() >= 0.5;
+}
+
+void Progress::show(const std::vector<ProgressField>& fields) {
+  if (!shown_) return;
+  last_ = Clock::now();
+  line_.show(fields);
+}
+
 }  // namespace cdpile::cli

@@ -1,6 +1,7 @@
 #include "cdpile/io/analysis_input.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/products.hpp"
 
@@ -23,7 +24,7 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
   if (o.map_frame) {
     for (std::size_t k = 0; k < count; ++k)
       if (id(k) == *o.map_frame) return k;
-    throw Error(file, "", "no frame " + std::to_string(*o.map_frame) + " to map (--map-frame)");
+    throw Error(file, "", "no frame " + std::to_string(*o.map_frame) + " to map (" + field("map_frame") + ")");
   }
   if (o.map_theta) {
     std::optional<std::size_t> best;
@@ -33,7 +34,7 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
         d = std::abs(*t - *o.map_theta);
         best = k;
       }
-    if (!best) throw Error(file, "", "no frame has a tilt angle to compare with --map-theta");
+    if (!best) throw Error(file, "", "no frame has a tilt angle to compare with " + field("map_theta"));
     return best;
   }
   if (last_loading) return last_loading;
@@ -43,11 +44,11 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
 // A contact table has no parameters and no grains, so mu and D are required options: a
 // missing one is a usage error, reported before the table is parsed.
 void require_table_options(const LocalNuReading& o, const std::string& file) {
-  const char* missing = !o.mu.grain && !o.diameter ? "--mu and --diameter are"
-                        : !o.mu.grain             ? "--mu is"
-                        : !o.diameter             ? "--diameter is"
-                                                  : nullptr;
-  if (missing) throw UsageError(std::string(missing) + " required for a contact table (" + file + ")");
+  const std::string missing = !o.mu.grain && !o.diameter ? field("mu") + " and " + field("diameter") + " are"
+                              : !o.mu.grain             ? field("mu") + " is"
+                              : !o.diameter             ? field("diameter") + " is"
+                                                        : "";
+  if (!missing.empty()) throw UsageError(missing + " required for a contact table (" + file + ")");
 }
 }  // namespace
 
@@ -57,10 +58,10 @@ analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, 
     mu.grain = *c.grain;
   } else if (h) {
     auto m = real_parameter(h->parameters, "mu_grain", file);
-    if (!m) throw Error(file, "/parameters", "no mu_grain; give --mu");
+    if (!m) throw Error(file, "/parameters", "no mu_grain; give " + field("mu"));
     mu.grain = *m;
   } else {
-    throw Error(file, "", "a contact table has no friction coefficient; give --mu");
+    throw Error(file, "", "a contact table has no friction coefficient; give " + field("mu"));
   }
   if (c.wall) mu.wall = *c.wall;
   else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt) mu.wall = *m;

@@ -1,6 +1,7 @@
 #include "cdpile/io/contact_table.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -283,7 +284,7 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
       if (opt.duplicates == Duplicates::error)
         throw Error(file, where(t.line[r]),
                     what + frame_text + " is also on line " + std::to_string(t.line[q]) +
-                        " (give each contact once, or merge repeated rows: --duplicates merge)");
+                        " (give each contact once, or merge repeated rows: " + field("duplicates") + " merge)");
       const double scale = std::max({std::abs(t.values[cfn][q]), std::abs(t.values[cfn][r]), 1e-300});
       const double lscale = std::max({std::abs(x), std::abs(y), std::abs(t.values[cx][q]), std::abs(t.values[cy][q]), 1e-300});
       if (std::abs(t.values[cfn][q] - t.values[cfn][r]) > 1e-9 * scale ||

@@ -1,5 +1,7 @@
 #include "cdpile/io/files.hpp"
 
+#include "cdpile/fields.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -187,7 +189,7 @@ Output::Output(std::string path, bool force, bool binary) : path_(std::move(path
   std::error_code ec;
   if (std::filesystem::is_directory(path_, ec)) throw Error(path_, "", "output is a directory");
   if (std::filesystem::exists(path_, ec) && !force)
-    throw Error(path_, "", "exists; not overwritten (use --force to replace it)");
+    throw Error(path_, "", "exists; not overwritten (use " + field("force") + " to replace it)");
   std::filesystem::path parent = std::filesystem::path(path_).parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
     throw Error(path_, "", "folder " + parent.string() + " does not exist");

@@ -345,6 +345,15 @@ void hard_link(const File& f, const std::string& target, const std::string& link
         link, [&] { return "cannot link to " + target; });
 }
 
+void remove(const File& f, const std::string& path) {
+  check(H5Ldelete(f.id(), path.c_str(), H5P_DEFAULT), f, path, [] { return "cannot remove"; });
+}
+
+void copy(const File& src, const std::string& path, const File& dst) {
+  check(H5Ocopy(src.id(), path.c_str(), dst.id(), path.c_str(), H5P_DEFAULT, H5P_DEFAULT), dst, path,
+        [&] { return "cannot copy from " + src.name(); });
+}
+
 std::vector<std::string> members(const File& f, const std::string& group) {
   if (!exists(f, group)) fail(f, group, "missing group");
   Handle g(H5Gopen2(f.id(), group.c_str(), H5P_DEFAULT));

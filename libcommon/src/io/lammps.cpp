@@ -1,6 +1,7 @@
 #include "cdpile/io/lammps.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
@@ -345,7 +346,7 @@ std::vector<std::string> compute_roles(const Script::Compute& c, const Script& s
       if (a == "cutoff") break;
       if (s.pair_style.empty() && a.size() > 1 && a[0] == 'p' && std::isdigit(static_cast<unsigned char>(a[1])))
         throw Error(c.where, "", "compute pair/local " + a + ": its meaning depends on the pair style, which the "
-                                 "script does not set (read_restart?): give --pair-style");
+                                 "script does not set (read_restart?): give " + field("pair_style"));
       if (a == "dist") out.push_back("dist");
       else if (a == "force") out.push_back("fn");
       else if (a == "fx") out.push_back("fnx");
@@ -474,7 +475,7 @@ AtomColumns atom_columns(const Snapshot& s, const ConvertOptions& opt) {
     a.theta = s.find(opt.theta_column);
     if (!a.theta)
       throw Error(where, "", "atoms of step " + std::to_string(s.step) + " have no column '" + opt.theta_column +
-                                 "' (--theta-column; the header has: " + header_of(s) + ")");
+                                 "' (" + field("theta_column") + "; the header has: " + header_of(s) + ")");
   }
   return a;
 }
@@ -571,14 +572,14 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
     if (opt.rate) {
       if (dt) theta = *opt.rate * *dt * static_cast<double>(step);
       else if (A.time) theta = *opt.rate * *A.time;
-      else throw UsageError("--rate needs --dt (theta = rate dt step): the script has no numeric timestep and the "
+      else throw UsageError(field("rate") + " needs " + field("dt") + " (theta = rate dt step): the script has no numeric timestep and the "
                             "dump no TIME");
     } else if (ac.theta) {
       const auto& v = A.values[*ac.theta];
       theta = v.empty() ? 0.0 : v[0];
       for (std::size_t r = 0; r < n; ++r)
         if (!(v[r] == *theta))
-          throw Error(at_line(A.file, A.line[r]), "", "--theta-column " + opt.theta_column + " differs within step " +
+          throw Error(at_line(A.file, A.line[r]), "", field("theta_column") + " " + opt.theta_column + " differs within step " +
                                                           std::to_string(step));
     }
     const bool periodic_x = !A.boundary[0].empty() && A.boundary[0][0] == 'p';
@@ -612,7 +613,7 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
                                  std::to_string(row.j) + " of step " + std::to_string(step);
         if (opt.duplicates == Duplicates::error)
           throw Error(row.where, "", what + " is also at " + first.where +
-                                         " (newton off or several ranks list a pair twice: --duplicates merge)");
+                                         " (newton off or several ranks list a pair twice: " + field("duplicates") + " merge)");
         const double scale = std::max({std::abs(first.fn), std::abs(row.fn), 1e-300});
         if (std::abs(first.fn - row.fn) > 1e-9 * scale || std::abs(std::abs(first.ft) - std::abs(row.ft)) > 1e-9 * scale)
           throw Error(row.where, "", what + " is also at " + first.where + " with other forces: cannot merge");
@@ -651,7 +652,7 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
       (wall ? wall_seen : pair_seen) = true;
       auto explain = [&](const std::string& what) {
         return "contacts of step " + std::to_string(step) + " have no " + what + " (the header has: " +
-               header_of(E) + "; name the computes with --script or the columns with --columns NAME=ROLE)";
+               header_of(E) + "; name the computes with " + field("script") + " or the columns with " + field("columns") + " NAME=ROLE)";
       };
       const auto c1 = col("id1"), c2 = col("id2");
       if (!c1 || (!wall && !c2)) throw Error(where, "", explain(wall ? "particle id (id1)" : "atom ids (id1, id2)"));
@@ -727,7 +728,7 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
                  wpy = A.find(c + "6]");
       if (!flag || !wfx || !wfy) {
         if (opt.wall_axes.count(id))
-          throw Error(awhere, "", "--wall " + id + ": the atoms of step " + std::to_string(step) + " have no " + c +
+          throw Error(awhere, "", field("wall") + " " + id + ": the atoms of step " + std::to_string(step) + " have no " + c +
                                       "1] " + c + "2] " + c + "3] (dump them: the contact flag and the force)");
         missing_walls.insert(id);
         continue;
@@ -774,9 +775,9 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
 
     if (opt.check) {
       if (!ac.mass || !ac.fx || !ac.fy)
-        throw Error(awhere, "", "--check needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
+        throw Error(awhere, "", field("check") + " needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
       if (any_magnitude_ft)
-        throw Error(awhere, "", "--check needs signed tangential forces; the contacts give only |f_t|");
+        throw Error(awhere, "", field("check") + " needs signed tangential forces; the contacts give only |f_t|");
       FrameCheck fc;
       fc.step = step;
       const double th = theta.value_or(0.0) * M_PI / 180.0;
@@ -824,7 +825,7 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
   for (const auto& id : missing_walls)
     out.notes.push_back("wall fix " + id + ": its per-atom columns are not in the atoms dump; its contacts are missing");
   if (out.merged > 0)
-    out.notes.push_back(std::to_string(out.merged) + " repeated rows merged (--duplicates merge)");
+    out.notes.push_back(std::to_string(out.merged) + " repeated rows merged (" + field("duplicates") + " merge)");
   return out;
 }
 

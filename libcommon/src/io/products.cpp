@@ -1,6 +1,7 @@
 #include "cdpile/io/products.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/io/contact_table.hpp"
 
 #include <hdf5.h>
@@ -387,7 +388,7 @@ ProductFile read_product(const Input& in, const std::string& expected_kind) {
     throw Error(in.name(), "",
                 !p.product.kind.empty() ? "is a '" + p.product.kind + "' product, expected '" + expected_kind + "'"
                 : bare_tables ? "not a cdpile " + expected_kind + " product: tables without the file header "
-                                "(a tool's --table output; write it with --header)"
+                                "(a tool's " + field("table") + " output; write it with " + field("header") + ")"
                               : "not a cdpile " + expected_kind + " product (no '# kind:' header line)");
   return p;
 }
@@ -437,7 +438,7 @@ Format parse_format(const std::string& s) {
   if (s == "auto") return Format::automatic;
   if (s == "tsv") return Format::tsv;
   if (s == "hdf5") return Format::hdf5;
-  throw UsageError("--format: expected auto, tsv or hdf5, got '" + s + "'");
+  throw UsageError(field("format") + ": expected auto, tsv or hdf5, got '" + s + "'");
 }
 
 namespace {

@@ -3,6 +3,7 @@
 
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 #include "cdpile/sim/common.hpp"
 
 #include <algorithm>
@@ -13,20 +14,26 @@
 namespace cdpile::sim {
 namespace h5 = io::h5;
 
+double mean_mass(const DepositOptions& o) {
+  // rho pi <D^2> / 4, <D^2> = (Dmin^2 + Dmin Dmax + Dmax^2) / 3.
+  const double d_min = 2.0 * o.diameter / (1.0 + o.ratio), d_max = o.ratio * d_min;
+  return o.density * M_PI / 4.0 * (d_min * d_min + d_min * d_max + d_max * d_max) / 3.0;
+}
+
 void validate(const DepositOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
-  if (o.grains < 1) bad("--grains must be >= 1");
-  if (!(o.diameter > 0.0) || !std::isfinite(o.diameter)) bad("--diameter must be > 0");
-  if (!(o.ratio >= 1.0) || !std::isfinite(o.ratio)) bad("--ratio must be >= 1");
+  if (o.grains < 1) bad(field("grains") + " must be >= 1");
+  if (!(o.diameter > 0.0) || !std::isfinite(o.diameter)) bad(field("diameter") + " must be > 0");
+  if (!(o.ratio >= 1.0) || !std::isfinite(o.ratio)) bad(field("ratio") + " must be >= 1");
   // A row must hold at least one of the largest grains with its two minimum gaps.
   const double dmax = 2.0 * o.ratio / (1.0 + o.ratio);
   if (!(o.width >= dmax + 0.2) || !std::isfinite(o.width))
-    bad("--width must be at least Dmax + 0.2 D = " + std::to_string(dmax + 0.2) + " D");
-  if (!(o.density > 0.0) || !std::isfinite(o.density)) bad("--density must be > 0");
-  if (!(o.settings.gravity > 0.0)) bad("--gravity must be > 0 to deposit a pile");
+    bad(field("width") + " must be at least Dmax + 0.2 D = " + std::to_string(dmax + 0.2) + " D");
+  if (!(o.density > 0.0) || !std::isfinite(o.density)) bad(field("density") + " must be > 0");
+  if (!(o.settings.gravity > 0.0)) bad(field("gravity") + " must be > 0 to deposit a pile");
   if (!(o.rest_energy > 0.0) || !(o.rest_speed > 0.0)) bad("rest thresholds must be > 0");
-  if (o.rest_steps < 1) bad("--rest-steps must be >= 1");
-  if (o.max_steps < 1) bad("--max-steps must be >= 1");
+  if (o.rest_steps < 1) bad(field("rest_steps") + " must be >= 1");
+  if (o.max_steps < 1) bad(field("max_steps") + " must be >= 1");
   cd::validate(o.settings);
 }
 

@@ -17,6 +17,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace cdpile::cli {
@@ -158,11 +159,23 @@ std::string help_markdown(const Usage& usage);
 /// the build installs it as TOOL.1 beside the tool.
 std::string help_man(const Usage& usage);
 
+/// A tool's body: runs the tool and returns its exit code, 0 on success or the code of an
+/// outcome that is not an error (an interrupted run's interrupt_exit_code()); errors are
+/// thrown. A tool never calls std::exit: the runner flushes and cleans up for every code.
+using Body = std::function<int(const Args&)>;
+
 /// The one main() of every tool: builds the usage, parses, runs, prints errors and
 /// returns the exit code. Adds the standard options (--help, --version, --force,
 /// --quiet, and --author to a tool that writes HDF5) to every tool.
-int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare,
-             const std::function<void(const Args&)>& body);
+int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, const Body& body);
+/// The same for a body that returns nothing: 0 once it returns.
+template <class Run, std::enable_if_t<std::is_void_v<std::invoke_result_t<Run&, const Args&>>, int> = 0>
+int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, Run run) {
+  return run_tool(argc, argv, declare, Body([run](const Args& a) mutable {
+                    run(a);
+                    return 0;
+                  }));
+}
 
 /// Splits a comma-separated option value ("frames,pdf") into its items; empty gives none.
 std::vector<std::string> split_list(const std::string& s);

@@ -3,6 +3,9 @@
 /// new line at every update) and never leave characters of a longer earlier line behind.
 #pragma once
 
+#include "cdpile/cli/command.hpp"
+
+#include <chrono>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -37,6 +40,35 @@ class ProgressLine {
  private:
   std::size_t previous_ = 0;
   bool shown_ = false;
+};
+
+/// Whether progress lines go to stderr: a terminal, and no --quiet.
+bool progress_wanted(const Args& a);
+
+/// The progress of a long loop (deposit's settling, tilt-cd's steps): a ProgressLine
+/// rewritten at most twice a second, so that printing never slows the loop, and only when
+/// progress_wanted. The clock starts at construction.
+class Progress {
+ public:
+  explicit Progress(bool shown);
+  explicit Progress(const Args& a) : Progress(progress_wanted(a)) {}
+  bool shown() const { return shown_; }
+  /// Seconds since the start.
+  double seconds() const;
+  /// `count` per second since the start (steps/s).
+  double rate(double count) const;
+  /// Whether a line is due: shown, and half a second since the last line (or the start).
+  bool due() const;
+  /// Writes the line now, if shown.
+  void show(const std::vector<ProgressField>& fields);
+  /// Ends the line (a newline if any was shown).
+  void finish() { line_.finish(); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool shown_;
+  Clock::time_point start_, last_;
+  ProgressLine line_;
 };
 
 }  // namespace cdpile::cli

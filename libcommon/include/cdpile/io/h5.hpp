@@ -67,6 +67,11 @@ void reseal_superblock(std::vector<char>& image);
 bool exists(const File& f, const std::string& path);  ///< a link at this absolute path
 void create_group(const File& f, const std::string& path);  ///< creates parents too
 void hard_link(const File& f, const std::string& target, const std::string& link);
+/// Removes the link at `path` (a group or dataset; its space is not reclaimed).
+void remove(const File& f, const std::string& path);
+/// Copies the object at `path` of `src` to the same path of `dst`, keeping its chunking,
+/// filters and the hard links inside a copied group.
+void copy(const File& src, const std::string& path, const File& dst);
 /// Names of the members of a group, in creation (or name) order.
 std::vector<std::string> members(const File& f, const std::string& group);
 

@@ -31,6 +31,9 @@ struct DepositOptions {
 
 /// Checks the options; throws cdpile::UsageError naming the bad one.
 void validate(const DepositOptions& o);
+/// The mean mass per unit thickness [kg/m] of the options' disks, diameters uniform in
+/// [Dmin, Dmax]: the m of m g / D, the unit of the solver's --stiffness.
+double mean_mass(const DepositOptions& o);
 
 /// The initial configuration: the box, the free grains (ids 0..N-1) in rows above the
 /// floor, then the glued floor grains (rough floor only). Deterministic in the seed.

@@ -1,20 +1,12 @@
-// The engine's numerical settings as command-line options, shared by deposit and tilt-cd
-// so both tools name, document and check them alike (docs/method.md gives each default's
-// reason).
-#pragma once
+// The solver's options (solver_options.hpp; docs/method.md).
+#include "cdpile/cli/solver_options.hpp"
 
-#include "cdpile/cd/engine.hpp"
-#include "cdpile/cli/command.hpp"
-
-#include <unistd.h>
-
-#include <cmath>
+#include <cstdint>
 #include <limits>
-#include <string>
 
-namespace cdpile::tools {
+namespace cdpile::cli {
 
-inline void declare_solver_options(cli::Usage& u) {
+void declare_solver_options(Usage& u) {
   const cd::Settings d;
   u.group("Solver");
   u.real("time-step", d.time_step, "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12, 1.0);
@@ -44,9 +36,7 @@ inline void declare_solver_options(cli::Usage& u) {
   u.alias("theta", "theta-method");  // the old spelling, beside theta the tilt everywhere else
 }
 
-/// The settings from the options; `diameter` [m] converts the alert distance, and with
-/// `mass` [kg/m] (the mean grain mass per unit thickness) the stiffness, m g / D -> N/m^2.
-inline cd::Settings solver_settings(const cli::Args& a, double diameter, double mass, double gravity) {
+cd::Settings solver_settings(const Args& a, double diameter, double mass, double gravity) {
   cd::Settings s;
   s.time_step = a.real("time-step");
   s.theta = a.real("theta-method");
@@ -61,7 +51,4 @@ inline cd::Settings solver_settings(const cli::Args& a, double diameter, double 
   return s;
 }
 
-/// Whether progress lines go to stderr: a terminal, and no --quiet.
-inline bool progress_wanted(const cli::Args& a) { return !a.quiet() && isatty(STDERR_FILENO) != 0; }
-
-}  // namespace cdpile::tools
+}  // namespace cdpile::cli

@@ -1,0 +1,52 @@
+/// The /checkpoint group of a partial run (docs/method.md, "Checkpoints"): what a
+/// protocol needs, besides the run's recorded data, to continue bit for bit. The group
+/// holds the grains' state, the warm-start impulses by pair, the clock, and the
+/// protocol's own counters as attributes (the tilt's avalanche detector, sim/recorder.hpp).
+/// io knows the layout only; what the counters mean is the protocol's.
+#pragma once
+
+#include "cdpile/io/h5.hpp"
+#include "cdpile/io/schema.hpp"
+#include "cdpile/model.hpp"
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cdpile::io {
+
+/// The group's path in a partial run.
+inline constexpr const char* kCheckpointGroup = "/checkpoint";
+
+/// One warm-start impulse [N s/m] of the last step, by pair (i, j).
+struct CheckpointImpulse {
+  std::int32_t i = 0, j = 0;
+  double rn = 0.0, rt = 0.0;
+};
+
+struct Checkpoint {
+  Grains grains;  ///< positions, velocities, orientations and angular velocities are stored
+  std::vector<CheckpointImpulse> impulses;
+  std::int64_t step = 0;
+  double time = 0.0;
+  /// The protocol's counters, written as attributes in this order (read back in the
+  /// file's order of attributes).
+  std::vector<std::pair<std::string, Value>> counters;
+  std::string description;  ///< the group's description attribute
+
+  /// A counter read back; an Error names `file` and the group if it is missing or of
+  /// another type.
+  std::int64_t counter_int(const std::string& name, const std::string& file) const;
+  double counter_real(const std::string& name, const std::string& file) const;
+};
+
+/// Writes `c` as the file's /checkpoint, replacing the one there.
+void write_checkpoint(const h5::File& f, const Checkpoint& c);
+
+/// The checkpoint of `f`; `properties` are the run's grains (radii, masses, species), whose
+/// state the checkpoint's replaces. An Error names the file if there is none ("not a
+/// partial run") or it does not match them.
+Checkpoint read_checkpoint(const h5::File& f, const Grains& properties);
+
+}  // namespace cdpile::io
