@@ -125,7 +125,7 @@ StepReport Engine::step(double tilt_angle) {
 }
 
 // Stage 1 and 2. Free velocities go into the bodies; candidates are found in the
-// predicted configuration q_m = q + (1 - theta) h v (physics.md 2.1, step 3) with a cell
+// predicted configuration q_m = q + (1 - theta) h v (docs/method.md, "The scheme") with a cell
 // grid. A pair is a candidate when its gap at q_m is below the alert distance plus what
 // the two grains can travel in one step, h (|v| + g h) each, so that no contact can be
 // missed whatever the speed (the margin is zero for grains at rest).
@@ -253,9 +253,9 @@ void Engine::compute_frames() {
     r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
     r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
     r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
-    // LMGC90 IQS_CLB (physics.md 2.1): u_n + max(0, gap/h) >= 0. A contact becomes active
-    // only if the gap would close within the step; an existing overlap is not pushed
-    // out, so no energy is injected (restitution 0).
+    // LMGC90's IQS_CLB (docs/method.md, "The gap term"): u_n + max(0, gap/h) >= 0. A
+    // contact becomes active only if the gap would close within the step; an existing
+    // overlap is not pushed out, so no energy is injected (restitution 0).
     r.gap_velocity = std::max(0.0, r.gap * inv_h);
   }
 }
@@ -345,7 +345,7 @@ void Engine::assert_velocities_match_impulses() const {
 #endif
 }
 
-// Stage 7. The bodies hold v = v_free + M^-1 H R; copy it to the grains.
+// Stage 7. The bodies hold v = v_free + M^-1 H^T R; copy it to the grains.
 void Engine::update_velocities() {
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
@@ -456,7 +456,7 @@ DelassusProblem Engine::delassus_problem() const {
   H.setFromTriplets(h.begin(), h.end());
   HM.setFromTriplets(hm.begin(), hm.end());
   p.W = HM * Eigen::SparseMatrix<double, Eigen::RowMajor>(H.transpose());
-  // q = u - W r: the bodies hold v = v_free + M^-1 H R at the end of the step, so the
+  // q = u - W r: the bodies hold v = v_free + M^-1 H^T R at the end of the step, so the
   // local velocities of the solution less W r are the free ones (to rounding).
   p.q = -(p.W * local_impulses());
   for (Eigen::Index a = 0; a < m; ++a) {
