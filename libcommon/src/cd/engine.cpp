@@ -3,12 +3,12 @@
 
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
 #include <Eigen/SparseCore>
 
 #include <algorithm>
-#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -99,11 +99,12 @@ StepReport Engine::step(double tilt_angle) {
   lap(t, profile_.frames);
   compute_delassus();
   lap(t, profile_.delassus);
+  debug_check_rows(system_);  // debug builds: what the warm start's merge relies on
   warm_start();
   lap(t, profile_.warm_start);
   solve(report);
   lap(t, profile_.solve);
-  assert_velocities_match_impulses();
+  check_solution();
   update_velocities();
   lap(t, profile_.update_velocities);
   update_positions();
@@ -281,6 +282,11 @@ void Engine::compute_delassus() {
 // pair_key), then applied to the free velocities: v = v_free + M^-1 H^T R. They are also
 // the anchor R0 of the compliance.
 void Engine::warm_start() {
+#ifndef NDEBUG
+  for (std::size_t k = 1; k < stored_keys_.size(); ++k)
+    CDPILE_DEBUG_CHECK(stored_keys_[k - 1] < stored_keys_[k],
+                       "stored impulse " + std::to_string(k) + " is out of pair order");
+#endif
   std::size_t k = 0;
   for (ContactRow& r : system_.rows) {
     const std::uint64_t key = pair_key(r.i, r.j);
@@ -320,28 +326,21 @@ void Engine::solve(StepReport& report) {
   report.law_residual_rms = law.rms;
 }
 
-// Invariant of every solver (debug builds): the bodies hold v = v_free + M^-1 H^T R, the
-// velocities the impulses make. Checked by rebuilding them from the step's start.
-void Engine::assert_velocities_match_impulses() const {
+// Invariants of every solver (debug builds; contact_system.hpp): the impulses are
+// admissible, and the bodies hold v = v_free + M^-1 H^T R, the velocities the impulses
+// make, checked by rebuilding them from the step's start.
+void Engine::check_solution() const {
 #ifndef NDEBUG
+  debug_check_admissible(system_);
   const Vec2 g = tilted_gravity(settings_.gravity, last_tilt_angle_);
-  ContactSystem check;
-  check.bodies.resize(system_.bodies.size());
+  std::vector<Body> free(system_.bodies.size(), Body{0.0, 0.0, 0.0, 0.0, 0.0});
   const double h = settings_.time_step;
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     const bool fixed = inv_mass_[i] == 0.0;
     const Vec2 vf = fixed ? Vec2::Zero() : Vec2(velocity_begin_[i] + h * g);
-    check.bodies[i] = {vf.x(), vf.y(), omega_begin_[i], inv_mass_[i], inv_inertia_[i]};
+    free[i] = {vf.x(), vf.y(), omega_begin_[i], inv_mass_[i], inv_inertia_[i]};
   }
-  check.bodies.back() = {0.0, 0.0, 0.0, 0.0, 0.0};
-  for (const ContactRow& r : system_.rows) check.apply_impulse(r, r.rn, r.rt);
-  for (std::size_t i = 0; i < grains_.size(); ++i) {
-    const Body& a = system_.bodies[i];
-    const Body& b = check.bodies[i];
-    const double scale = 1.0 + std::abs(b.vx) + std::abs(b.vy) + std::abs(b.w);
-    assert(std::abs(a.vx - b.vx) + std::abs(a.vy - b.vy) + std::abs(a.w - b.w) <= 1e-9 * scale &&
-           "solver broke v = v_free + M^-1 H^T R");
-  }
+  debug_check_velocities(system_, free, settings_.gravity * h);
 #endif
 }
 

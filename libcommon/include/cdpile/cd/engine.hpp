@@ -160,7 +160,7 @@ class Engine {
   void compute_delassus();
   void warm_start();
   void solve(StepReport& report);
-  void assert_velocities_match_impulses() const;
+  void check_solution() const;  // debug builds: the solver's invariants
   void update_velocities();
   void update_positions();
   void store_impulses();
@@ -182,13 +182,6 @@ class Engine {
   double last_tilt_angle_ = 0.0;
   StepProfile profile_;
 };
-
-/// The sort key of a pair (i, j): lexicographic in (i, j) with j signed, so the walls
-/// (j < 0) of grain i come before its grain partners.
-inline std::uint64_t pair_key(std::int32_t i, std::int32_t j) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
-         (static_cast<std::uint32_t>(j) ^ 0x80000000u);
-}
 
 /// Gravity in the box frame when the box is tilted by `tilt_angle` [rad]:
 /// g (sin theta, -cos theta), so a positive tilt drives grains towards the right wall.
