@@ -95,9 +95,9 @@ def solve(path, repeat):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--data", default=os.path.join(here, "..", "..", "shared", "data",
-                                                       "siconos-fc2d"),
-                        help="folder of the .dat files (default: ../shared/data/siconos-fc2d)")
+    parser.add_argument("--data", default=os.path.join(here, "..", "tests", "data", "siconos-fc2d"),
+                        help="folder of the .dat files (default: tests/data/siconos-fc2d, "
+                             "which holds two of the three)")
     parser.add_argument("--repeat", type=int, default=5, help="solves per problem (default 5)")
     args = parser.parse_args()
     if args.repeat < 1:

@@ -1,7 +1,8 @@
 // The Delassus-form solver (cd/delassus.hpp): the reader of Siconos' fc2d text format,
 // its errors on malformed files, and NSGS with the engine's local solver on a problem
-// solved by hand and on Siconos' three granular test problems (physics.md 3.2), which
-// must reach the natural-map residual 1e-5 that Siconos' own tests ask for.
+// solved by hand and on Siconos' three granular test problems (docs/method.md,
+// "Validation"), which must reach the natural-map residual 1e-5 that Siconos' own tests
+// ask for.
 #include "cdpile/cd/delassus.hpp"
 
 #include "cdpile/error.hpp"
@@ -13,10 +14,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace cd = cdpile::cd;
 namespace fs = std::filesystem;
@@ -123,14 +126,21 @@ LawCheck check_law(const cd::DelassusProblem& p, const Eigen::VectorXd& r, doubl
   return c;
 }
 
+// The 667- and 2020-contact problems are in tests/data/siconos-fc2d (README.md there says
+// where they come from). The 7002-contact one (4 MB) is not: its cases run when the
+// variable CDPILE_SICONOS_DATA names a folder that holds it (the Siconos repository's
+// numerics/src/FrictionContact/test/data), and are left out with a note otherwise.
+// Returns the path of the problem, or "" when it is in neither folder.
 std::string siconos_file(const std::string& name) {
-  return std::string(CDPILE_SHARED_DIR) + "/data/siconos-fc2d/" + name;
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv("CDPILE_SICONOS_DATA"); env && *env) dirs.emplace_back(env);
+  dirs.emplace_back(std::string(CDPILE_TEST_DATA) + "/siconos-fc2d");
+  for (const auto& dir : dirs)
+    if (fs::is_regular_file(dir + "/" + name)) return dir + "/" + name;
+  std::printf("  %s: absent (set CDPILE_SICONOS_DATA to a folder holding it to test it)\n",
+              name.c_str());
+  return "";
 }
-
-#define SKIP_WITHOUT_SICONOS_DATA()                                                        \
-  if (!fs::is_directory(std::string(CDPILE_SHARED_DIR) + "/data/siconos-fc2d"))            \
-  GTEST_SKIP() << "the Siconos fc2d test problems are absent (expected in "                \
-               << CDPILE_SHARED_DIR "/data/siconos-fc2d); the test needs that folder"
 
 }  // namespace
 
@@ -287,10 +297,13 @@ const Known kProblems[] = {
 };
 
 TEST(SiconosFc2d, ReadsTheThreeProblems) {
-  SKIP_WITHOUT_SICONOS_DATA();
+  int tested = 0;
   for (const auto& k : kProblems) {
     SCOPED_TRACE(k.file);
-    const auto p = cd::read_siconos_fc2d(siconos_file(k.file));
+    const std::string file = siconos_file(k.file);
+    if (file.empty()) continue;
+    ++tested;
+    const auto p = cd::read_siconos_fc2d(file);
     ASSERT_EQ(p.contacts(), k.contacts);
     EXPECT_EQ(p.W.rows(), 2 * k.contacts);
     EXPECT_EQ(p.W.cols(), 2 * k.contacts);
@@ -311,15 +324,18 @@ TEST(SiconosFc2d, ReadsTheThreeProblems) {
         worst = std::max(worst, std::abs(it.value()) / p.W.coeff(row, row));
     EXPECT_LT(worst, 1e-5);
     EXPECT_GT(p.W.diagonal().minCoeff(), 0.0);
-  }
+  }  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
 }
 
 TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
-  SKIP_WITHOUT_SICONOS_DATA();
   const double tolerance = 1e-5;
+  int tested = 0;
   for (const auto& k : kProblems) {
     SCOPED_TRACE(k.file);
-    const auto p = cd::read_siconos_fc2d(siconos_file(k.file));
+    const std::string file = siconos_file(k.file);
+    if (file.empty()) continue;
+    ++tested;
+    const auto p = cd::read_siconos_fc2d(file);
     Eigen::VectorXd r;
     const auto report = cd::solve_nsgs(p, r, {.tolerance = tolerance, .max_sweeps = 10000});
     const double norm_q = p.q.norm();
@@ -345,12 +361,13 @@ TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
       EXPECT_LE(law.worst, norm_q);
       EXPECT_LE((p.W * r).norm(), norm_q);
     }
-  }
+  }  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
 }
 
 TEST(SiconosFc2d, HittingTheSweepCapIsReported) {
-  SKIP_WITHOUT_SICONOS_DATA();
-  const auto p = cd::read_siconos_fc2d(siconos_file(kProblems[1].file));
+  const std::string file = siconos_file(kProblems[1].file);
+  ASSERT_FALSE(file.empty()) << "tests/data/siconos-fc2d holds this problem";
+  const auto p = cd::read_siconos_fc2d(file);
   Eigen::VectorXd r;
   const auto report = cd::solve_nsgs(p, r, {.tolerance = 1e-5, .max_sweeps = 20});
   EXPECT_FALSE(report.converged);

@@ -1,4 +1,5 @@
-// Physics validation of the CD engine on scenes with known answers (physics.md 3.1):
+// Physics validation of the CD engine on scenes with known answers (docs/method.md,
+// "Validation"):
 // a block and a rolling disk on an incline, a column of disks, collisions with e = 0.
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
@@ -101,7 +102,7 @@ TEST(Incline, LockedDiskSticksWhileTanThetaAtMostMu) {
 }
 
 TEST(Incline, LockedDiskSlidesAboveWithCoulombAcceleration) {
-  // a = g (sin theta - mu cos theta): 0.0670 g at 30 deg (physics.md 3.1).
+  // a = g (sin theta - mu cos theta): 0.0670 g at 30 deg (docs/method.md, "Validation").
   for (double deg : {30.0, 45.0}) {
     cd::Engine e(Box{0.5, 0.05}, one_disk(), settings());
     e.lock_rotation(0);
@@ -138,7 +139,7 @@ TEST(Incline, FreeDiskRollsWithoutSlipAtTwoThirdsGSinTheta) {
 
 TEST(Incline, FreeDiskSlipsAboveThreeMu) {
   // Above 56.31 deg: a = g (sin theta - mu cos theta), alpha = 2 mu g cos theta / r;
-  // a = 0.616 g at 60 deg (physics.md 3.1).
+  // a = 0.616 g at 60 deg (docs/method.md, "Validation").
   const double deg = 60.0;
   cd::Engine e(Box{0.5, 0.05}, one_disk(), settings());
   const int steps = 100;

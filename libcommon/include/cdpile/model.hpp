@@ -27,7 +27,7 @@ enum WallId : std::int32_t {
 const char* wall_name(std::int32_t wall_id);
 
 /// The box in its own frame: floor y = 0, side walls x = 0 and x = width.
-/// Tilting rotates gravity in this frame (DESIGN.md, "The engine"); the box never moves.
+/// Tilting rotates gravity in this frame (docs/method.md, "The scheme"); the box never moves.
 struct Box {
   double width = 0.0;   ///< distance between the side walls [m]
   double height = 0.0;  ///< height of the region used for output and figures [m]

@@ -3,6 +3,7 @@
 #include "cdpile/cd/delassus.hpp"
 
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
 #include <chrono>
@@ -295,6 +296,8 @@ double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) 
 NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index m = p.contacts();
+  CDPILE_DEBUG_CHECK(p.W.rows() == 2 * m && p.W.cols() == 2 * m && p.q.size() == 2 * m,
+                     "W is 2m x 2m and q has 2m values for m = " + std::to_string(m) + " contacts");
   if (r.size() != 2 * m) r = Eigen::VectorXd::Zero(2 * m);
   const BlockColumns columns = block_columns(p);
   // The diagonal 2x2 blocks, kept apart: the sweep needs W_aa to remove a contact's own

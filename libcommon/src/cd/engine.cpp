@@ -3,12 +3,12 @@
 
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
 #include <Eigen/SparseCore>
 
 #include <algorithm>
-#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -99,11 +99,12 @@ StepReport Engine::step(double tilt_angle) {
   lap(t, profile_.frames);
   compute_delassus();
   lap(t, profile_.delassus);
+  debug_check_rows(system_);  // debug builds: what the warm start's merge relies on
   warm_start();
   lap(t, profile_.warm_start);
   solve(report);
   lap(t, profile_.solve);
-  assert_velocities_match_impulses();
+  check_solution();
   update_velocities();
   lap(t, profile_.update_velocities);
   update_positions();
@@ -125,7 +126,7 @@ StepReport Engine::step(double tilt_angle) {
 }
 
 // Stage 1 and 2. Free velocities go into the bodies; candidates are found in the
-// predicted configuration q_m = q + (1 - theta) h v (physics.md 2.1, step 3) with a cell
+// predicted configuration q_m = q + (1 - theta) h v (docs/method.md, "The scheme") with a cell
 // grid. A pair is a candidate when its gap at q_m is below the alert distance plus what
 // the two grains can travel in one step, h (|v| + g h) each, so that no contact can be
 // missed whatever the speed (the margin is zero for grains at rest).
@@ -253,9 +254,9 @@ void Engine::compute_frames() {
     r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
     r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
     r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
-    // LMGC90 IQS_CLB (physics.md 2.1): u_n + max(0, gap/h) >= 0. A contact becomes active
-    // only if the gap would close within the step; an existing overlap is not pushed
-    // out, so no energy is injected (restitution 0).
+    // LMGC90's IQS_CLB (docs/method.md, "The gap term"): u_n + max(0, gap/h) >= 0. A
+    // contact becomes active only if the gap would close within the step; an existing
+    // overlap is not pushed out, so no energy is injected (restitution 0).
     r.gap_velocity = std::max(0.0, r.gap * inv_h);
   }
 }
@@ -281,6 +282,11 @@ void Engine::compute_delassus() {
 // pair_key), then applied to the free velocities: v = v_free + M^-1 H^T R. They are also
 // the anchor R0 of the compliance.
 void Engine::warm_start() {
+#ifndef NDEBUG
+  for (std::size_t k = 1; k < stored_keys_.size(); ++k)
+    CDPILE_DEBUG_CHECK(stored_keys_[k - 1] < stored_keys_[k],
+                       "stored impulse " + std::to_string(k) + " is out of pair order");
+#endif
   std::size_t k = 0;
   for (ContactRow& r : system_.rows) {
     const std::uint64_t key = pair_key(r.i, r.j);
@@ -320,32 +326,25 @@ void Engine::solve(StepReport& report) {
   report.law_residual_rms = law.rms;
 }
 
-// Invariant of every solver (debug builds): the bodies hold v = v_free + M^-1 H^T R, the
-// velocities the impulses make. Checked by rebuilding them from the step's start.
-void Engine::assert_velocities_match_impulses() const {
+// Invariants of every solver (debug builds; contact_system.hpp): the impulses are
+// admissible, and the bodies hold v = v_free + M^-1 H^T R, the velocities the impulses
+// make, checked by rebuilding them from the step's start.
+void Engine::check_solution() const {
 #ifndef NDEBUG
+  debug_check_admissible(system_);
   const Vec2 g = tilted_gravity(settings_.gravity, last_tilt_angle_);
-  ContactSystem check;
-  check.bodies.resize(system_.bodies.size());
+  std::vector<Body> free(system_.bodies.size(), Body{0.0, 0.0, 0.0, 0.0, 0.0});
   const double h = settings_.time_step;
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     const bool fixed = inv_mass_[i] == 0.0;
     const Vec2 vf = fixed ? Vec2::Zero() : Vec2(velocity_begin_[i] + h * g);
-    check.bodies[i] = {vf.x(), vf.y(), omega_begin_[i], inv_mass_[i], inv_inertia_[i]};
+    free[i] = {vf.x(), vf.y(), omega_begin_[i], inv_mass_[i], inv_inertia_[i]};
   }
-  check.bodies.back() = {0.0, 0.0, 0.0, 0.0, 0.0};
-  for (const ContactRow& r : system_.rows) check.apply_impulse(r, r.rn, r.rt);
-  for (std::size_t i = 0; i < grains_.size(); ++i) {
-    const Body& a = system_.bodies[i];
-    const Body& b = check.bodies[i];
-    const double scale = 1.0 + std::abs(b.vx) + std::abs(b.vy) + std::abs(b.w);
-    assert(std::abs(a.vx - b.vx) + std::abs(a.vy - b.vy) + std::abs(a.w - b.w) <= 1e-9 * scale &&
-           "solver broke v = v_free + M^-1 H^T R");
-  }
+  debug_check_velocities(system_, free, settings_.gravity * h);
 #endif
 }
 
-// Stage 7. The bodies hold v = v_free + M^-1 H R; copy it to the grains.
+// Stage 7. The bodies hold v = v_free + M^-1 H^T R; copy it to the grains.
 void Engine::update_velocities() {
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
@@ -456,7 +455,7 @@ DelassusProblem Engine::delassus_problem() const {
   H.setFromTriplets(h.begin(), h.end());
   HM.setFromTriplets(hm.begin(), hm.end());
   p.W = HM * Eigen::SparseMatrix<double, Eigen::RowMajor>(H.transpose());
-  // q = u - W r: the bodies hold v = v_free + M^-1 H R at the end of the step, so the
+  // q = u - W r: the bodies hold v = v_free + M^-1 H^T R at the end of the step, so the
   // local velocities of the solution less W r are the free ones (to rounding).
   p.q = -(p.W * local_impulses());
   for (Eigen::Index a = 0; a < m; ++a) {

@@ -2,10 +2,10 @@
 #include "cdpile/cd/nsgs.hpp"
 
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <random>
 #include <string>
@@ -16,7 +16,8 @@ namespace cdpile::cd {
 SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint32_t> order) {
   SweepSums sums;
   const std::size_t m = s.rows.size();
-  assert(order.empty() || order.size() == m);
+  CDPILE_DEBUG_CHECK(order.empty() || order.size() == m,
+                     "a sweep order is a permutation of the rows");
   for (std::size_t q = 0; q < m; ++q) {
     const std::size_t at = backward ? m - 1 - q : q;
     ContactRow& r = s.rows[order.empty() ? at : order[at]];

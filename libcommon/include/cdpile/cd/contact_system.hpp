@@ -52,7 +52,14 @@ struct StepCancelled : std::exception {
   const char* what() const noexcept override { return "step cancelled"; }
 };
 
-/// The step's contact system. Rows are sorted by pair_key(i, j) (engine.hpp).
+/// The sort key of a pair (i, j): lexicographic in (i, j) with j signed, so the walls
+/// (j < 0) of grain i come before its grain partners.
+inline std::uint64_t pair_key(std::int32_t i, std::int32_t j) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
+         (static_cast<std::uint32_t>(j) ^ 0x80000000u);
+}
+
+/// The step's contact system. Rows are sorted by pair_key(i, j), each pair once.
 struct ContactSystem {
   std::vector<Body> bodies;
   std::vector<ContactRow> rows;
@@ -108,5 +115,24 @@ struct LawResidual {
   double rms = 0.0;  ///< root mean square over the rows of the larger component, / (g h)
 };
 LawResidual law_residual(const ContactSystem& s, double velocity_scale);
+
+/// Debug-build checks of what the warm start and the solvers rely on (check.hpp): each
+/// aborts with a message naming the broken invariant; with NDEBUG they do nothing.
+///
+/// The rows: strictly increasing pair_key (each pair once; the warm start matches rows to
+/// the stored impulses by merging two sorted lists, so a row out of order would silently
+/// start from zero), grain pairs with i < j, body indices in range, and a positive
+/// diagonal block W_nn, W_tt (the local solver divides by both).
+void debug_check_rows(const ContactSystem& s);
+/// Every impulse is finite and admissible: R_n >= 0 and |R_t| <= mu R_n. A sweep's local
+/// solves leave them so, and every solver returns the impulses of a sweep.
+void debug_check_admissible(const ContactSystem& s);
+/// The bodies hold v = v_free + M^-1 H^T R: `free_bodies` are the same bodies at v_free,
+/// and the velocities that the rows' impulses make from them must equal the bodies' own
+/// within 1e-9 of the step's velocity scale: the largest of `velocity_unit` (g h), the
+/// free speeds and the velocity jumps W_aa |R_a| (the rounding of many sweeps' updates is
+/// relative to the largest of these). Angular velocities are compared times the lever arm.
+void debug_check_velocities(const ContactSystem& s, const std::vector<Body>& free_bodies,
+                            double velocity_unit);
 
 }  // namespace cdpile::cd

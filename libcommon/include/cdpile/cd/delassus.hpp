@@ -39,7 +39,8 @@ DelassusProblem read_siconos_fc2d(const std::string& path);
 /// Throws cdpile::Error if the stream fails.
 void write_siconos_fc2d(std::ostream& out, const DelassusProblem& p);
 
-/// Siconos' natural-map residual (fc2d_compute_error, physics.md 2.2):
+/// Siconos' natural-map residual (its fc2d_compute_error; docs/method.md, "Delassus
+/// problems from other codes"):
 ///   || r - Proj_K(r - u_hat) || / ||q||,   u = W r + q,  u_hat = (u_n + mu |u_t|, u_t),
 /// K the product of the 2D Coulomb cones. Zero exactly at a solution. The division by
 /// ||q|| is what Siconos' fc2d_nsgs passes (it skips it when ||q|| ~ 0).

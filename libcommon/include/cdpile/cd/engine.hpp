@@ -2,7 +2,7 @@
 /// for rigid disks in a box of a floor and two side walls, under a gravity rotated by
 /// the tilt angle. docs/method.md states the scheme, every default and its reason.
 ///
-/// One step, in stages (physics.md 2.1, LMGC90's `one_step`):
+/// One step, in stages (docs/method.md, "The scheme"; LMGC90's `one_step`):
 ///   1. free velocity       v_free = v + h g(theta), g(theta) = g (sin theta, -cos theta)
 ///   2. detect              pairs within the alert distance in the predicted
 ///                          configuration q_m = q + (1 - theta_s) h v (cell grid, O(N))
@@ -12,7 +12,7 @@
 ///   6. solve               the contact system (contact_system.hpp) by the solver of the
 ///                          settings (solver.hpp; NSGS: exact local solves until the criterion
 ///                          or the cap), then the law's residual, whatever the solver
-///   7. update velocities   v = v_free + M^-1 H R (already held by the bodies, ELG style)
+///   7. update velocities   v = v_free + M^-1 H^T R (already held by the bodies, ELG style)
 ///   8. update positions    q = q_m + theta_s h v
 ///   9. store impulses      for the next warm start
 /// theta_s is the theta-method parameter (Settings::theta).
@@ -160,7 +160,7 @@ class Engine {
   void compute_delassus();
   void warm_start();
   void solve(StepReport& report);
-  void assert_velocities_match_impulses() const;
+  void check_solution() const;  // debug builds: the solver's invariants
   void update_velocities();
   void update_positions();
   void store_impulses();
@@ -182,13 +182,6 @@ class Engine {
   double last_tilt_angle_ = 0.0;
   StepProfile profile_;
 };
-
-/// The sort key of a pair (i, j): lexicographic in (i, j) with j signed, so the walls
-/// (j < 0) of grain i come before its grain partners.
-inline std::uint64_t pair_key(std::int32_t i, std::int32_t j) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) |
-         (static_cast<std::uint32_t>(j) ^ 0x80000000u);
-}
 
 /// Gravity in the box frame when the box is tilted by `tilt_angle` [rad]:
 /// g (sin theta, -cos theta), so a positive tilt drives grains towards the right wall.

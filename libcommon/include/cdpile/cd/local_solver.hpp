@@ -1,6 +1,6 @@
 /// The exact solution of one 2D contact with Signorini and Coulomb's law, the other
-/// contacts frozen: the kernel of non-smooth Gauss-Seidel (physics.md 2.1, "2D local
-/// solver"; Siconos fc2d_nsgs_local_solve, physics.md 2.2).
+/// contacts frozen: the kernel of non-smooth Gauss-Seidel (docs/method.md, "The local
+/// solver": the cases, and where they come from).
 ///
 /// Unknowns are impulses over the step, R = (R_n, R_t) [N s/m]; the contact's local
 /// velocity is u = W R + b, with W the 2x2 diagonal block of the Delassus operator and b
@@ -23,7 +23,7 @@ struct LocalImpulse {
 };
 
 /// Local solve when the block is diagonal (W_nt = W_tn = 0): two disks, or a disk and a
-/// wall, whose normal passes through both centres (physics.md 2.1). Then
+/// wall, whose normal passes through both centres (docs/method.md, "The local solver"). Then
 ///   R_n = max(0, -b_n / W_nn),  R_t = clamp(-b_t / W_tt, -mu R_n, mu R_n).
 /// A sliding contact lies exactly on the cone: |R_t| == mu R_n in floating point.
 inline LocalImpulse local_solve_diagonal(double w_nn, double w_tt, double mu, double b_n,
@@ -47,7 +47,7 @@ inline LocalImpulse local_solve_diagonal(double w_nn, double w_tt, double mu, do
 }
 
 /// Local solve with a full 2x2 block (w_nt = W(n,t), w_tn = W(t,n)), for Delassus
-/// problems from other codes. Cases as in LMGC90's mu_SC_std_solver (physics.md 2.1):
+/// problems from other codes. Cases as in LMGC90's mu_SC_std_solver (docs/method.md):
 /// stick R = -W^-1 b if inside the cone; otherwise slide forward (u_t >= 0,
 /// R_t = -mu R_n, R_n = -b_n / (W_nn - mu W_nt)) or backward (u_t <= 0, R_t = +mu R_n,
 /// R_n = -b_n / (W_nn + mu W_nt)), whichever is consistent.
