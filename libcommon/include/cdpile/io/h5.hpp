@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -56,9 +57,47 @@ class File {
 
 File create(const std::string& path, const std::string& name);  ///< truncate
 File create_in_memory(const std::string& name);                 ///< core driver, no backing store
+/// Opens a file (open_read) or a file image (open_image) to read. A file of the earlier
+/// format, whose superblock has no checksum (version 0 or 1), is first read whole in a
+/// child process (check_earlier_format): if libhdf5 crashes or loops there, the open fails
+/// with one line naming the file; the caller never reads it in-process.
 File open_read(const std::string& path, const std::string& name);
 File open_write(const std::string& path, const std::string& name);  ///< read-write
 File open_image(const std::vector<char>& bytes, const std::string& name);
+/// open_read and open_image without the check of the earlier format: for the check's own
+/// child, and for a caller that has checked (the fuzz harnesses' in-process mode).
+File open_read_unchecked(const std::string& path, const std::string& name);
+File open_image_unchecked(const std::vector<char>& bytes, const std::string& name);
+
+/// The version of the superblock HDF5 will read: the byte after the first signature at
+/// offset 0, 512, 1024, 2048, ... (HDF5 File Format Specification, "Superblock"); -1 when
+/// there is no signature. Versions 0 and 1 carry no checksum, and neither does any of
+/// the metadata files of that format hold.
+int superblock_version(const std::vector<char>& image);
+int superblock_version(const std::string& path);
+
+/// Reads every object reachable from the root the way the readers read them, through
+/// the functions of this header: every group's members, every object's attributes (by
+/// index, by name, an absent name, and their values as text or numbers), every dataset
+/// whole (in blocks of rows if large) as each type the readers ask for. An Error on one
+/// object is caught and the walk goes on. It is what the check of the earlier format
+/// runs in its child process: a superset of what any tool reads.
+void read_every_object(const File& f);
+
+/// How the check of an earlier-format file ended.
+enum class Check { passed, crashed, looped };
+/// Runs `open_and_read` (which opens a file and calls read_every_object) in a forked
+/// child process with its CPU time bounded by `cpu_seconds` and its address space by
+/// `memory_bytes` above what the process maps now (not under AddressSanitizer, whose
+/// shadow memory is larger than any bound); the child's stdout and stderr are
+/// discarded. `passed` when it returns (with or without an Error), `crashed` when it dies
+/// by a signal or a sanitizer's report, `looped` when it runs out of CPU time.
+Check run_checked(const std::function<void()>& open_and_read, double cpu_seconds, double memory_bytes);
+/// Refuses a file (or image) of `bytes` bytes whose superblock version is 0 or 1 if
+/// reading it whole crashes or loops in a child process (run_checked); does nothing for
+/// other versions. The error's text names the file and says how to rewrite an intact copy.
+void check_earlier_format(int superblock, double bytes, const std::function<File()>& open,
+                          const std::string& name);
 std::vector<char> image_of(const File& f);  ///< flushes and copies the file image
 /// Rewrites the checksum of a version-2 or -3 superblock at the start of a file image
 /// (image_of calls it: HDF5 1.10 leaves it stale).
