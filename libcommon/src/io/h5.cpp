@@ -235,8 +235,9 @@ File open_read(const std::string& path, const std::string& name) {
   silence_errors();
   std::error_code ec;
   const auto bytes = static_cast<double>(std::filesystem::file_size(path, ec));
-  check_earlier_format(superblock_version(path), ec ? 0.0 : bytes,
-                       [&] { return open_read_unchecked(path, name); }, name);
+  const int superblock = superblock_version(path);
+  if (superblock == 0 || superblock == 1)
+    return open_earlier_format(superblock, ec ? 0.0 : bytes, [&] { return open_read_unchecked(path, name); }, name);
   return open_read_unchecked(path, name);
 }
 
@@ -249,8 +250,10 @@ File open_write(const std::string& path, const std::string& name) {
 
 File open_image(const std::vector<char>& bytes, const std::string& name) {
   silence_errors();
-  check_earlier_format(superblock_version(bytes), static_cast<double>(bytes.size()),
-                       [&] { return open_image_unchecked(bytes, name); }, name);
+  const int superblock = superblock_version(bytes);
+  if (superblock == 0 || superblock == 1)
+    return open_earlier_format(superblock, static_cast<double>(bytes.size()),
+                               [&] { return open_image_unchecked(bytes, name); }, name);
   return open_image_unchecked(bytes, name);
 }
 

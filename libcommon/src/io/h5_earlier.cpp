@@ -5,15 +5,18 @@
 // heap or B-tree wherever it points: the fuzzer made it crash (SIGSEGV, SIGBUS, SIGFPE,
 // heap-corruption aborts) or loop for ever inside single library calls, before any
 // check of cdpile's could run (docs/fuzzing.md, "Findings"). No check outside the
-// library can see such damage coming, but a process can survive it in another process:
-// such a file is first read whole in a forked child, bounded in CPU time and memory, the
-// way the readers read it (read_every_object); only if the child comes back is the file
-// read in this process. Its reads are a subset of the child's, made by the same library
-// on the same bytes, so where the child did not crash they do not either.
+// library can see such damage coming, but a process can survive it in another process.
+// Such a file is never parsed in the tool's process: a forked child, bounded in CPU time
+// and memory, reads it and writes it anew in this version's format (checksummed, every
+// header encoded by HDF5 itself), and the tool reads that image. Reading it in the tool
+// after a child read it without harm is not enough: the fuzzer found inputs on which
+// HDF5 reads memory outside its buffers, so that the same calls crash or not depending
+// on what the heap holds at the time (docs/fuzzing.md).
 //
 // Refusing the earlier format outright would be simpler, but every run and product
-// made before this version is in it, and nearly all of them are intact: the check keeps
-// them readable for the price of reading each one twice (docs/cli.md, "What is refused").
+// made before this version is in it, and nearly all of them are intact: the child keeps
+// them readable for the price of copying each one in memory (docs/cli.md, "What is
+// refused").
 #include "cdpile/io/h5.hpp"
 
 #include <fcntl.h>
@@ -25,6 +28,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -32,7 +36,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <set>
+#include <new>
 
 #if defined(__SANITIZE_ADDRESS__)
 #define CDPILE_ADDRESS_SANITIZER 1
@@ -66,81 +70,31 @@ int version_at_signature(std::uint64_t size, Read&& read) {
   return -1;
 }
 
-/// Largest dataset read in one piece by read_every_object; larger ones in blocks of rows,
-/// so that the child's memory does not grow with the file.
-constexpr double kBlockElements = 1 << 22;
-
-template <class T>
-void read_in_blocks(const File& f, const std::string& path, const std::vector<hsize_t>& dims) {
-  double elements = 1;
-  for (hsize_t d : dims) elements *= static_cast<double>(d);
-  if (dims.empty() || elements <= kBlockElements) {
-    read<T>(f, path, {});
-    return;
+/// Copies the attributes of `path` in `src` onto the same object of `dst`, each read in
+/// its native memory type (variable-length strings as C strings) and written with its
+/// file type.
+void copy_attributes(const File& src, const File& dst, const std::string& path) {
+  for (const std::string& name : attr_names(src, path)) {
+    auto fail = [&](const std::string& what) { throw Error(src.name(), path, what + " attribute '" + name + "'"); };
+    Handle obj(H5Oopen(src.id(), path.c_str(), H5P_DEFAULT));
+    Handle a(obj.valid() ? H5Aopen(obj.id(), name.c_str(), H5P_DEFAULT) : H5I_INVALID_HID);
+    if (!a.valid()) fail("cannot open");
+    Handle ftype(H5Aget_type(a.id())), space(H5Aget_space(a.id()));
+    Handle mtype(ftype.valid() ? H5Tget_native_type(ftype.id(), H5T_DIR_DEFAULT) : H5I_INVALID_HID);
+    const hssize_t n = space.valid() ? H5Sget_simple_extent_npoints(space.id()) : -1;
+    if (!mtype.valid() || n < 0) fail("cannot read");
+    const double size = static_cast<double>(n) * static_cast<double>(H5Tget_size(mtype.id()));
+    if (size > 1e9) fail("too large (" + std::to_string(n) + " elements):");  // a damaged count
+    std::vector<unsigned char> buf(static_cast<std::size_t>(size) + 1);
+    if (n > 0 && H5Aread(a.id(), mtype.id(), buf.data()) < 0) fail("cannot read");
+    Handle to(H5Oopen(dst.id(), path.c_str(), H5P_DEFAULT));
+    Handle b(to.valid() ? H5Acreate2(to.id(), name.c_str(), ftype.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT)
+                        : H5I_INVALID_HID);
+    const bool written = b.valid() && (n == 0 || H5Awrite(b.id(), mtype.id(), buf.data()) >= 0);
+    if (n > 0 && (H5Tdetect_class(mtype.id(), H5T_VLEN) > 0 || H5Tis_variable_str(mtype.id()) > 0))
+      H5Dvlen_reclaim(mtype.id(), space.id(), H5P_DEFAULT, buf.data());
+    if (!written) fail("cannot copy");
   }
-  const double per_row = elements / static_cast<double>(dims[0]);
-  const auto block = static_cast<hsize_t>(std::max(1.0, std::floor(kBlockElements / std::max(per_row, 1.0))));
-  for (hsize_t first = 0; first < dims[0]; first += block) {
-    try {
-      read_rows<T>(f, path, first, std::min(block, dims[0] - first));
-    } catch (const Error&) {  // a non-finite value in this block: the next blocks are still read
-    }
-  }
-}
-
-void read_dataset(const File& f, const std::string& path) {
-  const std::vector<hsize_t> dims = shape(f, path);
-  H5T_class_t cls = H5T_NO_CLASS;
-  {
-    Handle d(H5Dopen2(f.id(), path.c_str(), H5P_DEFAULT));
-    Handle t(d.valid() ? H5Dget_type(d.id()) : H5I_INVALID_HID);
-    if (t.valid()) cls = H5Tget_class(t.id());
-  }
-  if (cls != H5T_INTEGER) {
-    read_in_blocks<double>(f, path, dims);  // numbers; anything else fails as in the readers
-    return;
-  }
-  read_in_blocks<std::int64_t>(f, path, dims);
-  // The readers also convert integers to these types: one row each takes HDF5 through
-  // each conversion of this dataset's type.
-  const hsize_t rows = dims.empty() || dims[0] == 0 ? 0 : 1;
-  auto one_row = [&](auto tag) {
-    try {
-      read_rows<decltype(tag)>(f, path, 0, rows);
-    } catch (const Error&) {
-    }
-  };
-  if (rows > 0) {
-    one_row(std::int32_t{});
-    one_row(std::int8_t{});
-    one_row(std::uint8_t{});
-    one_row(double{});
-  }
-}
-
-void read_attributes(const File& f, const std::string& path) {
-  has_attr(f, path, "\x01 cdpile: absent");  // H5Aexists of an absent name reads every attribute message
-  for (const std::string& name : attr_names(f, path)) {
-    try {
-      has_attr(f, path, name);
-      switch (attr_class(f, path, name)) {
-        case H5T_STRING: attr_strings(f, path, name); break;
-        case H5T_INTEGER:
-          try {
-            attr_ints(f, path, name);
-          } catch (const Error&) {
-          }
-          attr_double(f, path, name);
-          break;
-        default: attr_double(f, path, name);  // numbers; anything else fails as in the readers
-      }
-    } catch (const Error&) {
-    }
-  }
-}
-
-std::string child_path(const std::string& group, const std::string& name) {
-  return group == "/" ? "/" + name : group + "/" + name;
 }
 
 /// In the child, before the file is read: no signal handler of the tool's (SIGINT's would
@@ -209,34 +163,26 @@ int superblock_version(const std::string& path) {
   });
 }
 
-void read_every_object(const File& f) {
-  std::set<haddr_t> seen;  // hard links (and a damaged file's cycles) lead to an object once
-  std::vector<std::string> todo{"/"};
-  while (!todo.empty()) {
-    const std::string path = todo.back();
-    todo.pop_back();
-    try {
-      H5O_info_t info;
-      {
-        Handle obj(H5Oopen(f.id(), path.c_str(), H5P_DEFAULT));
-        if (!obj.valid() || H5Oget_info2(obj.id(), &info, H5O_INFO_BASIC) < 0) continue;
-      }
-      if (!seen.insert(info.addr).second) continue;
-      read_attributes(f, path);
-      if (info.type == H5O_TYPE_DATASET) {
-        read_dataset(f, path);
-      } else if (info.type == H5O_TYPE_GROUP) {
-        for (const std::string& name : members(f, path)) {
-          const std::string p = child_path(path, name);
-          if (exists(f, p)) todo.push_back(p);
-        }
-      }
-    } catch (const Error&) {  // the readers meet the same error; the other objects are still read
+std::vector<char> rewrite_in_current_format(const File& src) {
+  File dst = create_in_memory(src.name());
+  copy_attributes(src, dst, "/");
+  for (const std::string& name : members(src, "/")) {
+    H5L_info_t link;
+    if (H5Lget_info(src.id(), name.c_str(), &link, H5P_DEFAULT) < 0) throw Error(src.name(), "/" + name, "cannot read the link");
+    if (link.type == H5L_TYPE_SOFT) {  // kept as a link, as H5Ocopy keeps those below the root
+      std::vector<char> target(std::min<std::size_t>(link.u.val_size, 1 << 16) + 1, '\0');
+      if (H5Lget_val(src.id(), name.c_str(), target.data(), target.size(), H5P_DEFAULT) < 0 ||
+          H5Lcreate_soft(target.data(), dst.id(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT) < 0)
+        throw Error(src.name(), "/" + name, "cannot copy the link");
+      continue;
     }
+    if (H5Ocopy(src.id(), name.c_str(), dst.id(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT) < 0)
+      throw Error(src.name(), "/" + name, "cannot read (damaged?)");
   }
+  return image_of(dst);
 }
 
-Check run_checked(const std::function<void()>& open_and_read, double cpu_seconds, double memory_bytes) {
+Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds, double memory_bytes) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot start a checking process: " + std::string(std::strerror(errno)));
   const pid_t parent = ::getpid();
@@ -250,55 +196,89 @@ Check run_checked(const std::function<void()>& open_and_read, double cpu_seconds
   if (pid == 0) {
     ::close(fds[0]);
     prepare_child(parent, cpu_seconds, memory_bytes);
+    // 'k' and the bytes, or 'e' and an Error's text.
+    std::string out;
     try {
-      open_and_read();
-    } catch (...) {  // an Error (or no memory within the bound): the parent meets it too, as one line
+      const std::vector<char> bytes = work();
+      out.reserve(bytes.size() + 1);
+      out = "k";
+      out.append(bytes.begin(), bytes.end());
+    } catch (const Error& e) {
+      out = std::string("e") + e.what();
+    } catch (const std::bad_alloc&) {
+      out = "e";
     }
-    const char done = 'k';
-    while (::write(fds[1], &done, 1) < 0 && errno == EINTR) {}
+    for (std::size_t done = 0; done < out.size();) {
+      const ssize_t w = ::write(fds[1], out.data() + done, out.size() - done);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) ::_exit(1);
+      done += static_cast<std::size_t>(w);
+    }
     ::_exit(0);  // no destructor, atexit handler or stdio flush of the parent's state
   }
   ::close(fds[1]);
-  // The byte the child writes when it is done, or the end of the pipe when it dies. The
-  // CPU bound ends a loop; a wall-clock bound (far longer: the machine may be busy) ends
-  // a child that waits for ever, which no damage should make it do.
-  const int wall_ms = static_cast<int>(std::min(1e9, 1000.0 * (60.0 + 20.0 * cpu_seconds)));
-  pollfd p{fds[0], POLLIN, 0};
-  int ready;
-  while ((ready = ::poll(&p, 1, wall_ms)) < 0 && errno == EINTR) {}
-  char done = 0;
-  ssize_t got = 0;
-  if (ready > 0)
-    while ((got = ::read(fds[0], &done, 1)) < 0 && errno == EINTR) {}
-  else
-    ::kill(pid, SIGKILL);
+  // Everything the child writes, until it closes the pipe by ending. The CPU bound ends a
+  // loop; a wall-clock bound (far longer: the machine may be busy) ends a child that
+  // waits for ever, which no damage should make it do.
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration<double>(60.0 + 20.0 * cpu_seconds);
+  std::vector<char> got;
+  bool timed_out = false;
+  char buf[1 << 16];
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = left > 0 ? ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1 << 30))) : 0;
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) { timed_out = true; break; }
+    const ssize_t r = ::read(fds[0], buf, sizeof buf);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) break;
+    got.insert(got.end(), buf, buf + r);
+  }
+  if (timed_out) ::kill(pid, SIGKILL);
   ::close(fds[0]);
   int status = 0;
   rusage ru{};
   while (::wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {}
-  if (got == 1 && done == 'k') return Check::passed;
-  if (ready <= 0) return Check::looped;
-  if (WIFSIGNALED(status) &&
-      (WTERMSIG(status) == SIGXCPU || (WTERMSIG(status) == SIGKILL && cpu_seconds_of(ru) >= std::floor(cpu_seconds))))
-    return Check::looped;
-  return Check::crashed;
+  Checked c;
+  const bool ended = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (timed_out ||
+      (WIFSIGNALED(status) &&
+       (WTERMSIG(status) == SIGXCPU || (WTERMSIG(status) == SIGKILL && cpu_seconds_of(ru) >= std::floor(cpu_seconds))))) {
+    c.verdict = Check::looped;
+  } else if (ended && !got.empty() && got[0] == 'k') {
+    c.verdict = Check::passed;
+    c.bytes.assign(got.begin() + 1, got.end());
+  } else if (ended && !got.empty() && got[0] == 'e') {
+    c.verdict = Check::failed;
+    c.error.assign(got.begin() + 1, got.end());
+  } else {
+    c.verdict = Check::crashed;
+  }
+  return c;
 }
 
-void check_earlier_format(int superblock, double bytes, const std::function<File()>& open, const std::string& name) {
-  if (superblock != 0 && superblock != 1) return;
-  // Reading an intact file of this size whole takes a small part of this; a loop on
-  // damaged metadata runs until it.
+File open_earlier_format(int superblock, double bytes, const std::function<File()>& open, const std::string& name) {
+  // Rewriting an intact file of this size takes a small part of this; a loop on damaged
+  // metadata runs until it.
   const double cpu_seconds = 5.0 + std::floor(bytes / 8e6);
-  const Check c = run_checked([&] { read_every_object(open()); }, cpu_seconds, 1e9 + bytes);
-  if (c == Check::passed) return;
+  // The child holds the file's data twice at most (what it reads, what it writes).
+  Checked c = run_checked([&] { return rewrite_in_current_format(open()); }, cpu_seconds, 1e9 + 3 * bytes);
+  if (c.verdict == Check::passed) {
+    auto image = std::make_shared<const std::vector<char>>(std::move(c.bytes));
+    return File(open_image_unchecked(*image, name), image);
+  }
+  if (c.verdict == Check::failed)
+    throw Error(c.error.empty() ? Error::join(name, "", "too large to read within 1 GB of memory plus 3 times its size") : c.error);
   const std::string what =
-      c == Check::crashed ? "crashed reading it"
-                          : "did not finish reading it in " + std::to_string(static_cast<int>(std::ceil(cpu_seconds))) +
-                                " s of CPU time (a loop)";
+      c.verdict == Check::crashed ? "crashed reading it"
+                                  : "did not finish reading it in " + std::to_string(static_cast<int>(cpu_seconds)) +
+                                        " s of CPU time (a loop)";
   throw Error(name, "",
               "damaged file of HDF5's earlier format (superblock version " + std::to_string(superblock) +
                   ", no checksums): libhdf5 " + library_version() + " " + what +
-                  " in a checking process; an intact copy can be rewritten in the checksummed format "
+                  " in a separate process; an intact copy can be rewritten in the checksummed format "
                   "with h5repack --low=2 --high=2 OLD NEW");
 }
 
