@@ -47,7 +47,7 @@
 #endif
 
 // Set by libFuzzer (and callable by anyone) to run when a sanitizer reports an error: in
-// the checking child it would save the input as a crash of the harness, though the
+// the child that rewrites a file it would save the input as a crash of the harness, though the
 // crash is the expected outcome there and the parent handles it. Weak: absent without
 // sanitizers.
 extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
@@ -184,14 +184,14 @@ std::vector<char> rewrite_in_current_format(const File& src) {
 
 Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds, double memory_bytes) {
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot start a checking process: " + std::string(std::strerror(errno)));
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot start a process to read a file of the earlier format: " + std::string(std::strerror(errno)));
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int err = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    throw Error("cannot start a checking process: " + std::string(std::strerror(err)));
+    throw Error("cannot start a process to read a file of the earlier format: " + std::string(std::strerror(err)));
   }
   if (pid == 0) {
     ::close(fds[0]);
