@@ -75,7 +75,7 @@ int version_at_signature(std::uint64_t size, Read&& read) {
 /// file type.
 void copy_attributes(const File& src, const File& dst, const std::string& path) {
   for (const std::string& name : attr_names(src, path)) {
-    auto fail = [&](const std::string& what) { throw Error(src.name(), path, what + " attribute '" + name + "'"); };
+    auto fail = [&](const std::string& what) { throw Error(src.name(), path, "attribute '" + name + "': " + what); };
     Handle obj(H5Oopen(src.id(), path.c_str(), H5P_DEFAULT));
     Handle a(obj.valid() ? H5Aopen(obj.id(), name.c_str(), H5P_DEFAULT) : H5I_INVALID_HID);
     if (!a.valid()) fail("cannot open");
@@ -84,7 +84,7 @@ void copy_attributes(const File& src, const File& dst, const std::string& path) 
     const hssize_t n = space.valid() ? H5Sget_simple_extent_npoints(space.id()) : -1;
     if (!mtype.valid() || n < 0) fail("cannot read");
     const double size = static_cast<double>(n) * static_cast<double>(H5Tget_size(mtype.id()));
-    if (size > 1e9) fail("too large (" + std::to_string(n) + " elements):");  // a damaged count
+    if (size > 1e9) fail("too large (" + std::to_string(n) + " elements)");  // a damaged count
     std::vector<unsigned char> buf(static_cast<std::size_t>(size) + 1);
     if (n > 0 && H5Aread(a.id(), mtype.id(), buf.data()) < 0) fail("cannot read");
     Handle to(H5Oopen(dst.id(), path.c_str(), H5P_DEFAULT));
@@ -196,23 +196,24 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
   if (pid == 0) {
     ::close(fds[0]);
     prepare_child(parent, cpu_seconds, memory_bytes);
-    // 'k' and the bytes, or 'e' and an Error's text.
-    std::string out;
+    auto send = [&](const char* data, std::size_t n) {
+      for (std::size_t done = 0; done < n;) {
+        const ssize_t w = ::write(fds[1], data + done, n - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) ::_exit(1);
+        done += static_cast<std::size_t>(w);
+      }
+    };
+    // 'k' and the bytes, or 'e' and an Error's text (none: out of memory).
     try {
       const std::vector<char> bytes = work();
-      out.reserve(bytes.size() + 1);
-      out = "k";
-      out.append(bytes.begin(), bytes.end());
+      send("k", 1);
+      send(bytes.data(), bytes.size());
     } catch (const Error& e) {
-      out = std::string("e") + e.what();
+      const std::string text = std::string("e") + e.what();
+      send(text.data(), text.size());
     } catch (const std::bad_alloc&) {
-      out = "e";
-    }
-    for (std::size_t done = 0; done < out.size();) {
-      const ssize_t w = ::write(fds[1], out.data() + done, out.size() - done);
-      if (w < 0 && errno == EINTR) continue;
-      if (w <= 0) ::_exit(1);
-      done += static_cast<std::size_t>(w);
+      send("e", 1);
     }
     ::_exit(0);  // no destructor, atexit handler or stdio flush of the parent's state
   }
@@ -249,7 +250,8 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
     c.verdict = Check::looped;
   } else if (ended && !got.empty() && got[0] == 'k') {
     c.verdict = Check::passed;
-    c.bytes.assign(got.begin() + 1, got.end());
+    got.erase(got.begin());  // in place: the image may be large
+    c.bytes = std::move(got);
   } else if (ended && !got.empty() && got[0] == 'e') {
     c.verdict = Check::failed;
     c.error.assign(got.begin() + 1, got.end());
@@ -264,7 +266,12 @@ File open_earlier_format(int superblock, double bytes, const std::function<File(
   // metadata runs until it.
   const double cpu_seconds = 5.0 + std::floor(bytes / 8e6);
   // The child holds the file's data twice at most (what it reads, what it writes).
-  Checked c = run_checked([&] { return rewrite_in_current_format(open()); }, cpu_seconds, 1e9 + 3 * bytes);
+  Checked c;
+  try {
+    c = run_checked([&] { return rewrite_in_current_format(open()); }, cpu_seconds, 1e9 + 3 * bytes);
+  } catch (const Error& e) {  // no pipe or no process: the file named, as every error
+    throw Error(name, "", e.what());
+  }
   if (c.verdict == Check::passed) {
     auto image = std::make_shared<const std::vector<char>>(std::move(c.bytes));
     return File(open_image_unchecked(*image, name), image);
