@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <new>
 #include <stdexcept>
@@ -221,13 +222,23 @@ File create_in_memory(const std::string& name) {
   return File(Handle(id), name);
 }
 
-File open_read(const std::string& path, const std::string& name) {
+File open_read_unchecked(const std::string& path, const std::string& name) {
   silence_errors();
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw Error(name, "", "not an HDF5 file, or truncated");
   hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (id < 0) throw Error(name, "", "cannot open as HDF5 (truncated or damaged?)");
   return File(Handle(id), name);
+}
+
+File open_read(const std::string& path, const std::string& name) {
+  silence_errors();
+  std::error_code ec;
+  const auto bytes = static_cast<double>(std::filesystem::file_size(path, ec));
+  const int superblock = superblock_version(path);
+  if (superblock == 0 || superblock == 1)
+    return open_earlier_format(superblock, ec ? 0.0 : bytes, [&] { return open_read_unchecked(path, name); }, name);
+  return open_read_unchecked(path, name);
 }
 
 File open_write(const std::string& path, const std::string& name) {
@@ -238,6 +249,15 @@ File open_write(const std::string& path, const std::string& name) {
 }
 
 File open_image(const std::vector<char>& bytes, const std::string& name) {
+  silence_errors();
+  const int superblock = superblock_version(bytes);
+  if (superblock == 0 || superblock == 1)
+    return open_earlier_format(superblock, static_cast<double>(bytes.size()),
+                               [&] { return open_image_unchecked(bytes, name); }, name);
+  return open_image_unchecked(bytes, name);
+}
+
+File open_image_unchecked(const std::vector<char>& bytes, const std::string& name) {
   silence_errors();
   // DONT_COPY|DONT_RELEASE: the caller keeps `bytes` alive while the file is open;
   // read-only, so HDF5 never needs to grow the buffer.

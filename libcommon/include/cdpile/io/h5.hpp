@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,7 +46,15 @@ class Handle {
 class File {
  public:
   File() = default;
-  File(Handle h, std::string name) : h_(std::move(h)), name_(std::move(name)) {}
+  /// `image`: the file image the file is opened from, kept alive while it is open.
+  File(Handle h, std::string name, std::shared_ptr<const std::vector<char>> image = nullptr)
+      : h_(std::move(h)), name_(std::move(name)), image_(std::move(image)) {}
+  /// `f`, keeping alive the image it is opened from.
+  File(File&& f, std::shared_ptr<const std::vector<char>> image)
+      : h_(std::move(f.h_)), name_(std::move(f.name_)), image_(std::move(image)) {}
+  ~File() { h_.reset(); }  // the file closes before its image goes
+  File(File&&) = default;
+  File& operator=(File&&) = default;  // h_ first: the old file closes before its image goes
   hid_t id() const { return h_.id(); }
   bool valid() const { return h_.valid(); }
   const std::string& name() const { return name_; }
@@ -52,17 +62,60 @@ class File {
  private:
   Handle h_;
   std::string name_;
+  std::shared_ptr<const std::vector<char>> image_;
 };
 
 File create(const std::string& path, const std::string& name);  ///< truncate
 File create_in_memory(const std::string& name);                 ///< core driver, no backing store
+/// Opens a file (open_read) or a file image (open_image) to read. A file of the earlier
+/// format, whose superblock has no checksum (version 0 or 1), is not read in this process:
+/// open_earlier_format rewrites it in a child process, and the file returned is the
+/// rewritten image.
 File open_read(const std::string& path, const std::string& name);
 File open_write(const std::string& path, const std::string& name);  ///< read-write
 File open_image(const std::vector<char>& bytes, const std::string& name);
+/// open_read and open_image whatever the format: for the child that rewrites a file of the
+/// earlier format, and for the fuzz harnesses' in-process mode.
+File open_read_unchecked(const std::string& path, const std::string& name);
+File open_image_unchecked(const std::vector<char>& bytes, const std::string& name);
 std::vector<char> image_of(const File& f);  ///< flushes and copies the file image
 /// Rewrites the checksum of a version-2 or -3 superblock at the start of a file image
 /// (image_of calls it: HDF5 1.10 leaves it stale).
 void reseal_superblock(std::vector<char>& image);
+
+/// The version of the superblock HDF5 will read: the byte after the first signature at
+/// offset 0, 512, 1024, 2048, ... (HDF5 File Format Specification, "Superblock"); -1 when
+/// there is no signature. Versions 0 and 1 carry no checksum, and neither does any of
+/// the metadata of files of that format.
+int superblock_version(const std::vector<char>& image);
+int superblock_version(const std::string& path);
+
+/// The file `src` written anew in memory in this version's format (checksummed
+/// metadata): the root's attributes copied, every member of the root copied by H5Ocopy
+/// (which decodes every header, attribute and chunk index it copies, and writes them
+/// anew). Errors name the file and the object.
+std::vector<char> rewrite_in_current_format(const File& src);
+
+/// How a child process of run_checked ended.
+enum class Check { passed, failed, crashed, looped };
+struct Checked {
+  Check verdict = Check::crashed;
+  std::vector<char> bytes;  ///< what the work returned (passed)
+  std::string error;        ///< the Error it threw (failed)
+};
+/// Runs `work` in a forked child process with its CPU time bounded by `cpu_seconds` and
+/// its address space by `memory_bytes` above what the process maps now (not under
+/// AddressSanitizer, whose shadow memory is larger than any bound), its stdout and stderr
+/// discarded, and brings back its bytes through a pipe: `passed`, `failed` (it threw an
+/// Error, or ran out of memory within the bound), `crashed` (it died by a signal or a
+/// sanitizer's report) or `looped` (it ran out of CPU time).
+Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds, double memory_bytes);
+/// A file of HDF5's earlier format (superblock `superblock` 0 or 1, `bytes` long, opened
+/// by `open`) rewritten by rewrite_in_current_format in a child process (run_checked,
+/// 5 s of CPU time plus 1 s per 8 MB, 1 GB of memory plus 3 times the file), opened from
+/// the rewritten image. If the child crashes or loops, an Error naming the file that says
+/// so and how to rewrite an intact copy; if rewriting failed, its Error.
+File open_earlier_format(int superblock, double bytes, const std::function<File()>& open, const std::string& name);
 
 bool exists(const File& f, const std::string& path);  ///< a link at this absolute path
 void create_group(const File& f, const std::string& path);  ///< creates parents too
