@@ -29,7 +29,8 @@ Pile dense_pile(std::size_t target, std::uint64_t seed) {
   const double d = 1.0;
   // grains ~ target / 3; width = 4 x height (in rows of sqrt(3)/2 D)
   const double grains = static_cast<double>(target) / 3.0;
-  const auto rows = static_cast<std::size_t>(std::ceil(std::sqrt(grains / 4.0 * std::sqrt(3.0) / 2.0)));
+  const auto rows =
+      static_cast<std::size_t>(std::ceil(std::sqrt(grains / 4.0 * std::sqrt(3.0) / 2.0)));
   const auto cols = static_cast<std::size_t>(std::ceil(grains / static_cast<double>(rows)));
   Pile p;
   std::vector<std::vector<std::int32_t>> id(rows, std::vector<std::int32_t>(cols));
@@ -45,7 +46,8 @@ Pile dense_pile(std::size_t target, std::uint64_t seed) {
   const double mu = 0.5;
   auto touch = [&](std::int32_t a, std::int32_t b) {
     if (p.contacts.size() >= target) return;
-    const Vec2 xa = p.grains.position[static_cast<std::size_t>(a)], xb = p.grains.position[static_cast<std::size_t>(b)];
+    const Vec2 xa = p.grains.position[static_cast<std::size_t>(a)],
+               xb = p.grains.position[static_cast<std::size_t>(b)];
     const Vec2 n = (xa - xb).normalized();
     const double fn = 1.0 + u(rng);
     const double ft = (u(rng) < 0.08 ? 1.0 : 0.9 * u(rng)) * mu * fn;
@@ -68,9 +70,9 @@ Pile dense_pile(std::size_t target, std::uint64_t seed) {
 void set_counters(benchmark::State& state, std::size_t contacts) {
   state.counters["contacts"] = static_cast<double>(contacts);
   // the time per contact (benchmark prints it with its unit)
-  state.counters["per_contact"] = benchmark::Counter(
-      static_cast<double>(contacts) * static_cast<double>(state.iterations()),
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["per_contact"] =
+      benchmark::Counter(static_cast<double>(contacts) * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_LocalNuFrame(benchmark::State& state) {
@@ -90,7 +92,8 @@ void BM_CriticalFrame(benchmark::State& state) {
   const std::int64_t free = free_grain_count(p.grains);
   std::size_t n = 0;
   for (auto _ : state) {
-    const ContactSet set = select_contacts(p.contacts, p.grains.species, Friction{}, CriticalRule{});
+    const ContactSet set =
+        select_contacts(p.contacts, p.grains.species, Friction{}, CriticalRule{});
     const PileState s = pile_state(set, p.grains.species, free, 1.0, RattlerRule::exclude);
     benchmark::DoNotOptimize(s.nu);
     n = set.size();
@@ -103,7 +106,8 @@ void BM_CorrelateFrame(benchmark::State& state) {
   const ContactSet set = select_contacts(p.contacts, p.grains.species, Friction{}, CriticalRule{});
   LocalNuStudy study(default_localnu_options());
   const int frames = 20;
-  for (int f = 0; f < frames; ++f) study.add_frame(0, "bench", f, f, 0.1 * f, 1.0, set, true, false);
+  for (int f = 0; f < frames; ++f)
+    study.add_frame(0, "bench", f, f, 0.1 * f, 1.0, set, true, false);
   const Product lp = study.product();
   for (auto _ : state) {
     Product c = correlate(lp, CorrelateOptions{});

@@ -158,8 +158,9 @@ void BM_TiltStep(benchmark::State& state) {
 
 void print_summary() {
   if (g_results.empty()) return;
-  std::printf("\nPer-stage wall time of a step (StepProfile), %% of the staged time; ms/step\n"
-              "wall and CPU; ns per local solve (solve stage / (sweeps x candidates)):\n");
+  std::printf(
+      "\nPer-stage wall time of a step (StepProfile), %% of the staged time; ms/step\n"
+      "wall and CPU; ns per local solve (solve stage / (sweeps x candidates)):\n");
   std::printf("%7s %8s %8s %7s %7s %7s %9s %8s %7s %8s %8s %7s %9s\n", "N", "wall_ms", "cpu_ms",
               "sweeps", "detect", "frames", "delassus", "warm", "solve", "upd_vel", "upd_pos",
               "store", "ns/update");
@@ -167,13 +168,13 @@ void print_summary() {
     const auto& p = r.profile;
     const double t = p.total();
     auto pc = [&](double x) { return 100.0 * x / t; };
-    std::printf("%7lld %8.3f %8.3f %7.1f %6.1f%% %6.1f%% %8.1f%% %7.1f%% %6.1f%% %7.1f%% %7.1f%% "
-                "%6.1f%% %9.1f\n",
-                static_cast<long long>(n), r.ms_per_step, r.cpu_ms_per_step, r.sweeps,
-                pc(p.detect), pc(p.frames),
-                pc(p.delassus), pc(p.warm_start), pc(p.solve), pc(p.update_velocities),
-                pc(p.update_positions), pc(p.store),
-                1e9 * p.solve / static_cast<double>(std::max<std::int64_t>(p.contact_updates, 1)));
+    std::printf(
+        "%7lld %8.3f %8.3f %7.1f %6.1f%% %6.1f%% %8.1f%% %7.1f%% %6.1f%% %7.1f%% %7.1f%% "
+        "%6.1f%% %9.1f\n",
+        static_cast<long long>(n), r.ms_per_step, r.cpu_ms_per_step, r.sweeps, pc(p.detect),
+        pc(p.frames), pc(p.delassus), pc(p.warm_start), pc(p.solve), pc(p.update_velocities),
+        pc(p.update_positions), pc(p.store),
+        1e9 * p.solve / static_cast<double>(std::max<std::int64_t>(p.contact_updates, 1)));
   }
   std::printf("\nMemory held by the engine (heap bytes after the steps):\n");
   std::printf("%7s %9s %10s %11s %12s\n", "N", "grains", "contacts", "bytes", "bytes/grain");
@@ -188,8 +189,7 @@ void print_summary() {
   // Linear in N means a constant cost per grain; vectors grow by doubling, so up to a
   // factor 2 between sizes is capacity slack, not growth.
   std::printf("bytes/grain from %.1f to %.1f (ratio %.2f): %s\n", lo, hi, hi / lo,
-              hi / lo < 2.0 ? "linear in N (within vector capacity slack)"
-                            : "NOT linear in N");
+              hi / lo < 2.0 ? "linear in N (within vector capacity slack)" : "NOT linear in N");
   std::printf("peak resident set of the process: %.1f MB\n", peak_rss_mb());
 }
 
@@ -199,9 +199,12 @@ int main(int argc, char** argv) {
   // Our own options first (Google Benchmark rejects unknown ones).
   std::vector<char*> rest{argv[0]};
   for (int k = 1; k < argc; ++k) {
-    if (std::strcmp(argv[k], "--piles") == 0 && k + 1 < argc) g_piles = argv[++k];
-    else if (std::strcmp(argv[k], "--steps") == 0 && k + 1 < argc) g_steps = std::atoll(argv[++k]);
-    else rest.push_back(argv[k]);
+    if (std::strcmp(argv[k], "--piles") == 0 && k + 1 < argc)
+      g_piles = argv[++k];
+    else if (std::strcmp(argv[k], "--steps") == 0 && k + 1 < argc)
+      g_steps = std::atoll(argv[++k]);
+    else
+      rest.push_back(argv[k]);
   }
   if (g_steps < 1) {
     std::fprintf(stderr, "bench_engine: --steps must be at least 1\n");

@@ -59,8 +59,10 @@ void BM_SiconosNsgs(benchmark::State& state, const std::string& file) {
 int main(int argc, char** argv) {
   std::vector<char*> rest{argv[0]};
   for (int k = 1; k < argc; ++k) {
-    if (std::strcmp(argv[k], "--data") == 0 && k + 1 < argc) g_data = argv[++k];
-    else rest.push_back(argv[k]);
+    if (std::strcmp(argv[k], "--data") == 0 && k + 1 < argc)
+      g_data = argv[++k];
+    else
+      rest.push_back(argv[k]);
   }
   for (const char* file : kFiles)
     benchmark::RegisterBenchmark(("BM_SiconosNsgs/" + std::string(file).substr(24, 5)).c_str(),

@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
   try {
     const int k_copies = std::stoi(argv[2]);
     const long max_steps = std::stol(argv[3]);
-    if (k_copies < 1 || max_steps < 0) throw cdpile::UsageError("K must be >= 1 and MAX_STEPS >= 0");
+    if (k_copies < 1 || max_steps < 0)
+      throw cdpile::UsageError("K must be >= 1 and MAX_STEPS >= 0");
     io::Output out(output, false);  // refuses an existing file before any work
 
     sim::PileInput pile;
@@ -64,8 +65,8 @@ int main(int argc, char** argv) {
     engine.set_state(sim::warm_start_state(warm, settings.time_step));
     const sim::Agitation agitation(tiled.grains, settings.gravity);
     const double rest_energy = io::as_real(pile.parameters, "rest_energy", input);
-    const double rest_speed =
-        io::as_real(pile.parameters, "rest_speed", input) * std::sqrt(settings.gravity * agitation.diameter());
+    const double rest_speed = io::as_real(pile.parameters, "rest_speed", input) *
+                              std::sqrt(settings.gravity * agitation.diameter());
     const std::int64_t rest_steps = io::as_int(pile.parameters, "rest_steps", input);
     tiled.series = sim::observables_series();
     std::int64_t quiet = 0, unconverged = 0;
@@ -73,8 +74,9 @@ int main(int argc, char** argv) {
     for (long k = 1; k <= max_steps && quiet < rest_steps; ++k) {
       const cd::StepReport r = engine.step(0.0);
       const Contacts c = engine.contacts();
-      sim::append_observables(tiled.series, r,
-                              sim::count_critical(c, tiled.grains.species, settings.mu_grain, settings.mu_wall, 1e-3));
+      sim::append_observables(
+          tiled.series, r,
+          sim::count_critical(c, tiled.grains.species, settings.mu_grain, settings.mu_wall, 1e-3));
       unconverged += r.converged ? 0 : 1;
       overlap = std::max(overlap, r.max_overlap);
       a = agitation(r.kinetic_energy + r.rotational_energy);
@@ -109,11 +111,12 @@ int main(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
     sim::write_pile(out.create_hdf5(), tiled, io::provenance_now("tile_pile", command_line, input));
     out.commit();
-    std::printf("%s: %zu grains, %d copies, settled %s after %lld steps (%lld at the sweep cap), "
-                "phi %.4f, z %.3f, largest overlap %.2e m\n",
-                output.c_str(), tiled.grains.size(), k_copies, tiled.settled ? "yes" : "NO",
-                static_cast<long long>(tiled.steps), static_cast<long long>(unconverged), m.packing_fraction, m.z,
-                overlap);
+    std::printf(
+        "%s: %zu grains, %d copies, settled %s after %lld steps (%lld at the sweep cap), "
+        "phi %.4f, z %.3f, largest overlap %.2e m\n",
+        output.c_str(), tiled.grains.size(), k_copies, tiled.settled ? "yes" : "NO",
+        static_cast<long long>(tiled.steps), static_cast<long long>(unconverged),
+        m.packing_fraction, m.z, overlap);
   } catch (const std::exception& e) {
     std::cerr << "tile_pile: " << e.what() << "\n";
     return 1;

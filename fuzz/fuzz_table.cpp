@@ -2,8 +2,8 @@
 // another code's contacts; the first byte chooses how duplicates are treated (refused or
 // merged). A cdpile::Error is the expected outcome of a bad table; anything else is a
 // finding (docs/fuzzing.md).
-#include "cdpile/io/contact_table.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/io/contact_table.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -14,7 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cdpile::io::ContactTableOptions opt;
   opt.duplicates = (data[0] & 1) ? cdpile::io::Duplicates::merge : cdpile::io::Duplicates::error;
   try {
-    cdpile::io::read_contact_table(std::string(reinterpret_cast<const char*>(data) + 1, size - 1), "fuzz", opt);
+    cdpile::io::read_contact_table(std::string(reinterpret_cast<const char*>(data) + 1, size - 1),
+                                   "fuzz", opt);
   } catch (const cdpile::Error&) {
   }
   return 0;

@@ -11,9 +11,10 @@ using namespace cdpile;
 
 static void usage(cli::Usage& u) {
   u.synopsis = "test fixture: parse every kind of option; write or read a small pile file";
-  u.description = {"Without INPUT, writes a sample pile of --count grains to -o. With INPUT "
-                   "(a pile or run file, '-' for stdin), validates it and prints a one-line "
-                   "summary, or copies it to -o."};
+  u.description = {
+      "Without INPUT, writes a sample pile of --count grains to -o. With INPUT "
+      "(a pile or run file, '-' for stdin), validates it and prints a one-line "
+      "summary, or copies it to -o."};
   u.argument("input", "pile or run file to read ('-' for standard input)", false, false);
   u.output("output file ('-' for standard output)");
   u.integer("count", 4, "number of grains of the sample pile", 1, 100000);
@@ -31,15 +32,17 @@ static void run(const cli::Args& a) {
   if (a.text("mode") == "args") {
     std::cout << "count=" << a.integer("count") << "\nscale=" << a.real("scale") << "\nradii=";
     for (double r : a.real_list("radii")) std::cout << r << ",";
-    std::cout << "\nlabel=" << a.text("label") << "\nloud=" << a.flag("loud") << "\nseed=" << a.seed()
-              << "\noutput=" << a.output() << "\ninput=" << a.argument("input") << "\n";
+    std::cout << "\nlabel=" << a.text("label") << "\nloud=" << a.flag("loud")
+              << "\nseed=" << a.seed() << "\noutput=" << a.output()
+              << "\ninput=" << a.argument("input") << "\n";
     return;
   }
   const std::string in = a.argument("input");
   if (in.empty()) {
     io::Output out(a.output(), a.force());
-    io::write_sample_pile(out.create_hdf5(), static_cast<std::size_t>(a.integer("count")), a.real("scale"),
-                          a.seed(), io::provenance_now(a.tool(), a.command_line(), ""));
+    io::write_sample_pile(out.create_hdf5(), static_cast<std::size_t>(a.integer("count")),
+                          a.real("scale"), a.seed(),
+                          io::provenance_now(a.tool(), a.command_line(), ""));
     out.commit();
     return;
   }
@@ -48,7 +51,8 @@ static void run(const cli::Args& a) {
   std::size_t contacts = 0;
   for (std::size_t k = 0; k < r.frame_count(); ++k) contacts += r.frame(k).contacts.size();
   if (a.output().empty()) {
-    std::cout << "grains " << r.grain_count() << " frames " << r.frame_count() << " contacts " << contacts << "\n";
+    std::cout << "grains " << r.grain_count() << " frames " << r.frame_count() << " contacts "
+              << contacts << "\n";
     return;
   }
   io::Output out(a.output(), a.force());

@@ -12,7 +12,8 @@
 using namespace cdpile;
 
 static void usage(cli::Usage& u) {
-  u.synopsis = "fit nu_bar = nu_inf (1 + A r^alpha) for r <= L; r_c(theta); r_c ~ (theta_c - theta)^-beta";
+  u.synopsis =
+      "fit nu_bar = nu_inf (1 + A r^alpha) for r <= L; r_c(theta); r_c ~ (theta_c - theta)^-beta";
   u.description = {
       "Reads the product of correlate (TSV or HDF5; '-' for standard input) and, with --nu, the "
       "product of critical (its ensemble nu(theta) and its nu_c).",
@@ -33,11 +34,13 @@ static void usage(cli::Usage& u) {
       "Eq (5): r_c(theta) = [(nu_c/nu_inf - 1)/A]^(1/alpha) in D, from each window's A and alpha "
       "(--rc-from window) or from the affine fits at the window's theta (--rc-from affine); its se "
       "by linear propagation of cov(A, alpha) and of independent errors on nu_c and nu_inf. NA "
-      "where undefined ((nu_c/nu_inf - 1)/A <= 0). nu_c is --nu-c (with --nu-c-se), else critical's "
+      "where undefined ((nu_c/nu_inf - 1)/A <= 0). nu_c is --nu-c (with --nu-c-se), else "
+      "critical's "
       "nu_c and nu_c_se; without either r_c is not computed.",
       "Fig 6: ln r_c = ln C - beta ln(theta_c - theta) fitted over the windows with theta in "
       "[--power-from, --power-to] (default from 15 deg, the paper's range), weighted by "
-      "se(r_c)/r_c. theta_c is fitted, kept above the largest theta (as theta_max + exp(s)), unless "
+      "se(r_c)/r_c. theta_c is fitted, kept above the largest theta (as theta_max + exp(s)), "
+      "unless "
       "--theta-c gives it; beta and theta_c get standard errors from the covariance (the delta "
       "method for theta_c). It needs 4 windows (3 with --theta-c). A fitted theta_c that runs onto "
       "the last angle is a boundary solution: no beta, result power_degenerate = 1 and a note.",
@@ -55,7 +58,8 @@ static void usage(cli::Usage& u) {
   u.integer("min-points", 4, "radii needed to fit a window", 3, 1000000);
   u.real_opt("from", "fit windows from this tilt angle", "deg");
   u.real_opt("to", "fit windows up to this tilt angle", "deg");
-  u.real_opt("affine-from", "affine fits from this tilt angle (default: every fitted window)", "deg");
+  u.real_opt("affine-from", "affine fits from this tilt angle (default: every fitted window)",
+             "deg");
   u.real_opt("affine-to", "affine fits up to this tilt angle", "deg");
   u.group("Cluster size (eq 5) and divergence (Fig 6)");
   u.real_opt("nu-c", "nu_c of eq (5) (default: the critical product's)", "", 1e-12, 0.999999);
@@ -64,9 +68,11 @@ static void usage(cli::Usage& u) {
   u.real("power-from", 15.0, "power-law fit from this tilt angle", "deg", -360, 360);
   u.real_opt("power-to", "power-law fit up to this tilt angle", "deg");
   u.real_opt("theta-c", "theta_c of the power law (default: fitted)", "deg");
-  u.example("The end of the pipeline", "localnu run*.h5 -o - | correlate - -o - | clusterfit - --nu critical.tsv",
+  u.example("The end of the pipeline",
+            "localnu run*.h5 -o - | correlate - -o - | clusterfit - --nu critical.tsv",
             "nu_inf and nu_c from critical's product");
-  u.example("beta with theta_c given", "clusterfit nubar.h5 --nu critical.h5 --theta-c 20 | grep '^# result beta'",
+  u.example("beta with theta_c given",
+            "clusterfit nubar.h5 --nu critical.h5 --theta-c 20 | grep '^# result beta'",
             "beta and beta_se");
 }
 
@@ -103,14 +109,16 @@ static void run(const cli::Args& a) {
   if (opt.power.lo >= opt.power.hi) throw UsageError("--power-from must be below --power-to");
   opt.theta_c = a.real_opt("theta-c");
 
-  if (a.text("nu") == "-" && a.argument("correlate") == "-") throw UsageError("'-' (standard input) given twice");
+  if (a.text("nu") == "-" && a.argument("correlate") == "-")
+    throw UsageError("'-' (standard input) given twice");
 
   const io::Input in(a.argument("correlate"));
   io::ProductFile cor = io::read_product(in, "correlate");
   std::optional<io::ProductFile> crit;
   std::string inputs = in.name();
   // the history of every input: correlate's chain, and critical's with --nu
-  std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories{{in.name(), cor.provenance}};
+  std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories{
+      {in.name(), cor.provenance}};
   if (!a.text("nu").empty()) {
     const io::Input cin(a.text("nu"));
     crit = io::read_product(cin, "critical");
@@ -122,7 +130,9 @@ static void run(const cli::Args& a) {
     p = analysis::clusterfit(cor.product, crit ? &crit->product : nullptr, opt);
   } catch (const Error& e) {
     const std::string what = e.what();
-    if (what.rfind(in.name() + ":", 0) == 0 || (crit && what.rfind(crit->product.source + ":", 0) == 0)) throw;
+    if (what.rfind(in.name() + ":", 0) == 0 ||
+        (crit && what.rfind(crit->product.source + ":", 0) == 0))
+      throw;
     throw Error(in.name(), "", what);
   }
   std::vector<io::Provenance> history = io::merge_histories(histories);

@@ -9,7 +9,9 @@
 using namespace cdpile;
 
 static void usage(cli::Usage& u) {
-  u.synopsis = "nu_bar(theta, r): the mean local state around critical contacts, per frame and per theta window";
+  u.synopsis =
+      "nu_bar(theta, r): the mean local state around critical contacts, per frame and per theta "
+      "window";
   u.description = {
       "Reads the product of localnu (TSV or HDF5; '-' for standard input) and writes nu_bar(theta, "
       "r) = the mean of nu_i(theta, r) over the critical contacts (eq 3), for every radius r of "
@@ -40,7 +42,8 @@ static void usage(cli::Usage& u) {
   u.real("window-start", 0.0, "start of the first window", "deg", -360, 360);
   u.real_opt("from", "use frames from this tilt angle", "deg");
   u.real_opt("to", "use frames up to this tilt angle", "deg");
-  u.example("nu_bar against r at every degree, for gnuplot", "correlate localnu.h5 --table windows > nubar.tsv",
+  u.example("nu_bar against r at every degree, for gnuplot",
+            "correlate localnu.h5 --table windows > nubar.tsv",
             "columns theta, r, nu_bar, se, ... one block; plot with 'u 4:8:9 w yerr'");
   u.example("In a pipe", "localnu run.h5 -o - | correlate - -o - | clusterfit - --nu critical.tsv",
             "see docs/analysis.md, 'The pipeline'");

@@ -12,7 +12,8 @@
 using namespace cdpile;
 
 static void usage(cli::Usage& u) {
-  u.synopsis = "nu = Nc/N, z, Ek, lambda per step and per frame; events; ensemble; envelope and nu_c";
+  u.synopsis =
+      "nu = Nc/N, z, Ek, lambda per step and per frame; events; ensemble; envelope and nu_c";
   u.description = {
       "Reads one or more tilt runs (the ensemble is the list of files) and writes, per step "
       "(from /observables) and per frame (from the contacts and grains), the tilt angle theta, "
@@ -70,7 +71,8 @@ static void usage(cli::Usage& u) {
       "--envelope-window degrees before theta_c, then mean and standard error over runs. A "
       "fourth reading keeps the pile's parts at rest while others move: per frame N_rest and "
       "Nc_rest count the contacts whose two bodies are slower than --rest-speed sqrt(g D) (a "
-      "wall is at rest) and which do not slip (--slip-speed), nu_rest = Nc_rest/N_rest, and nu_c_rest is the limit of its envelope "
+      "wall is at rest) and which do not slip (--slip-speed), nu_rest = Nc_rest/N_rest, and "
+      "nu_c_rest is the limit of its envelope "
       "(columns *_rest).",
       "Per frame also: z_paper, the paper's coordination (active contacts of the free grains, "
       "walls and glued grains included, per free grain, rattlers included), the contacts that "
@@ -96,24 +98,33 @@ static void usage(cli::Usage& u) {
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
   u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
   u.group("Series, ensemble and envelope");
-  u.text("series", "auto", "nu(theta) series of the ensemble, envelope and events", {"auto", "steps", "frames", "sliding"});
+  u.text("series", "auto", "nu(theta) series of the ensemble, envelope and events",
+         {"auto", "steps", "frames", "sliding"});
   u.real("grid", 0.1, "bin width of the ensemble mean", "deg", 1e-6, 90);
   u.real("envelope-window", 0.5, "window of the maxima of the envelope", "deg", 1e-6, 90);
-  u.real_opt("envelope-from", "fit the envelope from this angle (default: windows where every run contributes)", "deg");
+  u.real_opt("envelope-from",
+             "fit the envelope from this angle (default: windows where every run contributes)",
+             "deg");
   u.real_opt("envelope-to", "fit the envelope up to this angle", "deg");
   u.group("Static states, slip and mobilisation");
-  u.real("rest-energy", 1e-6, "a state is at rest below this (Ek + Erot) per free grain, in m g D", "", 0, 1e300);
-  u.real("rest-speed", 1e-2, "... and with every grain slower than this, in sqrt(g D)", "", 0, 1e300);
+  u.real("rest-energy", 1e-6, "a state is at rest below this (Ek + Erot) per free grain, in m g D",
+         "", 0, 1e300);
+  u.real("rest-speed", 1e-2, "... and with every grain slower than this, in sqrt(g D)", "", 0,
+         1e300);
   u.real("slip-speed", analysis::default_slip_speed,
          "a contact slips above this tangential relative velocity, in sqrt(g D)", "", 0, 1e300);
-  u.real("mobilisation-window", 2.0, "tilt windows of the mobilisation and windows tables", "deg", 1e-3, 90);
+  u.real("mobilisation-window", 2.0, "tilt windows of the mobilisation and windows tables", "deg",
+         1e-3, 90);
   u.group("Events and avalanche");
-  u.integer("event-hysteresis", 1, "contacts by which N must move back to confirm a turning point", 1, 1000000);
+  u.integer("event-hysteresis", 1, "contacts by which N must move back to confirm a turning point",
+            1, 1000000);
   u.integer("event-min-drop", 1, "keep events losing at least this many contacts", 1, 1000000000);
-  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300, 1e300);
+  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300,
+         1e300);
   u.real("avalanche-hold", 0.2, "Ek must stay above the threshold this long", "deg", 0, 90);
   u.flag("no-cut", "keep data after each run's theta_c in the ensemble and envelope");
-  u.example("One run, the per-frame table for gnuplot", "critical run.h5 --table frames > frames.tsv",
+  u.example("One run, the per-frame table for gnuplot",
+            "critical run.h5 --table frames > frames.tsv",
             "columns run, frame, step, theta, N, Nc, nu, ... with a commented header");
   u.example("An ensemble of 15 runs as an HDF5 product", "critical runs/run*.h5 -o critical.h5",
             "tables under /tables, nu_c and theta_c under /results");
@@ -125,10 +136,11 @@ static void run(const cli::Args& a) {
   cli::check_output(a);  // refuse a bad target before the work
   analysis::CriticalOptions opt;
   opt.rule = cli::critical_rule(a);
-  opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude : analysis::RattlerRule::include;
+  opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude
+                                                 : analysis::RattlerRule::include;
   const std::string& series = a.text("series");
-  opt.source = series == "steps"    ? analysis::SeriesSource::steps
-               : series == "frames" ? analysis::SeriesSource::frames
+  opt.source = series == "steps"     ? analysis::SeriesSource::steps
+               : series == "frames"  ? analysis::SeriesSource::frames
                : series == "sliding" ? analysis::SeriesSource::sliding
                                      : analysis::SeriesSource::automatic;
   opt.grid_step = a.real("grid");
@@ -151,7 +163,8 @@ static void run(const cli::Args& a) {
   opt.cut_at_avalanche = !a.flag("no-cut");
   opt.step_table = !a.flag("no-steps");
 
-  // an unknown --table is refused by the parser; one left out by --no-steps here, before any run is read
+  // an unknown --table is refused by the parser; one left out by --no-steps here, before any run is
+  // read
   cli::refuse_table_if(a, "steps", !opt.step_table, "with --no-steps");
 
   std::vector<analysis::RunRecord> runs;
@@ -167,8 +180,10 @@ static void run(const cli::Args& a) {
         io::choose_friction(&rr.header(), cli::friction_choice(a), in.name());
     // --series steps with another rule than the run's: refused before its frames are read
     if (opt.source == analysis::SeriesSource::steps)
-      analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule, mu);
-    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed, opt.rest.speed);
+      analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule,
+                                  mu);
+    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers,
+                                                opt.slip_speed, opt.rest.speed);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
     runs.push_back(std::move(r));

@@ -53,35 +53,49 @@ static void usage(cli::Usage& u) {
       "--map-theta, else the last frame of the loading phase, of input --map-run. x, y and x_D, "
       "y_D give the node in m and in D; after 'localnu run.h5 --table map > map.tsv', gnuplot's "
       "'plot \"map.tsv\" u 5:6:9 w image' shows it, "
-      "and to-xdmf on the HDF5 product gives ParaView the field. --per-contact adds nu_i(r) of every contact of that frame.",
+      "and to-xdmf on the HDF5 product gives ParaView the field. --per-contact adds nu_i(r) of "
+      "every contact of that frame.",
       "Output: TSV on standard output by default (tables frames, states, pdf, map, contacts), an "
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "
       "without critical contacts give NA, never NaN."};
-  u.argument("inputs", "tilt runs (HDF5) or contact tables (TSV/CSV); '-' for standard input", true, true);
+  u.argument("inputs", "tilt runs (HDF5) or contact tables (TSV/CSV); '-' for standard input", true,
+             true);
   cli::declare_product_output(u, {"frames", "states", "pdf", "map", "contacts"});
-  cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain; required for a table)");
+  cli::declare_critical_rule(
+      u, "grain-grain friction coefficient (default: the run's mu_grain; required for a table)");
   u.group("Local state");
-  u.real_list("radii", "1:1:20", "radii r of the neighbourhoods (a list, or FIRST:STEP:LAST)", "D", 1e-6, 1e6);
+  u.real_list("radii", "1:1:20", "radii r of the neighbourhoods (a list, or FIRST:STEP:LAST)", "D",
+              1e-6, 1e6);
   u.flag("exclude-self", "leave contact i out of its own neighbourhood");
   u.text("edge", "keep", "neighbourhoods crossing the pile's outline", {"keep", "exclude"});
-  u.real_opt("diameter", "mean diameter D (required for a contact table, in its length unit; overrides a run's)", "", 1e-300, 1e300);
-  u.text("duplicates", "error", "a contact given twice in a table's frame (same ids, or same point without ids): "
-         "an error naming both lines, or merged into one (the rows must agree; a note counts them)", {"error", "merge"});
+  u.real_opt(
+      "diameter",
+      "mean diameter D (required for a contact table, in its length unit; overrides a run's)", "",
+      1e-300, 1e300);
+  u.text("duplicates", "error",
+         "a contact given twice in a table's frame (same ids, or same point without ids): "
+         "an error naming both lines, or merged into one (the rows must agree; a note counts them)",
+         {"error", "merge"});
   u.group("Pdfs and loading phase");
   u.real("pdf-radius", 6.0, "radius of the local state of the pdfs", "D", 1e-6, 1e6);
   u.integer("pdf-bins", 50, "bins of the pdfs over [0, 1]", 1, 100000);
-  u.real_opt("pdf-from", "pool the pdfs from this tilt angle instead of over the loading phase", "deg");
+  u.real_opt("pdf-from", "pool the pdfs from this tilt angle instead of over the loading phase",
+             "deg");
   u.real_opt("pdf-to", "pool the pdfs up to this tilt angle", "deg");
-  u.real_opt("theta-c", "end of the loading phase of every input (default: per run, as critical)", "deg");
-  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300, 1e300);
+  u.real_opt("theta-c", "end of the loading phase of every input (default: per run, as critical)",
+             "deg");
+  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300,
+         1e300);
   u.real("avalanche-hold", 0.2, "Ek must stay above the threshold this long", "deg", 0, 90);
   u.group("Map");
   u.real("map-radius", 6.0, "radius of the local state at the grid nodes", "D", 1e-6, 1e6);
   u.real("map-spacing", 1.0, "spacing of the grid nodes", "D", 1e-6, 1e6);
-  u.real("nu-c", 0.08, "threshold of the map (the paper's nu_c; better: --nu or your own value)", "", 0.0, 1.0);
+  u.real("nu-c", 0.08, "threshold of the map (the paper's nu_c; better: --nu or your own value)",
+         "", 0.0, 1.0);
   u.text_opt("nu", "critical product (TSV or HDF5) whose nu_c is the threshold of the map");
   u.integer("map-run", 0, "input (0-based) of the mapped frame", 0, 1000000);
-  u.integer_opt("map-frame", "frame id to map (default: the last of the loading phase)", 0, INT64_MAX);
+  u.integer_opt("map-frame", "frame id to map (default: the last of the loading phase)", 0,
+                INT64_MAX);
   u.real_opt("map-theta", "map the frame nearest this tilt angle", "deg");
   u.flag("per-contact", "add the table 'contacts': nu_i(r) of every contact of the mapped frame");
   u.example("One run into correlate", "localnu run.h5 -o - | correlate - > nubar.tsv",
@@ -114,7 +128,8 @@ static void run(const cli::Args& a) {
   cli::refuse_table_if(a, "contacts", !opt.per_contact, "without --per-contact");
   for (std::size_t k = 1; k < opt.radii.size(); ++k)
     if (!(opt.radii[k] > opt.radii[k - 1])) throw UsageError("--radii must be strictly increasing");
-  if (a.given("map-frame") && a.given("map-theta")) throw UsageError("--map-frame and --map-theta exclude each other");
+  if (a.given("map-frame") && a.given("map-theta"))
+    throw UsageError("--map-frame and --map-theta exclude each other");
   if (a.given("nu") && a.given("nu-c")) throw UsageError("--nu and --nu-c exclude each other");
 
   io::LocalNuReading rd;
@@ -143,7 +158,9 @@ static void run(const cli::Args& a) {
   if (!a.text("nu").empty()) {
     crit = io::read_product(io::Input(a.text("nu")), "critical");
     const auto v = crit->product.result("nu_c");
-    if (!v) throw Error(crit->product.source, "", "the critical product has no nu_c (its envelope was not fitted); give --nu-c");
+    if (!v)
+      throw Error(crit->product.source, "",
+                  "the critical product has no nu_c (its envelope was not fitted); give --nu-c");
     opt.nu_c = *v;
     nu_c_from = crit->product.source;
   }
@@ -156,23 +173,30 @@ static void run(const cli::Args& a) {
   for (std::size_t k = 0; k < paths.size(); ++k) {
     io::Input in(paths[k]);
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    const io::LocalNuInputInfo info = io::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
+    const io::LocalNuInputInfo info =
+        io::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
     // a contact table has no history, but it is one of the inputs the others are told from
     histories.emplace_back(in.name(), in.is_hdf5() ? io::read_header(in.hdf5()).provenance
                                                    : std::vector<io::Provenance>{});
-    length_unit = !length_unit || *length_unit == info.length_unit ? info.length_unit : std::string();
+    length_unit =
+        !length_unit || *length_unit == info.length_unit ? info.length_unit : std::string();
     if (info.merged > 0) {
-      const std::string note = in.name() + ": " + std::to_string(info.merged) +
-                               " repeated contact rows merged (--duplicates merge), each contact counted once";
+      const std::string note =
+          in.name() + ": " + std::to_string(info.merged) +
+          " repeated contact rows merged (--duplicates merge), each contact counted once";
       study.add_note(note);
       cli::info(note);
     }
     const std::string key = "run" + std::to_string(k) + "_";
-    per_input[key + "theta_c_deg"] = info.theta_c ? analysis::Value(*info.theta_c) : analysis::Value(std::string("NA"));
+    per_input[key + "theta_c_deg"] =
+        info.theta_c ? analysis::Value(*info.theta_c) : analysis::Value(std::string("NA"));
     per_input[key + "theta_c_from"] = info.theta_c_from;
     cli::info(in.name() + ": " + std::to_string(info.frames) + " frames (" +
               std::to_string(info.loading_frames) + " in the loading phase" +
-              (info.theta_c ? ", theta_c " + io::format_number(*info.theta_c) + " deg from " + info.theta_c_from : "") + ")");
+              (info.theta_c ? ", theta_c " + io::format_number(*info.theta_c) + " deg from " +
+                                  info.theta_c_from
+                            : "") +
+              ")");
   }
   if (crit) {
     inputs += " " + crit->product.source;

@@ -21,49 +21,64 @@ static void usage(cli::Usage& u) {
       "frames, Time in s) as points at the grain centres with radius, species, mass, velocity (a "
       "3-vector with z = 0), angular_velocity, orientation and nu, and the frame's tilt_angle and "
       "step as field data. contacts: every frame's contact rows as points at the contact points "
-      "with i, j, fn, ft, gap, status, normal, critical (1 when |f_t| >= (1 - eps) mu f_n, f_n > 0, "
+      "with i, j, fn, ft, gap, status, normal, critical (1 when |f_t| >= (1 - eps) mu f_n, f_n > "
+      "0, "
       "with the run's critical_eps, mu_grain and mu_wall unless --eps, --mu, --mu-wall) and "
       "mobilisation |f_t| / (mu f_n). walls: the floor and side walls as lines. nu of a grain is "
-      "the local state at its centre: critical contacts / contacts within --nu-radius mean diameters, "
+      "the local state at its centre: critical contacts / contacts within --nu-radius mean "
+      "diameters, "
       "counting the contacts critical counts (between free grains; with --walls all), as localnu's "
       "map does at its grid nodes; NaN where no contact is within reach.",
       "A localnu product (HDF5, with its map) gives the nu field of the mapped frame on its grid: "
       "nu, above (nu >= nu_c), contacts and critical at each node; NaN where the map has no value.",
-      "Three files are written: OUTPUT (default: the input's name with .xdmf), OUTPUT.hdf5, a small "
+      "Three files are written: OUTPUT (default: the input's name with .xdmf), OUTPUT.hdf5, a "
+      "small "
       "HDF5 file with what the input does not hold (critical, mobilisation, nu; the map with NaN), "
       "and STEM.paraview.py, a ParaView state: File > Load State... that file (or paraview "
       "--state=STEM.paraview.py) shows the disks at their radius coloured by nu, with the walls "
       "and, one click away, the contacts."};
-  u.argument("input", "pile, run or localnu product (HDF5 file; not standard input: the XDMF refers to it by name)");
+  u.argument("input",
+             "pile, run or localnu product (HDF5 file; not standard input: the XDMF refers to it "
+             "by name)");
   u.output("output XDMF file (default: INPUT with the extension .xdmf)");
   u.real("nu-radius", 6.0, "radius of the grains' local state nu", "D", 1e-6, 1e6);
-  u.real_opt("eps", "tolerance of the critical test (default: the run's critical_eps, else 0.001)", "", 0.0, 0.999999);
-  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain)", "", 1e-12, 1e3);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall)", "", 1e-12, 1e3);
+  u.real_opt("eps", "tolerance of the critical test (default: the run's critical_eps, else 0.001)",
+             "", 0.0, 0.999999);
+  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain)", "", 1e-12,
+             1e3);
+  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall)", "", 1e-12,
+             1e3);
   u.flag("walls", "nu counts the contacts with walls and glued floor grains too");
   u.example("A run for ParaView", "to-xdmf run.h5",
-            "writes run.xdmf, run.xdmf.hdf5 and run.paraview.py; in ParaView: File > Load State..., run.paraview.py");
-  u.example("The nu field of a localnu map", "localnu run.h5 -o nu.h5 && to-xdmf nu.h5", "writes nu.xdmf and the rest");
+            "writes run.xdmf, run.xdmf.hdf5 and run.paraview.py; in ParaView: File > Load "
+            "State..., run.paraview.py");
+  u.example("The nu field of a localnu map", "localnu run.h5 -o nu.h5 && to-xdmf nu.h5",
+            "writes nu.xdmf and the rest");
 }
 
 static void run(const cli::Args& a) {
   const std::string input = a.argument("input");
-  if (input == "-") throw UsageError("the input must be a file: an XDMF file refers to its data by file name");
+  if (input == "-")
+    throw UsageError("the input must be a file: an XDMF file refers to its data by file name");
   std::string output = a.output();
-  if (output == "-") throw UsageError("-o -: an XDMF file goes beside its data, not to standard output");
+  if (output == "-")
+    throw UsageError("-o -: an XDMF file goes beside its data, not to standard output");
   if (output.empty()) output = fs::path(input).replace_extension(".xdmf").string();
   const fs::path out_abs = fs::absolute(output);
   fs::path stem = out_abs;
   if (stem.extension() == ".xdmf" || stem.extension() == ".xmf") stem.replace_extension();
-  const std::string sidecar_path = output + ".hdf5";  // not .h5: globs of runs (run*.h5) must not take it
-  const std::string state_path = (fs::path(output).parent_path() / (stem.filename().string() + ".paraview.py")).string();
+  const std::string sidecar_path =
+      output + ".hdf5";  // not .h5: globs of runs (run*.h5) must not take it
+  const std::string state_path =
+      (fs::path(output).parent_path() / (stem.filename().string() + ".paraview.py")).string();
   if (fs::absolute(input).lexically_normal() == out_abs.lexically_normal() ||
       fs::absolute(input).lexically_normal() == fs::absolute(sidecar_path).lexically_normal())
     throw UsageError("the output would replace the input " + input);
 
   io::Output xml(output, a.force()), side(sidecar_path, a.force()), state(state_path, a.force());
   io::Input in(input);
-  const std::string data_ref = fs::absolute(input).lexically_normal().lexically_relative(out_abs.parent_path()).string();
+  const std::string data_ref =
+      fs::absolute(input).lexically_normal().lexically_relative(out_abs.parent_path()).string();
   const std::string side_ref = fs::path(sidecar_path).filename().string();
   const io::RunHeader header = io::read_header(in.hdf5());
   io::xdmf::Summary s;
@@ -84,11 +99,12 @@ static void run(const cli::Args& a) {
   xml.commit();
   state.commit();
   if (s.kind == "localnu")
-    cli::info(xml.name() + ": the nu field, " + std::to_string(s.nx) + " x " + std::to_string(s.ny) + " nodes; " +
-              side.name() + ", " + state.name());
+    cli::info(xml.name() + ": the nu field, " + std::to_string(s.nx) + " x " +
+              std::to_string(s.ny) + " nodes; " + side.name() + ", " + state.name());
   else
-    cli::info(xml.name() + ": " + std::to_string(s.grains) + " grains, " + std::to_string(s.frames) + " frames, " +
-              std::to_string(s.contacts) + " contact rows; " + side.name() + ", " + state.name());
+    cli::info(xml.name() + ": " + std::to_string(s.grains) + " grains, " +
+              std::to_string(s.frames) + " frames, " + std::to_string(s.contacts) +
+              " contact rows; " + side.name() + ", " + state.name());
 }
 
 CDPILE_TOOL(usage, run)

@@ -37,19 +37,37 @@ void Grains::add_disk(double r, double rho, const Vec2& x, Species s) {
 }
 
 void Contacts::clear() {
-  i.clear(); j.clear(); point.clear(); normal.clear();
-  fn.clear(); ft.clear(); gap.clear(); status.clear();
+  i.clear();
+  j.clear();
+  point.clear();
+  normal.clear();
+  fn.clear();
+  ft.clear();
+  gap.clear();
+  status.clear();
 }
 
 void Contacts::reserve(std::size_t n) {
-  i.reserve(n); j.reserve(n); point.reserve(n); normal.reserve(n);
-  fn.reserve(n); ft.reserve(n); gap.reserve(n); status.reserve(n);
+  i.reserve(n);
+  j.reserve(n);
+  point.reserve(n);
+  normal.reserve(n);
+  fn.reserve(n);
+  ft.reserve(n);
+  gap.reserve(n);
+  status.reserve(n);
 }
 
-void Contacts::push_back(std::int32_t ii, std::int32_t jj, const Vec2& p, const Vec2& n,
-                         double f_n, double f_t, double g, ContactStatus s) {
-  i.push_back(ii); j.push_back(jj); point.push_back(p); normal.push_back(n);
-  fn.push_back(f_n); ft.push_back(f_t); gap.push_back(g); status.push_back(s);
+void Contacts::push_back(std::int32_t ii, std::int32_t jj, const Vec2& p, const Vec2& n, double f_n,
+                         double f_t, double g, ContactStatus s) {
+  i.push_back(ii);
+  j.push_back(jj);
+  point.push_back(p);
+  normal.push_back(n);
+  fn.push_back(f_n);
+  ft.push_back(f_t);
+  gap.push_back(g);
+  status.push_back(s);
 }
 
 }  // namespace cdpile

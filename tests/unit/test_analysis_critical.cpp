@@ -26,9 +26,9 @@ TEST(Critical, CoulombThresholdWithTolerance) {
   EXPECT_TRUE(is_critical(1.0, 0.5, 0.5, 0.0));
   EXPECT_TRUE(is_critical(1.0, -0.5, 0.5, 0.0));
   EXPECT_FALSE(is_critical(1.0, 0.4999, 0.5, 0.0));
-  EXPECT_TRUE(is_critical(1.0, 0.4995, 0.5, 1e-3));   // (1 - 1e-3) * 0.5 = 0.4995
+  EXPECT_TRUE(is_critical(1.0, 0.4995, 0.5, 1e-3));  // (1 - 1e-3) * 0.5 = 0.4995
   EXPECT_FALSE(is_critical(1.0, 0.4994, 0.5, 1e-3));
-  EXPECT_FALSE(is_critical(0.0, 0.0, 0.5, 0.0));      // not active
+  EXPECT_FALSE(is_critical(0.0, 0.0, 0.5, 0.0));  // not active
   EXPECT_FALSE(is_critical(-1.0, 0.5, 0.5, 0.0));
 }
 
@@ -37,12 +37,12 @@ TEST(Critical, SelectsActiveGrainContactsAndClassifies) {
   // grains 0..4 free, 5 glued to the floor
   std::vector<Species> sp = {Species::free, Species::free, Species::free,
                              Species::free, Species::free, Species::floor};
-  Contacts c = make({{0, 1, 2.0, 1.0, S::slide},    // critical (|ft| = mu fn)
-                     {1, 2, 2.0, 0.2, S::stick},    // not critical
-                     {2, 3, 0.0, 0.0, S::open},     // inactive
-                     {0, 2, 1.0, -0.5, S::stick},   // critical by force, solver says stick
+  Contacts c = make({{0, 1, 2.0, 1.0, S::slide},           // critical (|ft| = mu fn)
+                     {1, 2, 2.0, 0.2, S::stick},           // not critical
+                     {2, 3, 0.0, 0.0, S::open},            // inactive
+                     {0, 2, 1.0, -0.5, S::stick},          // critical by force, solver says stick
                      {3, wall_floor, 1.0, 0.3, S::slide},  // plane wall, mu_wall 0.3: critical
-                     {4, 5, 1.0, 0.5, S::slide}});  // glued grain, critical
+                     {4, 5, 1.0, 0.5, S::slide}});         // glued grain, critical
   Friction mu{0.5, 0.3};
   ContactSet s = select_contacts(c, sp, mu, {});
   ASSERT_EQ(s.size(), 3u);
@@ -93,10 +93,11 @@ TEST(Critical, EmptyAndNoCriticalGiveNoNaN) {
   EXPECT_EQ(p.contacts, 0);
   EXPECT_FALSE(p.nu);
   EXPECT_FALSE(p.lambda);
-  EXPECT_FALSE(p.z);          // no loaded grain
+  EXPECT_FALSE(p.z);  // no loaded grain
   EXPECT_DOUBLE_EQ(*p.z_all, 0.0);
 
-  Contacts c = make({{0, 1, 1.0, 0.0, ContactStatus::stick}, {1, 2, 1.0, 0.0, ContactStatus::stick}});
+  Contacts c =
+      make({{0, 1, 1.0, 0.0, ContactStatus::stick}, {1, 2, 1.0, 0.0, ContactStatus::stick}});
   ContactSet s = select_contacts(c, {}, Friction{}, {});
   p = pile_state(s, {}, 3, 1.0, RattlerRule::exclude);
   EXPECT_DOUBLE_EQ(*p.nu, 0.0);
@@ -128,10 +129,11 @@ TEST(Critical, MeanKineticEnergyPerFreeGrain) {
   // Three free grains and one glued to the floor, masses and velocities chosen by hand:
   // Ek = (1/2 2 (3^2 + 4^2) + 1/2 1 1^2 + 0) / 3 = (25 + 0.5) / 3 per free grain.
   Grains g;
-  for (int k = 0; k < 4; ++k) g.add_disk(0.5, 1.0, Vec2(k, 0.5), k == 3 ? Species::floor : Species::free);
+  for (int k = 0; k < 4; ++k)
+    g.add_disk(0.5, 1.0, Vec2(k, 0.5), k == 3 ? Species::floor : Species::free);
   g.mass = {2.0, 1.0, 5.0, 7.0};
   g.velocity = {Vec2(3, -4), Vec2(0, 1), Vec2(0, 0), Vec2(10, 10)};  // the glued one is left out
-  g.angular_velocity = {100.0, 100.0, 100.0, 100.0};                  // rotation is not Ek
+  g.angular_velocity = {100.0, 100.0, 100.0, 100.0};                 // rotation is not Ek
   ASSERT_TRUE(mean_kinetic_energy(g));
   EXPECT_DOUBLE_EQ(*mean_kinetic_energy(g), 25.5 / 3.0);
   // no free grain, or no velocities: undefined
@@ -161,8 +163,9 @@ namespace {
 //
 // Load-bearing: grains 0 (rows 0, 1, 5), 1 (1, 2, 3), 2 (3, 4, 5): N = 3, M = 6 (rows 0-5),
 // Nc = 4 (rows 0, 1, 3, 5), B = 2 * 6 - 3 * 3 = 3: Nc > B, above the bound.
-const std::vector<Species> bound_species = {Species::free, Species::free, Species::free, Species::free,
-                                            Species::free, Species::free, Species::floor};
+const std::vector<Species> bound_species = {Species::free, Species::free, Species::free,
+                                            Species::free, Species::free, Species::free,
+                                            Species::floor};
 Contacts bound_contacts() {
   using S = ContactStatus;
   return make({{0, wall_floor, 1.0, 0.3, S::slide},
@@ -209,8 +212,12 @@ TEST(StaticBound, RattlersAreRemovedRepeatedly) {
   // (the triangle), B = 6 - 9 = -3: even with no critical contact, a triangle of free
   // grains touching nothing else cannot be static (it has no support), so Nc = 0 > -3.
   using S = ContactStatus;
-  Contacts c = make({{0, 1, 1.0, 0.0, S::stick}, {1, 2, 1.0, 0.0, S::stick}, {0, 2, 1.0, 0.0, S::stick},
-                     {2, 3, 1.0, 0.5, S::slide}, {3, 4, 1.0, 0.5, S::slide}, {4, 5, 1.0, 0.5, S::slide}});
+  Contacts c = make({{0, 1, 1.0, 0.0, S::stick},
+                     {1, 2, 1.0, 0.0, S::stick},
+                     {0, 2, 1.0, 0.0, S::stick},
+                     {2, 3, 1.0, 0.5, S::slide},
+                     {3, 4, 1.0, 0.5, S::slide},
+                     {4, 5, 1.0, 0.5, S::slide}});
   StaticBound b = static_bound(c, {}, Friction{}, default_eps);
   EXPECT_EQ(b.grains, 3);
   EXPECT_EQ(b.contacts, 3);
@@ -218,8 +225,10 @@ TEST(StaticBound, RattlersAreRemovedRepeatedly) {
   EXPECT_EQ(b.bound(), -3);
   EXPECT_TRUE(b.above());
   // A chain between two walls is load-bearing all along: wall-0-1-2-wall, N = 3, M = 4, B = -1.
-  Contacts chain = make({{0, wall_left, 1.0, 0.0, S::stick}, {0, 1, 1.0, 0.0, S::stick},
-                         {1, 2, 1.0, 0.0, S::stick}, {2, wall_right, 1.0, 0.0, S::stick}});
+  Contacts chain = make({{0, wall_left, 1.0, 0.0, S::stick},
+                         {0, 1, 1.0, 0.0, S::stick},
+                         {1, 2, 1.0, 0.0, S::stick},
+                         {2, wall_right, 1.0, 0.0, S::stick}});
   b = static_bound(chain, {}, Friction{}, default_eps);
   EXPECT_EQ(b.grains, 3);
   EXPECT_EQ(b.contacts, 4);
@@ -262,14 +271,15 @@ TEST(FrameMotion, AgitationSpeedGrainsInFlightAndThePapersZ) {
   // contacts per free grain 0: 3 (rows 0, 1, 5), 1: 3 (1, 2, 3), 2: 4 (3, 4, 5, 6),
   // 3: 1 (6), 4: 1 (8), 5: 2 (8, 9): 14 over 6 free grains, rattlers included.
   Grains g;
-  for (int k = 0; k < 7; ++k) g.add_disk(0.5, 1.0, Vec2(k, 0.5), bound_species[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < 7; ++k)
+    g.add_disk(0.5, 1.0, Vec2(k, 0.5), bound_species[static_cast<std::size_t>(k)]);
   g.mass.assign(7, 2.0);
   g.inertia.assign(7, 0.25);
   g.velocity.assign(7, Vec2(0, 0));
   g.angular_velocity.assign(7, 0.0);
-  g.velocity[1] = Vec2(3, 4);      // |v| = 5, Ek = 25
-  g.angular_velocity[2] = 2.0;     // Erot = 0.5 0.25 4 = 0.5
-  g.velocity[6] = Vec2(100, 0);    // glued: not counted
+  g.velocity[1] = Vec2(3, 4);    // |v| = 5, Ek = 25
+  g.angular_velocity[2] = 2.0;   // Erot = 0.5 0.25 4 = 0.5
+  g.velocity[6] = Vec2(100, 0);  // glued: not counted
   const FrameMotion m = frame_motion(g, bound_contacts());
   EXPECT_EQ(m.grains_without_contact, 0);
   ASSERT_TRUE(m.agitation && m.max_speed && m.contacts_per_grain);
@@ -280,7 +290,8 @@ TEST(FrameMotion, AgitationSpeedGrainsInFlightAndThePapersZ) {
   Contacts c = bound_contacts();
   c.fn[6] = 0.0;
   EXPECT_EQ(frame_motion(g, c).grains_without_contact, 1);
-  EXPECT_DOUBLE_EQ(*frame_motion(g, c).contacts_per_grain, 12.0 / 6.0);  // grains 2 and 3 lose one each
+  EXPECT_DOUBLE_EQ(*frame_motion(g, c).contacts_per_grain,
+                   12.0 / 6.0);  // grains 2 and 3 lose one each
   g.velocity.clear();
   EXPECT_FALSE(frame_motion(g, c).agitation);
 }
@@ -298,7 +309,8 @@ TEST(FrameMotion, SlipSpeedOfTwoDisksAndAWall) {
   c.push_back(0, 1, Vec2(0.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, ContactStatus::slide);
   // 0 on the floor at (0, 0), normal (0, 1): v_0 there = (0, 2) + 4 (0.5, 0) = (2, 2), u_t = 2.
   c.push_back(0, wall_floor, Vec2(0.0, 0.0), Vec2(0.0, 1.0), 1.0, 0.1, 0.0, ContactStatus::stick);
-  const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
+  const ContactSet set =
+      select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
   ASSERT_EQ(set.size(), 2u);
   const std::vector<double> u = slip_speeds(c, set, g);
   EXPECT_DOUBLE_EQ(u[0], 5.0);
@@ -308,8 +320,12 @@ TEST(FrameMotion, SlipSpeedOfTwoDisksAndAWall) {
 TEST(FrameMotion, MobilisationHistogramBinsByHand) {
   using S = ContactStatus;
   // mu = 0.5: mobilisations 0, 0.2, 0.5, 0.999, 1 (on the cone) over 4 bins of 0.25
-  const Contacts c = make({{0, 1, 1.0, 0.0, S::stick}, {0, 2, 1.0, 0.1, S::stick}, {1, 2, 1.0, -0.25, S::stick},
-                           {1, 3, 1.0, 0.4995, S::stick}, {2, 3, 1.0, 0.5, S::slide}, {3, 4, 0.0, 0.0, S::open}});
+  const Contacts c = make({{0, 1, 1.0, 0.0, S::stick},
+                           {0, 2, 1.0, 0.1, S::stick},
+                           {1, 2, 1.0, -0.25, S::stick},
+                           {1, 3, 1.0, 0.4995, S::stick},
+                           {2, 3, 1.0, 0.5, S::slide},
+                           {3, 4, 0.0, 0.0, S::open}});
   const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{});
   const std::vector<std::int64_t> h = mobilisation_histogram(set, 4);
   EXPECT_EQ(h, (std::vector<std::int64_t>{2, 0, 1, 2}));
@@ -334,7 +350,8 @@ TEST(FrameMotion, ContactsAtRestNeitherMoveNorSlip) {
   c.push_back(1, 2, Vec2(1.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, S::slide);
   c.push_back(2, 3, Vec2(2.5, 0.5), Vec2(-1.0, 0.0), 1.0, 0.5, 0.0, S::slide);
   c.push_back(0, wall_floor, Vec2(0.0, 0.0), Vec2(0.0, 1.0), 1.0, 0.1, 0.0, S::stick);
-  const ContactSet set = select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
+  const ContactSet set =
+      select_contacts(c, {}, Friction{}, CriticalRule{.eps = 1e-3, .include_walls = true});
   ASSERT_EQ(set.size(), 4u);
   const std::vector<double> u = slip_speeds(c, set, g);
   EXPECT_DOUBLE_EQ(u[0], 0.016);  // 0-1: both slow, sliding

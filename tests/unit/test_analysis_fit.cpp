@@ -177,7 +177,7 @@ TEST(Fit, DivergenceRecoversBetaAndThetaC) {
   ASSERT_TRUE(g.se_beta);
   EXPECT_FALSE(g.theta_c_fitted);
   EXPECT_LT(std::abs(g.beta - beta), 3 * *g.se_beta);
-  EXPECT_LT(*g.se_beta, *f.se_beta);  // knowing theta_c pins beta better
+  EXPECT_LT(*g.se_beta, *f.se_beta);                            // knowing theta_c pins beta better
   EXPECT_THROW(fit_divergence(d.th, d.rc, d.se, 19.0), Error);  // theta_c inside the data
 }
 

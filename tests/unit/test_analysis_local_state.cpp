@@ -102,7 +102,10 @@ TEST(LocalState, MatchesBruteForceOnRandomContacts) {
         int tot = 0, cr = 0;
         for (std::size_t j = 0; j < n; ++j) {
           if (excl && j == i) continue;
-          if ((p[j] - p[i]).squaredNorm() <= r[k] * r[k]) { ++tot; cr += c[j]; }
+          if ((p[j] - p[i]).squaredNorm() <= r[k] * r[k]) {
+            ++tot;
+            cr += c[j];
+          }
         }
         ASSERT_EQ(s.total(i, k), tot) << "centre " << i << " radius " << k;
         ASSERT_EQ(s.critical(i, k), cr);
@@ -141,7 +144,7 @@ TEST(LocalState, FieldOnAGrid) {
   EXPECT_DOUBLE_EQ(*f.nu(1, 0), 1.0 / 3.0);  // node (2,0): {1,2,3}
   EXPECT_DOUBLE_EQ(*f.nu(2, 0), 0.5);        // node (4,0): {3,4}
   Field f2 = nu_field(l.p, l.c, 0.4, 0.5);
-  EXPECT_FALSE(f2.nu(1, 0));                 // node (0.5, 0): nothing within 0.4
+  EXPECT_FALSE(f2.nu(1, 0));  // node (0.5, 0): nothing within 0.4
 }
 
 TEST(LocalState, EmptyFrameAndBadRadii) {

@@ -22,7 +22,7 @@ TEST(Events, LocalMaximumToNextLocalMinimum) {
   EXPECT_EQ(ev[1].peak, 8u);
   EXPECT_EQ(ev[1].trough, 9u);
   EXPECT_DOUBLE_EQ(ev[1].loss, 4.0 / 11.0);
-  EXPECT_TRUE(ev[1].open);      // the series ends while N is down
+  EXPECT_TRUE(ev[1].open);  // the series ends while N is down
 }
 
 TEST(Events, HysteresisMergesSmallRises) {
@@ -83,12 +83,13 @@ TEST(Ensemble, MeanAndStandardErrorAcrossRuns) {
   EXPECT_DOUBLE_EQ(*s[0].se, 1.0);  // sd = sqrt(2), se = sd / sqrt(2)
   EXPECT_EQ(s[1].n, 1);
   EXPECT_DOUBLE_EQ(*s[1].mean, 5.0);
-  EXPECT_FALSE(s[1].se);            // one run: no standard error, not NaN
+  EXPECT_FALSE(s[1].se);  // one run: no standard error, not NaN
 }
 
 TEST(Stats, PooledClusterRobustError) {
   Sums a, b;
-  a.add(1.0); a.add(1.0);
+  a.add(1.0);
+  a.add(1.0);
   b.add(4.0);
   std::vector<Sums> cl = {a, b, Sums{}};
   Pooled p = pooled_mean(cl, SeOver::runs);

@@ -25,7 +25,8 @@ PileState state(std::int64_t n, std::int64_t nc) {
   return s;
 }
 
-RunRecord small_run(const std::string& name, std::vector<std::int64_t> n, std::vector<std::int64_t> nc) {
+RunRecord small_run(const std::string& name, std::vector<std::int64_t> n,
+                    std::vector<std::int64_t> nc) {
   RunRecord r;
   r.name = name;
   r.free_grains = 10;
@@ -79,9 +80,10 @@ TEST(CriticalStudy, FramesSourceAndAvalancheCut) {
   RunRecord a = small_run("a", {10, 10, 10, 10, 10, 10}, {1, 1, 1, 1, 1, 1});
   a.steps.critical.clear();  // no per-step critical count: frames are the source
   a.steps.kinetic_energy = {0, 0, 0, 5e-3, 6e-3, 7e-3};  // per grain: /10 -> 5e-4.. with m g D = 1
-  for (auto& e : a.steps.kinetic_energy) e *= 10;          // -> 5e-3 per grain
+  for (auto& e : a.steps.kinetic_energy) e *= 10;        // -> 5e-3 per grain
   // frame 1 carries its Ek per grain (m g D = 1); the others have no grain velocities
-  a.frames = {{0, 0, 0.0, state(10, 1), std::nullopt}, {1, 2, 0.2, state(10, 2), 3e-3},
+  a.frames = {{0, 0, 0.0, state(10, 1), std::nullopt},
+              {1, 2, 0.2, state(10, 2), 3e-3},
               {2, 4, 0.4, state(10, 9), std::nullopt}};
   CriticalOptions o;
   o.avalanche = {1e-3, 0.1};
@@ -94,9 +96,14 @@ TEST(CriticalStudy, FramesSourceAndAvalancheCut) {
   EXPECT_NEAR(*p.table("runs").column("theta_c").get(0), 0.3, 1e-12);
   EXPECT_NEAR(*p.result("theta_c_deg"), 0.3, 1e-12);
   const Table& fr = p.table("frames");
-  EXPECT_EQ(*fr.column("loading").get(2), 0);  // theta 0.4 > theta_c
+  EXPECT_EQ(*fr.column("loading").get(2), 0);                       // theta 0.4 > theta_c
   EXPECT_DOUBLE_EQ(*p.table("runs").column("nu_max").get(0), 0.2);  // the cut frame is left out
-  EXPECT_THROW(critical_study({a}, [] { CriticalOptions x; x.source = SeriesSource::steps; return x; }()),
+  EXPECT_THROW(critical_study({a},
+                              [] {
+                                CriticalOptions x;
+                                x.source = SeriesSource::steps;
+                                return x;
+                              }()),
                Error);
 }
 
@@ -109,7 +116,8 @@ TEST(CriticalStudy, StepRuleMismatch) {
   ASSERT_TRUE(step_rule_mismatch(rec, eps, mu));
   EXPECT_FALSE(step_rule_mismatch(rec, eps, mu)->unknown);
   EXPECT_EQ(step_rule_mismatch(rec, eps, mu)->why, "eps 0.2 asked, 0.001 recorded");
-  EXPECT_EQ(step_rule_mismatch(rec, eps, {0.3, 0.4})->why, "eps 0.2 asked, 0.001 recorded; mu 0.3 asked, 0.5 recorded");
+  EXPECT_EQ(step_rule_mismatch(rec, eps, {0.3, 0.4})->why,
+            "eps 0.2 asked, 0.001 recorded; mu 0.3 asked, 0.5 recorded");
   // mu_wall matters only when wall contacts count (the recorded 'critical' then)
   EXPECT_FALSE(step_rule_mismatch(rec, CriticalRule{}, {0.5, 0.9}));
   CriticalRule walls;
@@ -119,13 +127,15 @@ TEST(CriticalStudy, StepRuleMismatch) {
   // critical_grain leaves contacts with glued floor grains out; with walls they all count
   CriticalRule floor;
   floor.floor_grains_are_walls = false;
-  EXPECT_EQ(step_rule_mismatch(rec, floor, mu)->why, "floor grains counted as grains, not in critical_grain");
+  EXPECT_EQ(step_rule_mismatch(rec, floor, mu)->why,
+            "floor grains counted as grains, not in critical_grain");
   floor.include_walls = true;
   EXPECT_FALSE(step_rule_mismatch(rec, floor, mu));
   // a run that does not record its rule (a pile of deposit has no critical_eps)
   ASSERT_TRUE(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu));
   EXPECT_TRUE(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu)->unknown);
-  EXPECT_EQ(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu)->why, "no critical_eps in /parameters");
+  EXPECT_EQ(step_rule_mismatch({std::nullopt, 0.5, 0.4}, CriticalRule{}, mu)->why,
+            "no critical_eps in /parameters");
   // the same values written as text and read back are the same
   EXPECT_FALSE(step_rule_mismatch({0.001, 0.5, 0.4}, CriticalRule{}, mu));
 }
@@ -154,8 +164,10 @@ TEST(CriticalStudy, AnotherRuleThanTheRecordedTakesTheFrames) {
   }
   EXPECT_EQ(*st.column("N").get(2), 8);
   const std::string note =
-      "a.h5 recorded its per-step critical count with another rule (eps 0.2 asked, 0.001 recorded): its "
-      "per-step Nc, nu and lambda are NA and nu(theta) comes from its frames unless --series sliding";
+      "a.h5 recorded its per-step critical count with another rule (eps 0.2 asked, 0.001 "
+      "recorded): its "
+      "per-step Nc, nu and lambda are NA and nu(theta) comes from its frames unless --series "
+      "sliding";
   EXPECT_NE(std::find(p.notes.begin(), p.notes.end(), note), p.notes.end());
   // the same eps as recorded: the per-step series
   o.rule.eps = default_eps;
@@ -168,7 +180,8 @@ TEST(CriticalStudy, AnotherRuleThanTheRecordedTakesTheFrames) {
     FAIL();
   } catch (const UsageError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "--series steps: a.h5 recorded its per-step critical count with another rule (eps 0.2 asked, "
+              "--series steps: a.h5 recorded its per-step critical count with another rule (eps "
+              "0.2 asked, "
               "0.001 recorded); use --series frames or auto");
   }
   o.rule.eps = default_eps;
@@ -230,7 +243,8 @@ TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
       run.steps.step.push_back(k);
       run.steps.theta.push_back(th);
       run.steps.contacts.push_back(1000);
-      run.steps.critical.push_back(std::llround(1000 * 0.012 * th * (1.0 - 0.05 * ((k + r) % 7) / 7.0)));
+      run.steps.critical.push_back(
+          std::llround(1000 * 0.012 * th * (1.0 - 0.05 * ((k + r) % 7) / 7.0)));
     }
     runs.push_back(std::move(run));
   }
@@ -242,7 +256,8 @@ TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
   ASSERT_TRUE(p.result("envelope_saturates"));
   EXPECT_EQ(*p.result("envelope_saturates"), 0.0);
   ASSERT_FALSE(p.notes.empty());
-  EXPECT_NE(p.notes.back().find("envelope does not saturate in the fitted range"), std::string::npos)
+  EXPECT_NE(p.notes.back().find("envelope does not saturate in the fitted range"),
+            std::string::npos)
       << p.notes.back();
 }
 
@@ -369,21 +384,22 @@ TEST(Correlate, PoolsFramesAndRunsByHand) {
 namespace {
 // A correlate product whose nu_bar follows eq (4) exactly, with A(theta) and alpha(theta)
 // affine and nu_inf(theta) chosen so that r_c = C (theta_c - theta)^-beta (eq 5).
-Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of, double noise,
-                               unsigned seed);
+Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of,
+                               double noise, unsigned seed);
 Product synthetic_correlate(double nu_c, double theta_c, double beta, double c, double noise,
                             unsigned seed) {
-  return synthetic_correlate_rc(nu_c, [=](double th) { return c * std::pow(theta_c - th, -beta); }, noise,
-                                seed);
+  return synthetic_correlate_rc(
+      nu_c, [=](double th) { return c * std::pow(theta_c - th, -beta); }, noise, seed);
 }
-Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of, double noise,
-                               unsigned seed) {
+Product synthetic_correlate_rc(double nu_c, const std::function<double(double)>& rc_of,
+                               double noise, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   Product p;
   p.kind = "correlate";
   Table& w = p.add_table("windows", "");
-  for (const char* n : {"theta", "theta_lo", "theta_hi", "r", "nu_bar", "se", "nu_pile", "nu_pile_se"})
+  for (const char* n :
+       {"theta", "theta_lo", "theta_hi", "r", "nu_bar", "se", "nu_pile", "nu_pile_se"})
     w.add_column(n, "");
   for (double th = 2.0; th <= 19.0 + 1e-9; th += 1.0) {
     const double a = 1.0 + 0.05 * th, alpha = -1.8 + 0.02 * th;
@@ -419,8 +435,11 @@ TEST(ClusterFit, RecoversAAlphaAndTheDivergence) {
   for (std::size_t k = 0; k < f.rows(); ++k) {
     ASSERT_EQ(*f.column("converged").get(k), 1) << k;
     const double th = *f.column("theta").get(k);
-    EXPECT_LT(std::abs(*f.column("A").get(k) - (1.0 + 0.05 * th)), 4 * *f.column("A_se").get(k)) << th;
-    EXPECT_LT(std::abs(*f.column("alpha").get(k) - (-1.8 + 0.02 * th)), 4 * *f.column("alpha_se").get(k)) << th;
+    EXPECT_LT(std::abs(*f.column("A").get(k) - (1.0 + 0.05 * th)), 4 * *f.column("A_se").get(k))
+        << th;
+    EXPECT_LT(std::abs(*f.column("alpha").get(k) - (-1.8 + 0.02 * th)),
+              4 * *f.column("alpha_se").get(k))
+        << th;
     const double rc = c * std::pow(theta_c - th, -beta);
     ASSERT_TRUE(f.column("r_c").get(k));
     EXPECT_LT(std::abs(*f.column("r_c").get(k) - rc), 4 * *f.column("r_c_se").get(k)) << th;
@@ -446,7 +465,9 @@ TEST(ClusterFit, ThetaCOnTheLastAngleIsDegenerateNotABeta) {
   const double rcs[] = {3.377, 2.345, 4.243, 2.385};
   // Windows run to 19 deg, outside the power range: its r_c repeats the last (it read
   // past the array before, found by the asan preset's UBSan).
-  auto rc_of = [&](double th) { return th < 15.0 ? 2.0 : rcs[std::min(static_cast<int>(th) - 15, 3)]; };
+  auto rc_of = [&](double th) {
+    return th < 15.0 ? 2.0 : rcs[std::min(static_cast<int>(th) - 15, 3)];
+  };
   Product cor = synthetic_correlate_rc(0.08, rc_of, 0.0, 1);
   ClusterFitOptions o;
   o.nu_c = 0.08;
@@ -497,14 +518,19 @@ TEST(ClusterFit, NothingToFitIsADocumentedEmptyResult) {
   Product q = clusterfit(c2, nullptr, {});
   EXPECT_EQ(*q.table("fits").column("converged").get(0), 0);
   EXPECT_FALSE(q.table("fits").column("A").get(0));
-  EXPECT_THROW(clusterfit(c2, nullptr, [] { ClusterFitOptions x; x.nu_inf = NuInfSource::ensemble; return x; }()),
+  EXPECT_THROW(clusterfit(c2, nullptr,
+                          [] {
+                            ClusterFitOptions x;
+                            x.nu_inf = NuInfSource::ensemble;
+                            return x;
+                          }()),
                Error);
 }
 
 namespace {
 // One run whose per-step nu has, in each 0.5 deg envelope window (50 steps), its maximum at
-// step 50 b + 25 on a saturating envelope; frames every 10 steps (steps 0 to 1999, theta 0 to 19.99 deg). `above(step)` says which
-// frames are above their static bound.
+// step 50 b + 25 on a saturating envelope; frames every 10 steps (steps 0 to 1999, theta 0 to 19.99
+// deg). `above(step)` says which frames are above their static bound.
 RunRecord bound_run(const std::function<bool(std::int64_t)>& above) {
   RunRecord run;
   run.name = "r";
@@ -521,8 +547,8 @@ RunRecord bound_run(const std::function<bool(std::int64_t)>& above) {
     if (k % 10 == 0) {
       FrameRecord f{k / 10, k, th, state(7200, 0), std::nullopt, StaticBound{}};
       f.bound->contacts = 7200;
-      f.bound->grains = 4000;                       // B = 14400 - 12000 = 2400
-      f.bound->critical = above(k) ? 2401 : 2400;   // at the bound is static
+      f.bound->grains = 4000;                      // B = 14400 - 12000 = 2400
+      f.bound->critical = above(k) ? 2401 : 2400;  // at the bound is static
       run.frames.push_back(f);
     }
   }
@@ -551,7 +577,9 @@ TEST(CriticalStudy, StaticBoundColumnsAndNuCWarning) {
   EXPECT_EQ(*p.result("nu_c_maxima_above_static_bound"), 40);
   const auto w = product_warnings(p);
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(w[0].find("nu_c comes from frames above the static bound: 40 of the 40"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("nu_c comes from frames above the static bound: 40 of the 40"),
+            std::string::npos)
+      << w[0];
   EXPECT_NE(w[0].find("40 of 200 frames"), std::string::npos) << w[0];
 
   // Frames just after the maxima above their bound do not make nu_c's maxima suspect.
@@ -598,7 +626,8 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
     run.steps.max_speed.push_back(moving ? 0.5 : 0.0);
     run.steps.grains_without_contact.push_back(0);
     if (k % 10 == 0) {
-      FrameRecord f{k / 10, k + 1, th, state(7200, std::llround(0.5 * env(th) * 7200)), 0.0, StaticBound{}};
+      FrameRecord f{k / 10, k + 1,        th, state(7200, std::llround(0.5 * env(th) * 7200)),
+                    0.0,    StaticBound{}};
       f.agitation = flowing ? 1.0 : 0.0;
       f.max_speed = 0.0;
       // the contacts at rest hold a fourth of the critical ones of the pile at rest
@@ -638,7 +667,10 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   const double theta_c = *p.result("theta_c_deg");
   for (std::int64_t k = 0; k < 1950; ++k) {
     const double th = 0.01 * static_cast<double>(k);
-    if (k % 50 != 25 && th >= theta_c - 0.5) { sum += static_cast<double>(std::llround(0.5 * env(th) * 7200)) / 7200.0; ++m; }
+    if (k % 50 != 25 && th >= theta_c - 0.5) {
+      sum += static_cast<double>(std::llround(0.5 * env(th) * 7200)) / 7200.0;
+      ++m;
+    }
   }
   EXPECT_EQ(m, 49);
   ASSERT_TRUE(p.result("nu_theta_c"));
@@ -648,5 +680,7 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   // The reading over contacts at rest, from the frames: 0.25 of the static one.
   ASSERT_TRUE(p.result("nu_c_rest")) << p.notes.back();
   EXPECT_NEAR(*p.result("nu_c_rest"), 0.01, 1e-3);
-  EXPECT_NEAR(*fr.column("nu_rest").get(11), static_cast<double>(std::llround(0.125 * env(1.1) * 3600)) / 3600.0, 1e-12);  // frame 11: theta 1.1
+  EXPECT_NEAR(*fr.column("nu_rest").get(11),
+              static_cast<double>(std::llround(0.125 * env(1.1) * 3600)) / 3600.0,
+              1e-12);  // frame 11: theta 1.1
 }

@@ -49,34 +49,36 @@ struct TempDir {
 // u_t = 3 * (-1) + 6 = 3 > 0, opposing r_t; contact 1 sticks with r_t = 0.
 // Line numbers are given because the error tests point at them.
 const std::string kSmall =
-    "2\n"                       // 1  dimension
-    "2\n"                       // 2  contacts
-    "2\n"                       // 3  storage: sparse
-    "4\n"                       // 4  rows
-    "4\n"                       // 5  columns
-    "2\n"                       // 6  sparse origin
+    "2\n"  // 1  dimension
+    "2\n"  // 2  contacts
+    "2\n"  // 3  storage: sparse
+    "4\n"  // 4  rows
+    "4\n"  // 5  columns
+    "2\n"  // 6  sparse origin
     "CSparse Version 3.1.9, May 4, 2016.  Copyright (c) Timothy A. Davis, 2006-2016\n"  // 7
-    "4-by-4, nzmax: 6 nnz: 6, 1-norm: 3\n"   // 8
-    "    col 0 : locations 0 to 1\n"         // 9
-    "      0 : 1\n"                          // 10
-    "      2 : -0.5\n"                       // 11
-    "    col 1 : locations 2 to 2\n"         // 12
-    "      1 : 3\n"                          // 13
-    "    col 2 : locations 3 to 4\n"         // 14
-    "      0 : -0.5\n"                       // 15
-    "      2 : 1\n"                          // 16
-    "    col 3 : locations 5 to 5\n"         // 17
-    "      3 : 3\n"                          // 18
-    "  -1.0e+00   6.0e+00  -1.0e+00   0.0e+00\n"  // 19 q
-    "  5.0e-01   3.0e-01\n";                       // 20 mu
+    "4-by-4, nzmax: 6 nnz: 6, 1-norm: 3\n"                                              // 8
+    "    col 0 : locations 0 to 1\n"                                                    // 9
+    "      0 : 1\n"                                                                     // 10
+    "      2 : -0.5\n"                                                                  // 11
+    "    col 1 : locations 2 to 2\n"                                                    // 12
+    "      1 : 3\n"                                                                     // 13
+    "    col 2 : locations 3 to 4\n"                                                    // 14
+    "      0 : -0.5\n"                                                                  // 15
+    "      2 : 1\n"                                                                     // 16
+    "    col 3 : locations 5 to 5\n"                                                    // 17
+    "      3 : 3\n"                                                                     // 18
+    "  -1.0e+00   6.0e+00  -1.0e+00   0.0e+00\n"                                        // 19 q
+    "  5.0e-01   3.0e-01\n";                                                            // 20 mu
 
 /// kSmall with line `number` (1-based) replaced by `text` (or removed when text is null).
 std::string edit_line(int number, const char* text) {
   std::string out, line;
   std::istringstream in(kSmall);
   for (int n = 1; std::getline(in, line); ++n) {
-    if (n != number) out += line + "\n";
-    else if (text) out += std::string(text) + "\n";
+    if (n != number)
+      out += line + "\n";
+    else if (text)
+      out += std::string(text) + "\n";
   }
   return out;
 }
@@ -109,14 +111,14 @@ LawCheck check_law(const cd::DelassusProblem& p, const Eigen::VectorXd& r, doubl
     const double w = p.W.coeff(2 * a, 2 * a);
     const double rn = w * r[2 * a], rt = w * r[2 * a + 1];  // as velocities
     const double un = u[2 * a], ut = u[2 * a + 1], mu = p.mu[a];
-    at_most(-rn);                             // r_n >= 0
-    at_most(-un);                             // u_n >= 0
-    at_most(std::min(rn, std::abs(un)));      // r_n u_n = 0
-    at_most(std::abs(rt) - mu * rn);          // |r_t| <= mu r_n
+    at_most(-rn);                         // r_n >= 0
+    at_most(-un);                         // u_n >= 0
+    at_most(std::min(rn, std::abs(un)));  // r_n u_n = 0
+    at_most(std::abs(rt) - mu * rn);      // |r_t| <= mu r_n
     if (rn > floor) {
       ++c.active;
       if (mu * rn - std::abs(rt) > floor) {
-        at_most(std::abs(ut));                // inside the cone: sticks
+        at_most(std::abs(ut));  // inside the cone: sticks
       } else {
         ++c.sliding;
         if (std::abs(rt) > floor) at_most(rt > 0.0 ? ut : -ut);  // r_t opposes u_t
@@ -186,7 +188,7 @@ TEST(SiconosWriter, WritesTheSmallProblemAsSiconosDoesAndReadsBack) {
     EXPECT_EQ(a, b) << "line " << line;
   }
   auto q = p;
-  q.q[0] = 0.1;               // not a short decimal: needs 17 digits
+  q.q[0] = 0.1;  // not a short decimal: needs 17 digits
   q.q[1] = -1.0 / 3.0;
   q.mu[1] = std::nextafter(0.3, 1.0);
   std::ostringstream out2;
@@ -241,8 +243,7 @@ TEST(SiconosReader, ErrorsNameTheFileAndTheLine) {
     EXPECT_NE(message.find(path + ": " + c.where + ": "), std::string::npos) << message;
     EXPECT_NE(message.find(c.what), std::string::npos) << message;
   }
-  EXPECT_NE(read_error((dir.path / "absent.dat").string()).find("cannot open"),
-            std::string::npos);
+  EXPECT_NE(read_error((dir.path / "absent.dat").string()).find("cannot open"), std::string::npos);
 }
 
 // --- NSGS on the small problem ----------------------------------------------------
@@ -275,9 +276,15 @@ struct Known {
   const char* file;
   long contacts, nnz;
   // (row, column, value) entries and (index, value) of q, as printed in the file
-  struct Entry { int row, col; double value; };
+  struct Entry {
+    int row, col;
+    double value;
+  };
   Entry w[3];
-  struct Value { int index; double value; };
+  struct Value {
+    int index;
+    double value;
+  };
   Value q[2];
   // Sweeps Siconos' own fc2d NSGS takes to 1e-5 from r = 0 (python3-siconos 4.4.0,
   // benchmarks/siconos_reference.py): the same iterates take the same number.
@@ -285,15 +292,24 @@ struct Known {
 };
 
 const Known kProblems[] = {
-    {"fc2d_granularflowonwall_00667_00000.dat", 667, 3822,
+    {"fc2d_granularflowonwall_00667_00000.dat",
+     667,
+     3822,
      {{0, 0, 856.713}, {649, 0, -454.43}, {1333, 1333, 2521.06}},
-     {{1, 1.084202172485504434007453e-19}, {2, -1.084202172485504434007453e-19}}, 1},
-    {"fc2d_granularflowonwall_02020_00213.dat", 2020, 20616,
+     {{1, 1.084202172485504434007453e-19}, {2, -1.084202172485504434007453e-19}},
+     1},
+    {"fc2d_granularflowonwall_02020_00213.dat",
+     2020,
+     20616,
      {{0, 0, 814.288}, {1144, 0, -416.766}, {4038, 4039, -9.72628e-06}},
-     {{3, 1.387778780781445675529540e-17}, {4038, -1.461573504837301584746712e-01}}, 806},
-    {"fc2d_granularflowonwall_07002_00801.dat", 7002, 125806,
+     {{3, 1.387778780781445675529540e-17}, {4038, -1.461573504837301584746712e-01}},
+     806},
+    {"fc2d_granularflowonwall_07002_00801.dat",
+     7002,
+     125806,
      {{1, 0, 64.3983}, {2140, 0, -101.0}, {14003, 14003, 1227.17}},
-     {{0, 3.946463423731838560115648e-05}, {14003, -1.764494538685856817039621e-01}}, 1021},
+     {{0, 3.946463423731838560115648e-05}, {14003, -1.764494538685856817039621e-01}},
+     1021},
 };
 
 TEST(SiconosFc2d, ReadsTheThreeProblems) {
@@ -324,7 +340,8 @@ TEST(SiconosFc2d, ReadsTheThreeProblems) {
         worst = std::max(worst, std::abs(it.value()) / p.W.coeff(row, row));
     EXPECT_LT(worst, 1e-5);
     EXPECT_GT(p.W.diagonal().minCoeff(), 0.0);
-  }  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
+  }
+  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
 }
 
 TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
@@ -340,10 +357,11 @@ TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
     const auto report = cd::solve_nsgs(p, r, {.tolerance = tolerance, .max_sweeps = 10000});
     const double norm_q = p.q.norm();
     const LawCheck law = check_law(p, r, tolerance * norm_q);
-    std::printf("  %s: %ld contacts, |q| %.3e, %d sweeps, residual %.3e, %.3f s, "
-                "%d active, %d sliding, worst violation %.3e\n",
-                k.file, k.contacts, norm_q, report.sweeps, report.residual, report.seconds,
-                law.active, law.sliding, law.worst);
+    std::printf(
+        "  %s: %ld contacts, |q| %.3e, %d sweeps, residual %.3e, %.3f s, "
+        "%d active, %d sliding, worst violation %.3e\n",
+        k.file, k.contacts, norm_q, report.sweeps, report.residual, report.seconds, law.active,
+        law.sliding, law.worst);
     ASSERT_TRUE(report.converged) << report.sweeps << " sweeps, residual " << report.residual;
     EXPECT_LE(report.residual, tolerance);
     EXPECT_EQ(cd::natural_map_residual(p, r), report.residual);
@@ -361,7 +379,8 @@ TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
       EXPECT_LE(law.worst, norm_q);
       EXPECT_LE((p.W * r).norm(), norm_q);
     }
-  }  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
+  }
+  EXPECT_GE(tested, 2) << "tests/data/siconos-fc2d holds two of the problems";
 }
 
 TEST(SiconosFc2d, HittingTheSweepCapIsReported) {

@@ -20,8 +20,8 @@ using cdpile::Vec2;
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kR = 0.5e-3;     // disk radius [m] (D = 1 mm)
-constexpr double kRho = 2500.0;   // glass [kg/m^3]
+constexpr double kR = 0.5e-3;    // disk radius [m] (D = 1 mm)
+constexpr double kRho = 2500.0;  // glass [kg/m^3]
 
 cd::Settings settings(double mu_wall = 0.5) {
   cd::Settings s;
@@ -365,7 +365,9 @@ TEST(Collision, ObliqueSlidesAboveAsTheLocalSolutionSays) {
 
 TEST(Engine, StateRoundTripContinuesBitForBit) {
   Grains g;
-  for (int n = 0; n < 6; ++n) g.add_disk(kR * (1 + 0.1 * n), kRho, Vec2(0.003 + 0.0011 * n, kR * (1 + 0.1 * n) + 0.0005 * (n % 2)));
+  for (int n = 0; n < 6; ++n)
+    g.add_disk(kR * (1 + 0.1 * n), kRho,
+               Vec2(0.003 + 0.0011 * n, kR * (1 + 0.1 * n) + 0.0005 * (n % 2)));
   cd::Settings s;
   cd::Engine a(Box{0.02, 0.02}, g, s);
   for (int k = 0; k < 150; ++k) a.step(0.01 * k * kDeg);
@@ -469,7 +471,8 @@ TEST(DelassusExport, AColumnIsSolvedAgainToTheSameImpulses) {
   const double mgh = e.grains().mass[0] * 9.81 * e.settings().time_step;
   const auto c = e.contacts();
   for (Eigen::Index a = 0; a < k; ++a) {
-    const int carried = c.j[static_cast<std::size_t>(a)] < 0 ? k : k - 1 - c.i[static_cast<std::size_t>(a)];
+    const int carried =
+        c.j[static_cast<std::size_t>(a)] < 0 ? k : k - 1 - c.i[static_cast<std::size_t>(a)];
     EXPECT_NEAR(r[2 * a], carried * mgh, 1e-9 * k * mgh) << "contact " << a;
     EXPECT_NEAR(r[2 * a], engine_r[2 * a], 1e-9 * k * mgh) << "contact " << a;
     EXPECT_NEAR(r[2 * a + 1], 0.0, 1e-12 * mgh) << "contact " << a;

@@ -90,8 +90,8 @@ TEST(Seam, SolverNamesRoundTripAndTheEngineRunsTheNamedSolver) {
     EXPECT_EQ(cd::make_solver(tight(k))->kind(), k);
   }
   EXPECT_THROW(cd::solver_from_name("pgs"), cdpile::UsageError);
-  for (const cd::Criterion c : {cd::Criterion::maxm, cd::Criterion::quad, cd::Criterion::qm16,
-                                cd::Criterion::law})
+  for (const cd::Criterion c :
+       {cd::Criterion::maxm, cd::Criterion::quad, cd::Criterion::qm16, cd::Criterion::law})
     EXPECT_EQ(cd::criterion_from_name(cd::criterion_name(c)), c);
   cd::SolverSettings bad;
   bad.check_every = 0;

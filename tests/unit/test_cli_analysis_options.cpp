@@ -34,8 +34,8 @@ TEST(AnalysisOptions, DefaultsAreTheLibrarys) {
 
 TEST(AnalysisOptions, GivenValuesReachTheRule) {
   const cli::Args a =
-      parse({"run.h5", "--eps", "0.01", "--walls", "--floor-grains", "grain", "--mu", "0.3", "--mu-wall", "0.2",
-             "--format", "tsv", "--table", "a,b", "-o", "out.tsv"});
+      parse({"run.h5", "--eps", "0.01", "--walls", "--floor-grains", "grain", "--mu", "0.3",
+             "--mu-wall", "0.2", "--format", "tsv", "--table", "a,b", "-o", "out.tsv"});
   const analysis::CriticalRule r = cli::critical_rule(a);
   EXPECT_EQ(r.eps, 0.01);
   EXPECT_TRUE(r.include_walls);

@@ -71,22 +71,33 @@ TEST(Cli, RepeatedPositionalAndLists) {
 
 TEST(Cli, StrictNumbers) {
   EXPECT_EQ(usage_error({"a", "--grains", "1e"}), "--grains: expected an integer >= 1, got '1e'");
-  EXPECT_EQ(usage_error({"a", "--grains", "0"}), "--grains: expected an integer >= 1, got '0' (out of range)");
-  EXPECT_EQ(usage_error({"a", "--grains", "12abc"}), "--grains: expected an integer >= 1, got '12abc'");
-  EXPECT_EQ(usage_error({"a", "--diameter", "nan"}), "--diameter: expected a finite number >= 0, got 'nan'");
-  EXPECT_EQ(usage_error({"a", "--diameter", "inf"}), "--diameter: expected a finite number >= 0, got 'inf'");
-  EXPECT_EQ(usage_error({"a", "--to", "91"}), "--to: expected a finite number in [0, 90], got '91' (out of range)");
+  EXPECT_EQ(usage_error({"a", "--grains", "0"}),
+            "--grains: expected an integer >= 1, got '0' (out of range)");
+  EXPECT_EQ(usage_error({"a", "--grains", "12abc"}),
+            "--grains: expected an integer >= 1, got '12abc'");
+  EXPECT_EQ(usage_error({"a", "--diameter", "nan"}),
+            "--diameter: expected a finite number >= 0, got 'nan'");
+  EXPECT_EQ(usage_error({"a", "--diameter", "inf"}),
+            "--diameter: expected a finite number >= 0, got 'inf'");
+  EXPECT_EQ(usage_error({"a", "--to", "91"}),
+            "--to: expected a finite number in [0, 90], got '91' (out of range)");
   EXPECT_EQ(usage_error({"a", "--radii", "1:0:5"}),
-            "--radii: expected a list of numbers (A,B,C or FIRST:STEP:LAST) >= 0, got '1:0:5' (the step must be positive and LAST >= FIRST)");
-  EXPECT_EQ(usage_error({"a", "--criterion", "l2"}), "--criterion: expected one of max, quad, got 'l2'");
+            "--radii: expected a list of numbers (A,B,C or FIRST:STEP:LAST) >= 0, got '1:0:5' (the "
+            "step must be positive and LAST >= FIRST)");
+  EXPECT_EQ(usage_error({"a", "--criterion", "l2"}),
+            "--criterion: expected one of max, quad, got 'l2'");
 }
 
 TEST(Cli, ListOfChoicesCheckedItemByItem) {
   EXPECT_EQ(run({"a"}).text_list("table"), std::vector<std::string>{});
-  EXPECT_EQ(run({"a", "--table", "frames,runs"}).text_list("table"), (std::vector<std::string>{"frames", "runs"}));
-  EXPECT_EQ(usage_error({"a", "--table", "foo"}), "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
-  EXPECT_EQ(usage_error({"a", "--table", "runs,foo"}), "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
-  EXPECT_EQ(usage_error({"a", "--table", "runs,"}), "--table: expected one or more of runs, frames (comma-separated), got ''");
+  EXPECT_EQ(run({"a", "--table", "frames,runs"}).text_list("table"),
+            (std::vector<std::string>{"frames", "runs"}));
+  EXPECT_EQ(usage_error({"a", "--table", "foo"}),
+            "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
+  EXPECT_EQ(usage_error({"a", "--table", "runs,foo"}),
+            "--table: expected one or more of runs, frames (comma-separated), got 'foo'");
+  EXPECT_EQ(usage_error({"a", "--table", "runs,"}),
+            "--table: expected one or more of runs, frames (comma-separated), got ''");
 }
 
 TEST(Cli, NoPrefixGuessingAndUnknownOptions) {
@@ -110,7 +121,8 @@ TEST(Cli, HelpShowsEveryOptionWithDefaultAndUnit) {
   EXPECT_NE(h.find("number of grains (default: 4000; >= 1)"), std::string::npos) << h;
   EXPECT_NE(h.find("Exit status: 0 success; 1 runtime or data error"), std::string::npos);
   const std::string md = cli::help_markdown(demo());
-  EXPECT_NE(md.find("| `--diameter X` | mean diameter (>= 0) | m | `0.001` |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| `--diameter X` | mean diameter (>= 0) | m | `0.001` |"), std::string::npos)
+      << md;
 }
 
 // An old spelling kept for one version: the same option, hidden from --help; both

@@ -14,8 +14,11 @@ using cdpile::cli::ProgressLine;
 
 namespace {
 std::vector<ProgressField> tilt_fields() {
-  return {{"tilt-cd: 12.345 deg", 0}, {"step 12345", 2}, {"678 steps/s", 4},
-          {"Ek/(Np m g D) 1.2e-05", 3}, {"est. 48 s left", 1}};
+  return {{"tilt-cd: 12.345 deg", 0},
+          {"step 12345", 2},
+          {"678 steps/s", 4},
+          {"Ek/(Np m g D) 1.2e-05", 3},
+          {"est. 48 s left", 1}};
 }
 }  // namespace
 
@@ -33,7 +36,8 @@ TEST(Progress, FieldsAreDroppedInTheirOrderToFitTheWidth) {
   EXPECT_EQ(fit_progress(tilt_fields(), 21), "tilt-cd: 12.345 deg");
   // narrower than the field that is never dropped: cut, never wrapped
   EXPECT_EQ(fit_progress(tilt_fields(), 10), "tilt-cd: ");
-  for (std::size_t w = 1; w < 120; ++w) EXPECT_LT(fit_progress(tilt_fields(), w).size(), std::max<std::size_t>(w, 2));
+  for (std::size_t w = 1; w < 120; ++w)
+    EXPECT_LT(fit_progress(tilt_fields(), w).size(), std::max<std::size_t>(w, 2));
 }
 
 TEST(Progress, AShorterLineClearsTheLongerOneBefore) {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <csignal>
 #include <unistd.h>
+#include <csignal>
 
 using namespace cdpile;
 
@@ -17,7 +17,8 @@ int run(void (*body)()) {
   char name[] = "signals";
   char* argv[] = {name, nullptr};
   return cli::run_tool(
-      1, argv, [](cli::Usage& u) { u.synopsis = "signal test"; }, [body](const cli::Args&) { body(); });
+      1, argv, [](cli::Usage& u) { u.synopsis = "signal test"; },
+      [body](const cli::Args&) { body(); });
 }
 
 }  // namespace

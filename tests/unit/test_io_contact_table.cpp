@@ -1,6 +1,6 @@
 // The plain-text table parser and the contact table reader (docs/contact-table.md).
-#include "cdpile/io/contact_table.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/io/contact_table.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@ std::string message_of(const std::string& text) {
 }  // namespace
 
 TEST(TextTable, TabCommaAndSpaceSeparated) {
-  for (const char* text : {"# a comment\nx\ty\n1\t2\n3\t4.5e-1\n", "x,y\n1,2\n3, 0.45\n",
-                           "x   y\n  1 2\n3 0.45\n"}) {
+  for (const char* text :
+       {"# a comment\nx\ty\n1\t2\n3\t4.5e-1\n", "x,y\n1,2\n3, 0.45\n", "x   y\n  1 2\n3 0.45\n"}) {
     auto t = parse_text_tables(text, "t");
     ASSERT_EQ(t.size(), 1u) << text;
     ASSERT_EQ(t[0].columns, (std::vector<std::string>{"x", "y"}));
@@ -100,22 +100,24 @@ TEST(ContactTable, BadInputGivesOneLineErrors) {
             "c.tsv: line 1: missing column 'ft' (the header has: x y fn)");
   EXPECT_EQ(message_of("x\ty\tfn\tft\n1\t2\t3\tNaN\n"),
             "c.tsv: line 2, column ft: 'NaN' is not a finite number");
-  EXPECT_EQ(message_of("frame\ttheta\tx\ty\tfn\tft\n1\t2\t0\t0\t1\t0\n1\t3\t0\t0\t1\t0\n"),
-            "c.tsv: line 3, column theta: theta differs from the value on line 2 of the same frame");
+  EXPECT_EQ(
+      message_of("frame\ttheta\tx\ty\tfn\tft\n1\t2\t0\t0\t1\t0\n1\t3\t0\t0\t1\t0\n"),
+      "c.tsv: line 3, column theta: theta differs from the value on line 2 of the same frame");
   EXPECT_EQ(message_of("frame\tx\ty\tfn\tft\n1.5\t0\t0\t1\t0\n"),
             "c.tsv: line 2, column frame: frame must be an integer");
   EXPECT_EQ(message_of("x\ty\tfn\tft\tstatus\n0\t0\t1\t0\t7\n"),
             "c.tsv: line 2, column status: status must be 0, 1 or 2");
   EXPECT_EQ(message_of(""), "c.tsv: no table (expected a header line: x y fn ft ...)");
-  EXPECT_EQ(message_of("# only a comment\n"), "c.tsv: no table (expected a header line: x y fn ft ...)");
+  EXPECT_EQ(message_of("# only a comment\n"),
+            "c.tsv: no table (expected a header line: x y fn ft ...)");
   // a header and no rows: no frames, not an error
   EXPECT_TRUE(read_contact_table("x\ty\tfn\tft\n", "c.tsv").frames.empty());
 }
 
 TEST(ContactTable, UnknownColumnsAreIgnoredWhateverTheyHold) {
   // docs/analysis.md promises it: a text column, a column of NA, an empty-looking label
-  auto c = read_contact_table("x\ty\tfn\tft\ttype\tnote\n0\t0\t1\t0.5\tglass\tNA\n1\t0\t2\t0.1\tsteel\t-\n",
-                              "c.tsv");
+  auto c = read_contact_table(
+      "x\ty\tfn\tft\ttype\tnote\n0\t0\t1\t0.5\tglass\tNA\n1\t0\t2\t0.1\tsteel\t-\n", "c.tsv");
   ASSERT_EQ(c.frames.size(), 1u);
   EXPECT_EQ(c.frames[0].contacts.size(), 2u);
   EXPECT_DOUBLE_EQ(c.frames[0].contacts.fn[1], 2.0);
@@ -129,11 +131,12 @@ TEST(ContactTable, APairGivenTwiceIsAnErrorNamingBothLines) {
       "frame\ti\tj\tx\ty\tfn\tft\n"
       "1\t3\t4\t0\t0\t1\t0.5\n"
       "1\t5\t6\t1\t0\t1\t0.1\n"
-      "2\t3\t4\t0\t0\t1\t0.5\n"      // another frame: not a repeat
-      "1\t4\t3\t0\t0\t1\t-0.5\n";    // the same pair, listed from the other side
-  EXPECT_EQ(message_of(text),
-            "c.tsv: line 5: contact 4-3 of frame 1 is also on line 2 (give each contact once, or merge "
-            "repeated rows: --duplicates merge)");
+      "2\t3\t4\t0\t0\t1\t0.5\n"    // another frame: not a repeat
+      "1\t4\t3\t0\t0\t1\t-0.5\n";  // the same pair, listed from the other side
+  EXPECT_EQ(
+      message_of(text),
+      "c.tsv: line 5: contact 4-3 of frame 1 is also on line 2 (give each contact once, or merge "
+      "repeated rows: --duplicates merge)");
   // merged: counted once, the first row kept
   auto c = read_contact_table(text, "c.tsv", {Duplicates::merge});
   EXPECT_EQ(c.merged, 1u);
@@ -151,20 +154,24 @@ TEST(ContactTable, RepeatsMustAgreeToBeMerged) {
     read_contact_table(text, "c.tsv", {Duplicates::merge});
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "c.tsv: line 3: contact 3-4 is also on line 2 with another point or other forces: "
-                           "not a repeat, cannot merge");
+    EXPECT_STREQ(e.what(),
+                 "c.tsv: line 3: contact 3-4 is also on line 2 with another point or other forces: "
+                 "not a repeat, cannot merge");
   }
 }
 
 TEST(ContactTable, WithoutIdsARepeatIsTheSamePoint) {
   const char* text = "x\ty\tfn\tft\n0.5\t0.25\t1\t0\n1\t0\t1\t0\n0.5\t0.25\t1\t0\n";
   EXPECT_EQ(message_of(text),
-            "c.tsv: line 4: contact point (0.5, 0.25) is also on line 2 (give each contact once, or merge "
+            "c.tsv: line 4: contact point (0.5, 0.25) is also on line 2 (give each contact once, "
+            "or merge "
             "repeated rows: --duplicates merge)");
   EXPECT_EQ(read_contact_table(text, "c.tsv", {Duplicates::merge}).frames[0].contacts.size(), 2u);
 }
 
 TEST(ContactTable, LengthUnitComment) {
-  EXPECT_EQ(read_contact_table("# length_unit: mm\nx\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit, "mm");
+  EXPECT_EQ(
+      read_contact_table("# length_unit: mm\nx\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit,
+      "mm");
   EXPECT_EQ(read_contact_table("x\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit, "");
 }

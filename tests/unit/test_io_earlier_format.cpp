@@ -58,9 +58,11 @@ TEST(EarlierFormat, SuperblockVersionIsReadWhereHdf5LooksForIt) {
   EXPECT_EQ(h5::superblock_version(std::vector<char>{'a', 'b'}), -1);
   EXPECT_EQ(h5::superblock_version(std::vector<char>(4096, '\0')), -1);
   // from a path, the same
-  const fs::path p = fs::temp_directory_path() / ("cdpile-earlier-" + std::to_string(::getpid()) + ".h5");
+  const fs::path p =
+      fs::temp_directory_path() / ("cdpile-earlier-" + std::to_string(::getpid()) + ".h5");
   const std::vector<char> image = earlier_format_image();
-  std::ofstream(p, std::ios::binary).write(image.data(), static_cast<std::streamsize>(image.size()));
+  std::ofstream(p, std::ios::binary)
+      .write(image.data(), static_cast<std::streamsize>(image.size()));
   EXPECT_EQ(h5::superblock_version(p.string()), 0);
   EXPECT_EQ(h5::superblock_version("/nonexistent/cdpile.h5"), -1);
   fs::remove(p);
@@ -75,15 +77,27 @@ TEST(EarlierFormat, TheChildsEndIsTheVerdict) {
   EXPECT_EQ(big.verdict, h5::Check::passed);
   EXPECT_EQ(big.bytes.size(), std::size_t{1} << 20);
   // an Error comes back as its text
-  const auto failed = h5::run_checked([]() -> std::vector<char> { throw Error("f", "/g", "damaged"); }, 5, 1e9);
+  const auto failed =
+      h5::run_checked([]() -> std::vector<char> { throw Error("f", "/g", "damaged"); }, 5, 1e9);
   EXPECT_EQ(failed.verdict, h5::Check::failed);
   EXPECT_EQ(failed.error, "f: /g: damaged");
   auto verdict = [](auto work) { return h5::run_checked(work, 1, 1e9).verdict; };
-  EXPECT_EQ(verdict([]() -> std::vector<char> { std::raise(SIGSEGV); return {}; }), h5::Check::crashed);
+  EXPECT_EQ(verdict([]() -> std::vector<char> {
+              std::raise(SIGSEGV);
+              return {};
+            }),
+            h5::Check::crashed);
   EXPECT_EQ(verdict([]() -> std::vector<char> { std::abort(); }), h5::Check::crashed);
-  EXPECT_EQ(verdict([]() -> std::vector<char> { std::_Exit(0); }), h5::Check::crashed);  // nothing written
+  EXPECT_EQ(verdict([]() -> std::vector<char> { std::_Exit(0); }),
+            h5::Check::crashed);  // nothing written
   // an endless loop ends at the CPU bound (1 s of CPU time, however busy the machine)
-  EXPECT_EQ(verdict([]() -> std::vector<char> { volatile bool go = true; while (go) {} return {}; }), h5::Check::looped);
+  EXPECT_EQ(verdict([]() -> std::vector<char> {
+              volatile bool go = true;
+              while (go) {
+              }
+              return {};
+            }),
+            h5::Check::looped);
 }
 
 TEST(EarlierFormat, AnIntactFileIsRewrittenInTheChecksummedFormatAndRead) {
@@ -99,16 +113,27 @@ TEST(EarlierFormat, AnIntactFileIsRewrittenInTheChecksummedFormatAndRead) {
   EXPECT_EQ(h5::attr_double(f, "/g", "x0"), 2.5);
   EXPECT_EQ(h5::read<double>(f, "/g/x", {3}), (std::vector<double>{1, 2, 3}));
   EXPECT_EQ(h5::members(f, "/"), (std::vector<std::string>{"g", "link"}));
-  EXPECT_EQ(h5::read<double>(f, "/link/x", {3}), (std::vector<double>{1, 2, 3}));  // the soft link kept
+  EXPECT_EQ(h5::read<double>(f, "/link/x", {3}),
+            (std::vector<double>{1, 2, 3}));  // the soft link kept
 }
 
 TEST(EarlierFormat, ACrashWhileRewritingIsOneErrorNamingTheFile) {
   try {
-    h5::open_earlier_format(0, 1000, [&]() -> h5::File { std::raise(SIGSEGV); return {}; }, "old.h5");
+    h5::open_earlier_format(
+        0, 1000,
+        [&]() -> h5::File {
+          std::raise(SIGSEGV);
+          return {};
+        },
+        "old.h5");
     FAIL() << "no error";
   } catch (const Error& e) {
     const std::string what = e.what();
-    EXPECT_EQ(what.rfind("old.h5: damaged file of HDF5's earlier format (superblock version 0, no checksums): libhdf5 ", 0), 0u) << what;
+    EXPECT_EQ(what.rfind("old.h5: damaged file of HDF5's earlier format (superblock version 0, no "
+                         "checksums): libhdf5 ",
+                         0),
+              0u)
+        << what;
     EXPECT_NE(what.find("crashed reading it in a separate process"), std::string::npos) << what;
     EXPECT_NE(what.find("h5repack --low=2 --high=2"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos);

@@ -22,17 +22,22 @@ struct Fifo {
   fs::path dir, path;
   std::thread writer;
   explicit Fifo(std::string bytes) {
-    dir = fs::temp_directory_path() / ("cdpile-fifo-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
+    dir = fs::temp_directory_path() /
+          ("cdpile-fifo-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
     fs::create_directories(dir);
     path = dir / "pipe";
     if (::mkfifo(path.c_str(), 0600) != 0) throw std::runtime_error("mkfifo failed");
-    writer = std::thread([p = path, b = std::move(bytes)] { std::ofstream(p, std::ios::binary) << b; });
+    writer =
+        std::thread([p = path, b = std::move(bytes)] { std::ofstream(p, std::ios::binary) << b; });
   }
   ~Fifo() {
     writer.join();
     fs::remove_all(dir);
   }
-  static int& counter() { static int c = 0; return c; }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
 };
 }  // namespace
 
@@ -61,7 +66,8 @@ TEST(Input, AFifoIsReadWholeLikeStandardInput) {
       io::Input in(f.path.string());
       ADD_FAILURE() << "an empty FIFO was accepted";
     } catch (const Error& e) {
-      EXPECT_EQ(std::string(e.what()), f.path.string() + ": no data (did the tool writing it fail?)");
+      EXPECT_EQ(std::string(e.what()),
+                f.path.string() + ": no data (did the tool writing it fail?)");
     }
   }
 }

@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <unistd.h>
 
 using namespace cdpile;
 namespace lmp = cdpile::io::lammps;
@@ -29,9 +29,11 @@ std::string message_of(const std::function<void()>& f) {
 TEST(LammpsDump, SnapshotsItemsAndCells) {
   const char* text =
       "ITEM: TIMESTEP\n10\nITEM: TIME\n0.5\nITEM: UNITS\nsi\nITEM: NUMBER OF ATOMS\n2\n"
-      "ITEM: BOX BOUNDS xy xz yz pp ff pp\n0 1 0\n0 2 0\n-1 1 0\nITEM: ATOMS id x element\n1 0.25 Fe\n2 0.75 Ni\n"
+      "ITEM: BOX BOUNDS xy xz yz pp ff pp\n0 1 0\n0 2 0\n-1 1 0\nITEM: ATOMS id x element\n1 0.25 "
+      "Fe\n2 0.75 Ni\n"
       "ITEM: SOMETHING NEW\nwhatever\n"
-      "ITEM: TIMESTEP\n20\nITEM: NUMBER OF ENTRIES\n0\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ENTRIES c_a[1]\n";
+      "ITEM: TIMESTEP\n20\nITEM: NUMBER OF ENTRIES\n0\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 "
+      "1\nITEM: ENTRIES c_a[1]\n";
   const auto s = lmp::parse_dump(text, "d.txt");
   ASSERT_EQ(s.size(), 2u);
   EXPECT_EQ(s[0].step, 10);
@@ -48,14 +50,20 @@ TEST(LammpsDump, SnapshotsItemsAndCells) {
   EXPECT_EQ(message_of([] { lmp::parse_dump("", "e.txt"); }), "e.txt: empty: not a LAMMPS dump");
   EXPECT_EQ(message_of([] { lmp::parse_dump("ITEM: NUMBER OF ATOMS\n1\n", "e.txt"); }),
             "e.txt: line 1: 'NUMBER OF ATOMS' before any ITEM: TIMESTEP (not a LAMMPS dump?)");
-  EXPECT_EQ(message_of([] { lmp::parse_dump("ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x\n1 2 3\n", "e.txt"); }),
+  EXPECT_EQ(message_of([] {
+              lmp::parse_dump(
+                  "ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x\n1 2 3\n",
+                  "e.txt");
+            }),
             "e.txt: line 6: 3 fields, the header has 2");
 }
 
 TEST(LammpsScript, ComputesWallsIncludesAndConditionals) {
-  const auto dir = std::filesystem::temp_directory_path() / ("cdpile-lammps-" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("cdpile-lammps-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "in.dump") << "compute pl all pair/local dist force & # a comment\n   fx fy p1 p2 p4\n";
+  std::ofstream(dir / "in.dump")
+      << "compute pl all pair/local dist force & # a comment\n   fx fy p1 p2 p4\n";
   std::ofstream(dir / "in.main")
       << "units si\ntimestep 1e-5\npair_style gran/hooke/history 1 NULL 1 NULL 0.5 1\n"
       << "fix floor all wall/gran hooke/history 1 NULL 1 NULL 0.5 1 yplane 0 NULL contacts\n"
@@ -72,8 +80,10 @@ TEST(LammpsScript, ComputesWallsIncludesAndConditionals) {
   EXPECT_TRUE(s.walls["floor"].contacts);
   EXPECT_FALSE(s.walls["sides"].contacts);  // no per-atom output without `contacts`
   ASSERT_EQ(s.computes.count("pl"), 1u);
-  EXPECT_EQ(s.computes["pl"].args, (std::vector<std::string>{"dist", "force", "fx", "fy", "p1", "p2", "p4"}));
-  const auto roles = lmp::entry_column_roles({"c_pl[7]", "c_pl[2]", "c_pl[5]", "c_pl[6]", "other"}, s, {}, "d");
+  EXPECT_EQ(s.computes["pl"].args,
+            (std::vector<std::string>{"dist", "force", "fx", "fy", "p1", "p2", "p4"}));
+  const auto roles =
+      lmp::entry_column_roles({"c_pl[7]", "c_pl[2]", "c_pl[5]", "c_pl[6]", "other"}, s, {}, "d");
   EXPECT_EQ(roles, (std::vector<std::string>{"ftmag", "fn", "ftx", "fty", ""}));
   EXPECT_EQ(lmp::length_unit_of("si"), "m");
   EXPECT_EQ(lmp::length_unit_of("lj"), "");
@@ -81,7 +91,8 @@ TEST(LammpsScript, ComputesWallsIncludesAndConditionals) {
 
 TEST(LammpsScript, LiggghtsColumnsInTheirFixedOrder) {
   lmp::Script s;
-  lmp::parse_script("compute a all pair/gran/local\ncompute w all wall/gran/local force id pos\n", "in", ".", s);
+  lmp::parse_script("compute a all pair/gran/local\ncompute w all wall/gran/local force id pos\n",
+                    "in", ".", s);
   // defaults: pos (6) vel (6) id (3) force (3) torque (3) history (here 3) contactArea (1)
   std::vector<std::string> cols;
   for (int k = 1; k <= 25; ++k) cols.push_back("c_a[" + std::to_string(k) + "]");
@@ -100,8 +111,11 @@ TEST(LammpsScript, LiggghtsColumnsInTheirFixedOrder) {
   EXPECT_EQ((std::vector<std::string>{rw[0], rw[1], rw[3], rw[6], rw[8], rw[9]}),
             (std::vector<std::string>{"px", "py", "x1", "wall", "id1", "fx"}));
   // explicit names win; two columns with one role are refused
-  EXPECT_EQ(lmp::entry_column_roles({"a", "b"}, s, {{"a", "fn"}}, "d"), (std::vector<std::string>{"fn", ""}));
-  EXPECT_EQ(message_of([&] { lmp::entry_column_roles({"fn", "b"}, s, {{"b", "fn"}}, "d"); }),
+  EXPECT_EQ(lmp::entry_column_roles({"a", "b"}, s, {{"a", "fn"}}, "d"),
+            (std::vector<std::string>{"fn", ""}));
+  EXPECT_EQ(message_of([&] {
+              lmp::entry_column_roles({"fn", "b"}, s, {{"b", "fn"}}, "d");
+            }),
             "d: columns fn and b both hold fn");
 }
 

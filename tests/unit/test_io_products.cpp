@@ -1,7 +1,7 @@
 // Analysis products written as TSV and HDF5 read back to the same tables, missing values
 // included (NA in TSV, a _defined flag in HDF5, never NaN in a file).
-#include "cdpile/io/products.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/io/products.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,10 +26,18 @@ Product sample() {
   auto& n = t.add_column("n", "", ColumnKind::integer);
   auto& v = t.add_column("nu_bar", "");
   auto& s = t.add_column("se_over", "", ColumnKind::text);
-  th.add(0.1); th.add(1.0 / 3.0); th.add(-2.5e-300);
-  n.add_int(4); n.add_int(0); n.add(std::optional<double>());
-  v.add(0.5); v.add(std::optional<double>()); v.add(1e22);
-  s.add_text("runs"); s.add_text("none"); s.add_text("frames");
+  th.add(0.1);
+  th.add(1.0 / 3.0);
+  th.add(-2.5e-300);
+  n.add_int(4);
+  n.add_int(0);
+  n.add(std::optional<double>());
+  v.add(0.5);
+  v.add(std::optional<double>());
+  v.add(1e22);
+  s.add_text("runs");
+  s.add_text("none");
+  s.add_text("frames");
   p.add_table("empty", "no rows").add_column("x", "m");
   return p;
 }
@@ -77,8 +85,10 @@ TEST(Products, TsvRoundTrip) {
 TEST(Products, TsvRoundTripOfAMergedHistory) {
   // entries from several inputs carry the input they came through as a sixth field
   std::vector<Provenance> history = merge_histories(
-      {{"run1.h5", {{"tilt-cd", "0.1.0", "tilt-cd p.h5 -o run1.h5", "p.h5", "2026-01-01T00:00:00Z"}}},
-       {"run2.h5", {{"tilt-cd", "0.1.0", "tilt-cd q.h5 -o run2.h5", "q.h5", "2026-01-02T00:00:00Z"}}}});
+      {{"run1.h5",
+        {{"tilt-cd", "0.1.0", "tilt-cd p.h5 -o run1.h5", "p.h5", "2026-01-01T00:00:00Z"}}},
+       {"run2.h5",
+        {{"tilt-cd", "0.1.0", "tilt-cd q.h5 -o run2.h5", "q.h5", "2026-01-02T00:00:00Z"}}}});
   history.push_back(provenance_now("critical", "critical run1.h5 run2.h5", "run1.h5 run2.h5"));
   std::ostringstream os;
   write_tsv(os, sample(), history);

@@ -6,9 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstring>
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -51,15 +51,18 @@ Frame random_frame(std::size_t n, std::size_t k, std::uint64_t seed) {
   // every fourth contact on a wall.
   std::vector<std::pair<std::int32_t, std::int32_t>> grain_pairs, wall_pairs;
   for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t b = 0; b < a; ++b) grain_pairs.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
-    for (std::int32_t w : {wall_floor, wall_left, wall_right}) wall_pairs.emplace_back(static_cast<std::int32_t>(a), w);
+    for (std::size_t b = 0; b < a; ++b)
+      grain_pairs.emplace_back(static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+    for (std::int32_t w : {wall_floor, wall_left, wall_right})
+      wall_pairs.emplace_back(static_cast<std::int32_t>(a), w);
   }
   std::size_t next_grain = 0, next_wall = 0;
   for (std::size_t q = 0; q < k; ++q) {
-    const bool wall = (q % 4 == 0 && next_wall < wall_pairs.size()) || next_grain == grain_pairs.size();
+    const bool wall =
+        (q % 4 == 0 && next_wall < wall_pairs.size()) || next_grain == grain_pairs.size();
     const auto [i, j] = wall ? wall_pairs.at(next_wall++) : grain_pairs.at(next_grain++);
-    fr.contacts.push_back(i, j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)),
-                          1e-9 + u(), u() - 0.5, -1e-7 * u(), static_cast<ContactStatus>(q % 3));
+    fr.contacts.push_back(i, j, Vec2(u(), u()), Vec2(std::cos(q), std::sin(q)), 1e-9 + u(),
+                          u() - 0.5, -1e-7 * u(), static_cast<ContactStatus>(q % 3));
   }
   return fr;
 }
@@ -94,10 +97,13 @@ io::RunHeader test_header() {
   io::RunHeader h;
   h.kind = "run";
   h.box = {0.12, 0.05};
-  h.parameters = {{"mu_grain", 0.5}, {"grains", std::int64_t{7}}, {"time_step_s", 1e-4},
+  h.parameters = {{"mu_grain", 0.5},
+                  {"grains", std::int64_t{7}},
+                  {"time_step_s", 1e-4},
                   {"integrator", std::string("moreau-jean")}};
   h.results = {{"avalanche_angle_deg", 19.5}};
-  h.provenance = {{"deposit", "0.1.0", "deposit --grains 7 -o 'a b.h5'", "", "2026-11-22T00:00:00Z"}};
+  h.provenance = {
+      {"deposit", "0.1.0", "deposit --grains 7 -o 'a b.h5'", "", "2026-11-22T00:00:00Z"}};
   return h;
 }
 
@@ -216,9 +222,11 @@ TEST(Schema, H5mdMetadataFollowsTheSpecification) {
   io::set_author("Ada Lovelace <ada@example.org>");
   h5::File f = h5::create_in_memory("mem");
   write_run(f, 3, 1, 4);
-  for (auto [path, name] : std::initializer_list<std::pair<const char*, const char*>>{
-           {"/h5md/author", "name"}, {"/h5md/author", "email"}, {"/h5md/creator", "name"},
-           {"/h5md/creator", "version"}}) {
+  for (auto [path, name] :
+       std::initializer_list<std::pair<const char*, const char*>>{{"/h5md/author", "name"},
+                                                                  {"/h5md/author", "email"},
+                                                                  {"/h5md/creator", "name"},
+                                                                  {"/h5md/creator", "version"}}) {
     const StringKind k = string_kind(f, path, name);
     EXPECT_TRUE(k.is_string && !k.variable && k.rank == 0) << path << " " << name;
   }
@@ -227,7 +235,8 @@ TEST(Schema, H5mdMetadataFollowsTheSpecification) {
   EXPECT_EQ(h5::attr_string(f, "/h5md/creator", "name"), "cdpile");
   const StringKind b = string_kind(f, "/particles/grains/box", "boundary");
   EXPECT_TRUE(b.is_string && !b.variable && b.rank == 1);
-  EXPECT_EQ(h5::attr_strings(f, "/particles/grains/box", "boundary"), (std::vector<std::string>{"none", "none"}));
+  EXPECT_EQ(h5::attr_strings(f, "/particles/grains/box", "boundary"),
+            (std::vector<std::string>{"none", "none"}));
   EXPECT_EQ(h5::attr_ints(f, "/h5md/modules/units", "version"), (std::vector<std::int64_t>{1, 0}));
   EXPECT_EQ(h5::attr_string(f, "/h5md/modules/units", "system"), "SI");
   const StringKind u = string_kind(f, "/observables/tilt_angle/value", "unit");
@@ -316,7 +325,8 @@ TEST(Schema, ReopenDropsWhatCameAfterTheCheckpoint) {
 
 TEST(Schema, MergedHistoriesKeepEveryInputsChain) {
   const io::Provenance dep1{"deposit", "0.1.0", "deposit -o p1.h5", "", "2026-01-01T00:00:00Z"};
-  const io::Provenance tilt1{"tilt-cd", "0.1.0", "tilt-cd p1.h5 -o run1.h5", "p1.h5", "2026-01-01T00:01:00Z"};
+  const io::Provenance tilt1{"tilt-cd", "0.1.0", "tilt-cd p1.h5 -o run1.h5", "p1.h5",
+                             "2026-01-01T00:01:00Z"};
   const io::Provenance dep2{"deposit", "0.1.0", "deposit -o p2.h5", "", "2026-01-02T00:00:00Z"};
   // one input: a linear chain, unchanged
   auto one = io::merge_histories({{"run1.h5", {dep1, tilt1}}});
@@ -324,7 +334,8 @@ TEST(Schema, MergedHistoriesKeepEveryInputsChain) {
   EXPECT_EQ(one[1].command_line, tilt1.command_line);
   EXPECT_EQ(one[0].via + one[1].via, "");
   // several: every chain in input order, each entry marked with its input
-  auto two = io::merge_histories({{"run1.h5", {dep1, tilt1}}, {"table.tsv", {}}, {"run2.h5", {dep2}}});
+  auto two =
+      io::merge_histories({{"run1.h5", {dep1, tilt1}}, {"table.tsv", {}}, {"run2.h5", {dep2}}});
   ASSERT_EQ(two.size(), 3u);
   EXPECT_EQ(two[0].command_line, dep1.command_line);
   EXPECT_EQ(two[0].via, "run1.h5");
@@ -338,7 +349,8 @@ TEST(Schema, MergedHistoriesKeepEveryInputsChain) {
   // written and read back: `via` only where it is set
   io::RunHeader h = test_header();
   h.provenance = two;
-  h.provenance.push_back(io::provenance_now("critical", "critical run1.h5 table.tsv run2.h5", "run1.h5 table.tsv run2.h5"));
+  h.provenance.push_back(io::provenance_now("critical", "critical run1.h5 table.tsv run2.h5",
+                                            "run1.h5 table.tsv run2.h5"));
   h5::File f = h5::create_in_memory("merged.h5");
   io::write_header(f, h);
   EXPECT_FALSE(h5::has_attr(f, "/provenance/003", "via"));
@@ -359,7 +371,8 @@ TEST(Output, RefusesToOverwriteWithoutForceAndLeavesNoPartialFile) {
     io::Output out(path, false);
     FAIL() << "an existing file was accepted";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": exists; not overwritten (use --force to replace it)");
+    EXPECT_EQ(std::string(e.what()),
+              path + ": exists; not overwritten (use --force to replace it)");
   }
   {
     io::Output out(path, true);  // forced, but the run fails before commit
@@ -414,15 +427,17 @@ void replace(const h5::File& f, const std::string& path, const std::vector<doubl
 TEST(ReaderErrors, MissingGroup) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { H5Ldelete(f.id(), "/particles/grains/box", H5P_DEFAULT); }),
-            p + ": /particles/grains/box: missing group");
+  EXPECT_EQ(
+      error_after(p, [](h5::File& f) { H5Ldelete(f.id(), "/particles/grains/box", H5P_DEFAULT); }),
+      p + ": /particles/grains/box: missing group");
 }
 
 TEST(ReaderErrors, WrongSchemaVersion) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { h5::set_attr(f, "/", "schema_version", std::int64_t{2}); }),
-            p + ": /: schema version 2, this build reads version 1");
+  EXPECT_EQ(
+      error_after(p, [](h5::File& f) { h5::set_attr(f, "/", "schema_version", std::int64_t{2}); }),
+      p + ": /: schema version 2, this build reads version 1");
 }
 
 TEST(ReaderErrors, NotACdpileFile) {
@@ -435,32 +450,40 @@ TEST(ReaderErrors, NotACdpileFile) {
 TEST(ReaderErrors, WrongShape) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/mass", std::vector<double>(8, 1.0), {4, 2}); }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          replace(f, "/particles/grains/mass", std::vector<double>(8, 1.0), {4, 2});
+                        }),
             p + ": /particles/grains/mass: expected shape [4], found [4 x 2]");
-  EXPECT_EQ(error_after(p, [](h5::File& f) {
-              replace(f, "/contacts/fn", std::vector<double>(3, 1.0), {3});
-            }),
-            p + ": /contacts/fn: expected 25 rows");
+  EXPECT_EQ(
+      error_after(
+          p, [](h5::File& f) { replace(f, "/contacts/fn", std::vector<double>(3, 1.0), {3}); }),
+      p + ": /contacts/fn: expected 25 rows");
 }
 
 TEST(ReaderErrors, NotFiniteValues) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, NAN, 1e-3, 1e-3}, {4}); }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          replace(f, "/particles/grains/radius", {1e-3, NAN, 1e-3, 1e-3}, {4});
+                        }),
             p + ": /particles/grains/radius: non-finite value (NaN) at element 1");
-  EXPECT_EQ(error_after(p, [](h5::File& f) {
-              std::vector<double> pos(2 * 4 * 2, 0.0);
-              pos[5] = INFINITY;
-              H5Ldelete(f.id(), "/particles/grains/position/value", H5P_DEFAULT);
-              h5::write(f, "/particles/grains/position/value", pos.data(), {2, 4, 2});
-            }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          std::vector<double> pos(2 * 4 * 2, 0.0);
+                          pos[5] = INFINITY;
+                          H5Ldelete(f.id(), "/particles/grains/position/value", H5P_DEFAULT);
+                          h5::write(f, "/particles/grains/position/value", pos.data(), {2, 4, 2});
+                        }),
             p + ": /particles/grains/position/value: non-finite value (inf) at element 5");
-  EXPECT_EQ(error_after(p, [](h5::File& f) {
-              std::vector<double> v(2 * 4 * 2, 0.0);
-              v[13] = NAN;
-              H5Ldelete(f.id(), "/particles/grains/velocity/value", H5P_DEFAULT);
-              h5::write(f, "/particles/grains/velocity/value", v.data(), {2, 4, 2});
-            }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          std::vector<double> v(2 * 4 * 2, 0.0);
+                          v[13] = NAN;
+                          H5Ldelete(f.id(), "/particles/grains/velocity/value", H5P_DEFAULT);
+                          h5::write(f, "/particles/grains/velocity/value", v.data(), {2, 4, 2});
+                        }),
             p + ": /particles/grains/velocity/value: non-finite value (NaN) at element 13");
 }
 
@@ -473,28 +496,33 @@ TEST(ReaderErrors, RunWithoutObservables) {
             p + ": /observables: missing group (a run records its per-step observables)");
   // a pile may lack them
   const auto q = dir / "pile.h5";
-  EXPECT_EQ(error_after(q, [](h5::File& f) {
-              H5Ldelete(f.id(), "/observables", H5P_DEFAULT);
-              h5::set_attr(f, "/", "kind", std::string("pile"));
-            }),
+  EXPECT_EQ(error_after(q,
+                        [](h5::File& f) {
+                          H5Ldelete(f.id(), "/observables", H5P_DEFAULT);
+                          h5::set_attr(f, "/", "kind", std::string("pile"));
+                        }),
             "no error");
 }
 
 TEST(ReaderErrors, NegativeRadius) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, 1e-3, -1e-3, 1e-3}, {4}); }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          replace(f, "/particles/grains/radius", {1e-3, 1e-3, -1e-3, 1e-3}, {4});
+                        }),
             p + ": /particles/grains/radius: radius of grain 2 is not positive");
 }
 
 TEST(ReaderErrors, InconsistentContactTable) {
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) {
-              std::int64_t c[2] = {12, 99};
-              H5Ldelete(f.id(), "/contacts/count", H5P_DEFAULT);
-              h5::write(f, "/contacts/count", c, {2});
-            }),
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          std::int64_t c[2] = {12, 99};
+                          H5Ldelete(f.id(), "/contacts/count", H5P_DEFAULT);
+                          h5::write(f, "/contacts/count", c, {2});
+                        }),
             p + ": /contacts/i: holds 25 contacts, the frames count 111");
 }
 
@@ -546,8 +574,12 @@ TEST(ReaderErrors, MagnitudesNoPileCanHave) {
   // The box of write_run is 0.12 x 0.05 m: L = 0.12 m, speeds up to 1000 sqrt(9.81 L).
   TempDir dir;
   const auto p = dir / "a.h5";
-  EXPECT_EQ(error_after(p, [](h5::File& f) { replace(f, "/particles/grains/radius", {1e-3, 0.07, 1e-3, 1e-3}, {4}); }),
-            p + ": /particles/grains/radius: radius of grain 1 is 0.07 m, more than half the box width 0.12 m");
+  EXPECT_EQ(error_after(p,
+                        [](h5::File& f) {
+                          replace(f, "/particles/grains/radius", {1e-3, 0.07, 1e-3, 1e-3}, {4});
+                        }),
+            p + ": /particles/grains/radius: radius of grain 1 is 0.07 m, more than half the box "
+                "width 0.12 m");
   auto state = [](const std::string& element, std::size_t at, double value) {
     return [=](h5::File& f) {
       std::vector<hsize_t> dims;
@@ -556,18 +588,24 @@ TEST(ReaderErrors, MagnitudesNoPileCanHave) {
       replace(f, element, v, dims);
     };
   };
-  EXPECT_EQ(error_after(p, state("/particles/grains/position/value", 8 + 2 * 2, -0.25)),
-            p + ": /particles/grains/position/value: frame 1: grain 2 at (-0.25, " +
-                [&] {
-                  io::Input in(p);
-                  char b[32];
-                  std::snprintf(b, sizeof b, "%.6g", h5::read<double>(in.hdf5(), "/particles/grains/position/value", {})[13]);
-                  return std::string(b);
-                }() +
-                ") m is outside the box [0, 0.12] x [0, 0.05] m enlarged by 0.12 m");
+  EXPECT_EQ(
+      error_after(p, state("/particles/grains/position/value", 8 + 2 * 2, -0.25)),
+      p + ": /particles/grains/position/value: frame 1: grain 2 at (-0.25, " +
+          [&] {
+            io::Input in(p);
+            char b[32];
+            std::snprintf(b, sizeof b, "%.6g",
+                          h5::read<double>(in.hdf5(), "/particles/grains/position/value", {})[13]);
+            return std::string(b);
+          }() +
+          ") m is outside the box [0, 0.12] x [0, 0.05] m enlarged by 0.12 m");
   const std::string fast = error_after(p, state("/particles/grains/velocity/value", 3, 2e3));
-  EXPECT_EQ(fast.rfind(p + ": /particles/grains/velocity/value: frame 0: grain 1 moves at 20", 0), 0u) << fast;
-  EXPECT_NE(fast.find(" m/s (its rim included), more than 1000 sqrt(g L) = 1084.99 m/s"), std::string::npos) << fast;
+  EXPECT_EQ(fast.rfind(p + ": /particles/grains/velocity/value: frame 0: grain 1 moves at 20", 0),
+            0u)
+      << fast;
+  EXPECT_NE(fast.find(" m/s (its rim included), more than 1000 sqrt(g L) = 1084.99 m/s"),
+            std::string::npos)
+      << fast;
 }
 
 TEST(ReaderErrors, PairListedTwiceInAFrame) {
@@ -576,7 +614,8 @@ TEST(ReaderErrors, PairListedTwiceInAFrame) {
   std::int32_t i = 0, j = 0;
   // Row 2 of frame 0 becomes row 1's pair, the other way round: the same two grains.
   const std::string e = error_after(p, [&](h5::File& f) {
-    auto vi = h5::read<std::int32_t>(f, "/contacts/i", {}), vj = h5::read<std::int32_t>(f, "/contacts/j", {});
+    auto vi = h5::read<std::int32_t>(f, "/contacts/i", {}),
+         vj = h5::read<std::int32_t>(f, "/contacts/j", {});
     i = vi[1];
     j = vj[1];
     ASSERT_GE(j, 0);
@@ -587,8 +626,8 @@ TEST(ReaderErrors, PairListedTwiceInAFrame) {
     h5::write(f, "/contacts/i", vi);
     h5::write(f, "/contacts/j", vj);
   });
-  EXPECT_EQ(e, p + ": /contacts/i: rows 1 and 2: the contact of " + std::to_string(i) + " and " + std::to_string(j) +
-                   " is listed twice in frame 0");
+  EXPECT_EQ(e, p + ": /contacts/i: rows 1 and 2: the contact of " + std::to_string(i) + " and " +
+                   std::to_string(j) + " is listed twice in frame 0");
 }
 
 TEST(ReaderErrors, ClaimsMoreThanTheFileHolds) {
@@ -612,7 +651,9 @@ TEST(ReaderErrors, ClaimsMoreThanTheFileHolds) {
   });
   // The step of the series' clock (the first observable, whose step the others link to).
   EXPECT_EQ(g.rfind(p + ": /observables/", 0), 0u) << g;
-  EXPECT_NE(g.find("/step: too large (claims 400000000 elements, 3.2 GB, in a file of "), std::string::npos) << g;
+  EXPECT_NE(g.find("/step: too large (claims 400000000 elements, 3.2 GB, in a file of "),
+            std::string::npos)
+      << g;
 }
 
 TEST(Schema, FilesHaveChecksummedMetadataAndFixedLengthText) {
@@ -628,7 +669,10 @@ TEST(Schema, FilesHaveChecksummedMetadataAndFixedLengthText) {
   in.read(head, 9);
   EXPECT_EQ(head[8], 3) << "superblock version (HDF5 1.10's format, with checksums)";
   io::Input f(p);
-  for (const auto& [path, name] : std::vector<std::pair<std::string, std::string>>{
-           {"/", "kind"}, {"/", "schema"}, {"/provenance/000", "tool"}, {"/provenance/000", "command_line"}})
+  for (const auto& [path, name] :
+       std::vector<std::pair<std::string, std::string>>{{"/", "kind"},
+                                                        {"/", "schema"},
+                                                        {"/provenance/000", "tool"},
+                                                        {"/provenance/000", "command_line"}})
     EXPECT_FALSE(string_kind(f.hdf5(), path, name).variable) << path << " " << name;
 }

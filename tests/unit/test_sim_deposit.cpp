@@ -123,20 +123,25 @@ void gains_no_energy_at_rest(const sim::Pile& p) {
   cd::EngineState st;
   for (std::size_t k = 0; k < p.contacts.size(); ++k)
     if (p.contacts.fn[k] != 0.0 || p.contacts.ft[k] != 0.0)
-      st.impulses.push_back({p.contacts.i[k], p.contacts.j[k], p.contacts.fn[k] * s.time_step, p.contacts.ft[k] * s.time_step});
+      st.impulses.push_back({p.contacts.i[k], p.contacts.j[k], p.contacts.fn[k] * s.time_step,
+                             p.contacts.ft[k] * s.time_step});
   e.set_state(st);
-  const double scale = static_cast<double>(small().grains) * p.grains.mass[0] * s.gravity * small().diameter;
+  const double scale =
+      static_cast<double>(small().grains) * p.grains.mass[0] * s.gravity * small().diameter;
   auto energy = [&](const cd::StepReport& r) {
     double pot = 0.0;
     for (std::size_t i = 0; i < e.grains().size(); ++i)
-      if (e.grains().species[i] == Species::free) pot += e.grains().mass[i] * s.gravity * e.grains().position[i].y();
+      if (e.grains().species[i] == Species::free)
+        pot += e.grains().mass[i] * s.gravity * e.grains().position[i].y();
     return r.kinetic_energy + r.rotational_energy + pot;
   };
   double first = 0.0, previous = 0.0, worst_gain = -1e300;
   for (int k = 0; k < 200; ++k) {
     const double en = energy(e.step(0.0));
-    if (k == 0) first = en;
-    else worst_gain = std::max(worst_gain, (en - previous) / scale);
+    if (k == 0)
+      first = en;
+    else
+      worst_gain = std::max(worst_gain, (en - previous) / scale);
     previous = en;
   }
   std::printf("largest energy gain per step %.3e N m g D\n", worst_gain);
@@ -186,7 +191,9 @@ TEST(Deposit, AFrictionlessPileIsDenserAndBetterConnected) {
     if (smooth.contacts.fn[k] > 0.0) ++active;
   }
   EXPECT_GT(active, smooth.grains.size());
-  const auto r = [](const sim::Pile& p, const char* k) { return std::get<double>(p.results.at(k)); };
+  const auto r = [](const sim::Pile& p, const char* k) {
+    return std::get<double>(p.results.at(k));
+  };
   std::printf("z %.3f (mu 0) against %.3f (mu 0.5); packing fraction %.4f against %.4f\n",
               r(smooth, "coordination_number"), r(rough, "coordination_number"),
               r(smooth, "packing_fraction"), r(rough, "packing_fraction"));
@@ -204,7 +211,8 @@ TEST(Deposit, PlacementHasNoOverlapAndStaysInTheBox) {
     EXPECT_LE(g.position[i].x() + g.radius[i], pl.box.width);
     EXPECT_GE(g.position[i].y() - g.radius[i], 0.0);
     for (std::size_t j = i + 1; j < g.size(); ++j)
-      EXPECT_GT((g.position[i] - g.position[j]).norm(), g.radius[i] + g.radius[j] - 1e-15 * pl.box.width)
+      EXPECT_GT((g.position[i] - g.position[j]).norm(),
+                g.radius[i] + g.radius[j] - 1e-15 * pl.box.width)
           << i << " " << j;
   }
   // Diameters in [Dmin, Dmax] with Dmax / Dmin = 1.5 and mean D: Dmin = 0.8 D.
@@ -221,7 +229,13 @@ TEST(Deposit, PlacementHasNoOverlapAndStaysInTheBox) {
       EXPECT_DOUBLE_EQ(g.position[i].y(), g.radius[i]);
     }
   EXPECT_GE(glued, 12u);  // 15 D wide, grains at most 1.2 D
-  EXPECT_EQ(sim::place_grains([] { auto o = small(7, 300); o.rough_floor = false; return o; }()).grains.size(), 300u);
+  EXPECT_EQ(sim::place_grains([] {
+              auto o = small(7, 300);
+              o.rough_floor = false;
+              return o;
+            }())
+                .grains.size(),
+            300u);
 }
 
 // The random source is portable: the first draws of std::mt19937_64 seeded with 1 are
@@ -243,7 +257,8 @@ TEST(Deposit, SameSeedSamePileToTheBitOtherSeedDiffers) {
   const sim::Pile a = sim::deposit(o), b = sim::deposit(o);
   ASSERT_EQ(a.grains.size(), b.grains.size());
   EXPECT_EQ(a.steps, b.steps);
-  EXPECT_EQ(0, std::memcmp(a.grains.position.data(), b.grains.position.data(), a.grains.size() * sizeof(Vec2)));
+  EXPECT_EQ(0, std::memcmp(a.grains.position.data(), b.grains.position.data(),
+                           a.grains.size() * sizeof(Vec2)));
   EXPECT_EQ(a.grains.radius, b.grains.radius);
   EXPECT_EQ(a.contacts.fn, b.contacts.fn);
   EXPECT_EQ(a.contacts.ft, b.contacts.ft);
@@ -265,8 +280,12 @@ TEST(Deposit, MeasuresOfAKnownLayout) {
   for (int y = 0; y < rows; ++y)
     for (int x = 0; x < cols; ++x) {
       const int i = y * cols + x;
-      if (x + 1 < cols) c.push_back(i + 1, i, Vec2::Zero(), Vec2(1, 0), 1.0, 0.0, 0.0, cdpile::ContactStatus::stick);
-      if (y + 1 < rows) c.push_back(i + cols, i, Vec2::Zero(), Vec2(0, 1), 1.0, 0.0, 0.0, cdpile::ContactStatus::stick);
+      if (x + 1 < cols)
+        c.push_back(i + 1, i, Vec2::Zero(), Vec2(1, 0), 1.0, 0.0, 0.0,
+                    cdpile::ContactStatus::stick);
+      if (y + 1 < rows)
+        c.push_back(i + cols, i, Vec2::Zero(), Vec2(0, 1), 1.0, 0.0, 0.0,
+                    cdpile::ContactStatus::stick);
     }
   const sim::PileMeasures m = sim::measure_pile(box, g, c);
   EXPECT_NEAR(m.bed_height, rows * d, 1e-15);
@@ -300,9 +319,12 @@ TEST(Deposit, TilingSideBySideShiftsCopiesAndDropsTheInnerWalls) {
   g.velocity[1] = Vec2(0.1, 0.0);
   Contacts c;
   using cdpile::ContactStatus;
-  c.push_back(0, cdpile::wall_left, Vec2(0, 0.5e-3), Vec2(1, 0), 1.0, 0.0, 0.0, ContactStatus::stick);
-  c.push_back(0, cdpile::wall_floor, Vec2(0.5e-3, 0), Vec2(0, 1), 2.0, 0.5, 0.0, ContactStatus::slide);
-  c.push_back(1, cdpile::wall_right, Vec2(w, 0.5e-3), Vec2(-1, 0), 3.0, 0.0, 0.0, ContactStatus::stick);
+  c.push_back(0, cdpile::wall_left, Vec2(0, 0.5e-3), Vec2(1, 0), 1.0, 0.0, 0.0,
+              ContactStatus::stick);
+  c.push_back(0, cdpile::wall_floor, Vec2(0.5e-3, 0), Vec2(0, 1), 2.0, 0.5, 0.0,
+              ContactStatus::slide);
+  c.push_back(1, cdpile::wall_right, Vec2(w, 0.5e-3), Vec2(-1, 0), 3.0, 0.0, 0.0,
+              ContactStatus::stick);
   c.push_back(1, 0, Vec2(1e-3, 0.5e-3), Vec2(1, 0), 4.0, 0.0, -1e-9, ContactStatus::stick);
   const sim::Tiling t = sim::tile_side_by_side(cdpile::Box{w, 0.01}, g, c, 3);
 
@@ -311,7 +333,8 @@ TEST(Deposit, TilingSideBySideShiftsCopiesAndDropsTheInnerWalls) {
   ASSERT_EQ(t.grains.size(), 6u);
   for (std::size_t k = 0; k < 3; ++k)
     for (std::size_t i = 0; i < 2; ++i) {
-      EXPECT_EQ(t.grains.position[2 * k + i], g.position[i] + Vec2(static_cast<double>(k) * w, 0.0));
+      EXPECT_EQ(t.grains.position[2 * k + i],
+                g.position[i] + Vec2(static_cast<double>(k) * w, 0.0));
       EXPECT_EQ(t.grains.velocity[2 * k + i], g.velocity[i]);
       EXPECT_EQ(t.grains.mass[2 * k + i], g.mass[i]);
     }
@@ -319,8 +342,9 @@ TEST(Deposit, TilingSideBySideShiftsCopiesAndDropsTheInnerWalls) {
   // grain pair in every copy, renumbered; forces, gaps and status unchanged.
   ASSERT_EQ(t.contacts.size(), 8u);
   const std::vector<std::int32_t> i{0, 0, 1, 2, 3, 4, 5, 5};
-  const std::vector<std::int32_t> j{cdpile::wall_left, cdpile::wall_floor, 0, cdpile::wall_floor, 2,
-                                    cdpile::wall_floor, cdpile::wall_right, 4};
+  const std::vector<std::int32_t> j{
+      cdpile::wall_left,  cdpile::wall_floor, 0, cdpile::wall_floor, 2,
+      cdpile::wall_floor, cdpile::wall_right, 4};
   const std::vector<double> fn{1.0, 2.0, 4.0, 2.0, 4.0, 2.0, 3.0, 4.0};
   EXPECT_EQ(t.contacts.i, i);
   EXPECT_EQ(t.contacts.j, j);

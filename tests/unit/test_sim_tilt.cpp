@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <unistd.h>
 
 namespace sim = cdpile::sim;
 namespace io = cdpile::io;
@@ -41,13 +41,16 @@ const sim::PileInput& pile() {
 struct Scratch {
   fs::path dir;
   Scratch() {
-    dir = fs::temp_directory_path() / ("cdpile-tilt-" + std::to_string(::getpid()) + "-" +
-                                       std::to_string(counter()++));
+    dir = fs::temp_directory_path() /
+          ("cdpile-tilt-" + std::to_string(::getpid()) + "-" + std::to_string(counter()++));
     fs::create_directories(dir);
   }
   ~Scratch() { fs::remove_all(dir); }
   std::string operator/(const std::string& name) const { return (dir / name).string(); }
-  static int& counter() { static int c = 0; return c; }
+  static int& counter() {
+    static int c = 0;
+    return c;
+  }
 };
 
 /// 0.002 degree per step to 0.3 degree: 150 steps, a frame every 20, a checkpoint every 25.
@@ -74,8 +77,10 @@ void expect_same_run(const std::string& a_path, const std::string& b_path) {
   for (std::size_t k = 0; k < a.frame_count(); ++k) {
     const Frame x = a.frame(k), y = b.frame(k);
     const std::size_t n = x.grains.size();
-    EXPECT_EQ(0, std::memcmp(x.grains.position.data(), y.grains.position.data(), n * sizeof(Vec2))) << k;
-    EXPECT_EQ(0, std::memcmp(x.grains.velocity.data(), y.grains.velocity.data(), n * sizeof(Vec2))) << k;
+    EXPECT_EQ(0, std::memcmp(x.grains.position.data(), y.grains.position.data(), n * sizeof(Vec2)))
+        << k;
+    EXPECT_EQ(0, std::memcmp(x.grains.velocity.data(), y.grains.velocity.data(), n * sizeof(Vec2)))
+        << k;
     EXPECT_EQ(x.grains.orientation, y.grains.orientation);
     EXPECT_EQ(x.grains.angular_velocity, y.grains.angular_velocity);
     EXPECT_EQ(x.contacts.i, y.contacts.i);
@@ -96,7 +101,8 @@ void expect_same_run(const std::string& a_path, const std::string& b_path) {
 
 TEST(Tilt, UninterruptedRunHasEveryStepAndFrame) {
   Scratch s;
-  const auto out = sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
+  const auto out =
+      sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
   EXPECT_EQ(out.steps, 150);
   EXPECT_EQ(out.stop_reason, "to");
   EXPECT_FALSE(fs::exists(sim::partial_path(s / "run.h5")));
@@ -189,7 +195,9 @@ TEST(Tilt, StopInsideAStepCheckpointsTheLastCompletedStep) {
   std::int64_t step = 0;
   int polls = 0;
   hooks.progress = [&](const sim::TiltProgress& p) { step = p.step; };
-  hooks.stop = [&] { return step == 41 && ++polls == 2; };  // after step 41, then before a sweep of 42
+  hooks.stop = [&] {
+    return step == 41 && ++polls == 2;
+  };  // after step 41, then before a sweep of 42
   const auto o = sim::run_tilt(pile(), short_run(), s / "run.h5", false, prov, hooks);
   EXPECT_TRUE(o.interrupted);
   EXPECT_EQ(o.steps, 41);
@@ -248,7 +256,8 @@ TEST(Tilt, AvalancheOfASmallPileIsDetected) {
   o.rate_deg = 0.01;
   o.margin_deg = 0.5;
   o.frame_every = 1000;
-  const auto out = sim::run_tilt(sim::read_pile(mem), o, s / "run.h5", false, io::provenance_now("test", "", ""));
+  const auto out = sim::run_tilt(sim::read_pile(mem), o, s / "run.h5", false,
+                                 io::provenance_now("test", "", ""));
   ASSERT_TRUE(out.avalanche);
   EXPECT_EQ(out.stop_reason, "avalanche");
   EXPECT_GT(out.avalanche_deg, 2.0);
@@ -265,7 +274,8 @@ TEST(Tilt, AvalancheOfASmallPileIsDetected) {
   const io::Series se = r.series();
   const sim::Agitation agit(sim::read_pile(mem).grains, o.settings.gravity);
   const auto& ek = se.real.at("kinetic_energy");
-  for (std::int64_t k = start; k <= confirmed; ++k) EXPECT_GE(agit(ek[static_cast<std::size_t>(k - 1)]), o.avalanche_energy);
+  for (std::int64_t k = start; k <= confirmed; ++k)
+    EXPECT_GE(agit(ek[static_cast<std::size_t>(k - 1)]), o.avalanche_energy);
   EXPECT_LT(agit(ek[static_cast<std::size_t>(start - 2)]), o.avalanche_energy);
   // Static at small tilt: over the first 2 degrees the agitation stays 100 times below it.
   for (std::size_t k = 0; k < 200; ++k) EXPECT_LT(agit(ek[k]), 1e-2 * o.avalanche_energy) << k;
@@ -279,11 +289,13 @@ TEST(Tilt, NotAPileAndBadOptionsAreRefused) {
     sim::read_pile(f);
     ADD_FAILURE() << "a run was accepted as a pile";
   } catch (const cdpile::Error& e) {
-    EXPECT_EQ(std::string(e.what()), "run.h5: /: is a 'run' file, expected a pile (made by deposit)");
+    EXPECT_EQ(std::string(e.what()),
+              "run.h5: /: is a 'run' file, expected a pile (made by deposit)");
   }
   // An existing output is kept.
-  EXPECT_THROW(sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", "")),
-               cdpile::Error);
+  EXPECT_THROW(
+      sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", "")),
+      cdpile::Error);
   auto bad = [](auto change) {
     auto o = short_run();
     change(o);
@@ -314,7 +326,8 @@ TEST(Tilt, BranchFromAFrameRepeatsTheRun) {
   o.from_deg = b.branch->tilt_deg;
   sim::run_tilt(b, o, s / "branch.h5", false, prov);
 
-  io::h5::File fa = io::h5::open_read(s / "run.h5", "run"), fb = io::h5::open_read(s / "branch.h5", "branch");
+  io::h5::File fa = io::h5::open_read(s / "run.h5", "run"),
+               fb = io::h5::open_read(s / "branch.h5", "branch");
   io::RunReader ra(fa), rb(fb);
   EXPECT_EQ(io::as_int(rb.header().parameters, "branch_step", "branch"), 40);
   const io::Series sa = ra.series(), sb = rb.series();
@@ -322,31 +335,37 @@ TEST(Tilt, BranchFromAFrameRepeatsTheRun) {
   for (std::size_t k = 0; k < sb.size(); ++k) {
     const std::size_t ka = k + 40;
     EXPECT_NEAR(sb.real.at("tilt_angle")[k], sa.real.at("tilt_angle")[ka], 1e-12);
-    for (const char* key : {"contacts", "contacts_grain", "critical", "critical_grain", "sliding", "sweeps"})
+    for (const char* key :
+         {"contacts", "contacts_grain", "critical", "critical_grain", "sliding", "sweeps"})
       EXPECT_EQ(sb.integer.at(key)[k], sa.integer.at(key)[ka]) << key << " at branch step " << k;
     const double ea = sa.real.at("kinetic_energy")[ka], eb = sb.real.at("kinetic_energy")[k];
     EXPECT_NEAR(eb, ea, 1e-6 * ea + 1e-300) << k;
   }
   // A pile is not a run to branch from, and a branch needs a frame at or below the angle.
   io::h5::File pf = io::h5::create_in_memory("pile.h5");
-  sim::write_pile(pf, [] {
-    sim::DepositOptions d;
-    d.grains = 20;
-    d.width = 6.0;
-    return sim::deposit(d);
-  }(), prov);
+  sim::write_pile(
+      pf,
+      [] {
+        sim::DepositOptions d;
+        d.grains = 20;
+        d.width = 6.0;
+        return sim::deposit(d);
+      }(),
+      prov);
   try {
     sim::read_branch(pf, 1.0);
     ADD_FAILURE() << "branched from a pile";
   } catch (const cdpile::Error& e) {
-    EXPECT_EQ(std::string(e.what()), "pile.h5: /: is a 'pile' file; a branch starts from a run (made by tilt-cd)");
+    EXPECT_EQ(std::string(e.what()),
+              "pile.h5: /: is a 'pile' file; a branch starts from a run (made by tilt-cd)");
   }
   try {
     sim::read_branch(f, -1.0);
     ADD_FAILURE() << "branched below the first frame";
   } catch (const cdpile::Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "run.h5: /particles/grains/position: has no frame at or below -1 deg (the first is at 0 deg)");
+              "run.h5: /particles/grains/position: has no frame at or below -1 deg (the first is "
+              "at 0 deg)");
   }
 }
 
@@ -357,7 +376,8 @@ TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
   auto o = short_run();
   o.settings.max_sweeps = 2;
   o.settings.tolerance = 1e-9;
-  const auto out = sim::run_tilt(pile(), o, s / "run.h5", false, io::provenance_now("test", "", ""));
+  const auto out =
+      sim::run_tilt(pile(), o, s / "run.h5", false, io::provenance_now("test", "", ""));
   io::h5::File f = io::h5::open_read(s / "run.h5", "run");
   io::RunReader r(f);
   const io::Series se = r.series();
@@ -375,7 +395,8 @@ TEST(Tilt, UnconvergedStepsAreFlaggedAndCounted) {
   EXPECT_EQ(io::as_int(r.header().results, "unconverged_steps", "run"), flagged);
   // ... and warned of, in the outcome and in the file.
   ASSERT_EQ(out.warnings.size(), 1u);
-  EXPECT_EQ(out.warnings[0].rfind(std::to_string(flagged) + " of 150 steps (", 0), 0u) << out.warnings[0];
+  EXPECT_EQ(out.warnings[0].rfind(std::to_string(flagged) + " of 150 steps (", 0), 0u)
+      << out.warnings[0];
   EXPECT_EQ(io::as_int(r.header().results, "warnings", "run"), 1);
   EXPECT_EQ(r.header().results.at("warning_messages"), io::Value(out.warnings[0]));
 }
@@ -391,16 +412,20 @@ TEST(Tilt, SettingsWarningsAtTheirThresholds) {
   s.time_step = 2.1e-4;
   const auto step = sim::settings_warnings(s, D);
   ASSERT_EQ(step.size(), 1u);
-  EXPECT_EQ(step[0], "h sqrt(g/D) = 0.0208 is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
-                     "from 0.04 on (lower --time-step; docs/performance.md)");
+  EXPECT_EQ(
+      step[0],
+      "h sqrt(g/D) = 0.0208 is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
+      "from 0.04 on (lower --time-step; docs/performance.md)");
   s.time_step = 1e-4;
   s.tolerance = 9.99e-3;
   EXPECT_TRUE(sim::settings_warnings(s, D).empty());
   s.tolerance = 1e-2;
   const auto tol = sim::settings_warnings(s, D);
   ASSERT_EQ(tol.size(), 1u);
-  EXPECT_EQ(tol[0], "the tolerance 0.01 is 1e-2 or looser; runs of the stability map overlapped or moved the "
-                    "avalanche there (lower --tolerance; docs/performance.md)");
+  EXPECT_EQ(
+      tol[0],
+      "the tolerance 0.01 is 1e-2 or looser; runs of the stability map overlapped or moved the "
+      "avalanche there (lower --tolerance; docs/performance.md)");
   s.time_step = 1e-3;
   EXPECT_EQ(sim::settings_warnings(s, D).size(), 2u);
 }
@@ -411,21 +436,25 @@ TEST(Tilt, RunWarningsAtTheirThresholds) {
   EXPECT_TRUE(sim::run_warnings(1000, 10, 0.0, 1e-3).empty());  // exactly 1 %
   const auto cap = sim::run_warnings(1000, 11, 0.0, 1e-3);
   ASSERT_EQ(cap.size(), 1u);
-  EXPECT_EQ(cap[0], "11 of 1000 steps (1.1 %) hit the sweep cap; their forces are not converged "
-                    "(raise --max-sweeps; docs/performance.md)");
+  EXPECT_EQ(cap[0],
+            "11 of 1000 steps (1.1 %) hit the sweep cap; their forces are not converged "
+            "(raise --max-sweeps; docs/performance.md)");
   EXPECT_TRUE(sim::run_warnings(1000, 0, 1e-6, 1e-3).empty());  // exactly 1e-3 D
   const auto overlap = sim::run_warnings(1000, 0, 2.5e-6, 1e-3);
   ASSERT_EQ(overlap.size(), 1u);
-  EXPECT_EQ(overlap[0], "the largest overlap, 0.0025 D, exceeds 1e-3 D; the time step is too large for these "
-                        "speeds (lower --time-step)");
+  EXPECT_EQ(overlap[0],
+            "the largest overlap, 0.0025 D, exceeds 1e-3 D; the time step is too large for these "
+            "speeds (lower --time-step)");
   EXPECT_EQ(sim::run_warnings(1000, 500, 1e-5, 1e-3).size(), 2u);
   // With a contact stiffness the overlap is the compliance f / k, not a time-step error.
   const auto soft = sim::run_warnings(1000, 0, 2.5e-6, 1e-3, 2e7);
   ASSERT_EQ(soft.size(), 1u);
-  EXPECT_EQ(soft[0], "the largest overlap, 0.0025 D, exceeds 1e-3 D: the compliance of the contact "
-                     "stiffness (overlap = force / k; a stiffer k makes it smaller)");
+  EXPECT_EQ(soft[0],
+            "the largest overlap, 0.0025 D, exceeds 1e-3 D: the compliance of the contact "
+            "stiffness (overlap = force / k; a stiffer k makes it smaller)");
   Scratch s;
-  const auto out = sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
+  const auto out =
+      sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""));
   EXPECT_TRUE(out.warnings.empty());
   io::h5::File f = io::h5::open_read(s / "run.h5", "run");
   EXPECT_EQ(io::as_int(io::RunReader(f).header().results, "warnings", "run"), 0);
@@ -473,7 +502,8 @@ TEST(Settings, ParametersRoundTripAndErrorsNameTheFile) {
   EXPECT_EQ(message(v), "run.h5: /parameters: missing parameter 'tolerance'");
   v = sim::settings_parameters(s);
   v["criterion"] = std::string("fast");
-  EXPECT_EQ(message(v), "run.h5: /parameters: unknown convergence criterion 'fast' (maxm, quad, qm16 or law)");
+  EXPECT_EQ(message(v),
+            "run.h5: /parameters: unknown convergence criterion 'fast' (maxm, quad, qm16 or law)");
   v = sim::settings_parameters(s);
   v["theta"] = 0.2;
   EXPECT_EQ(message(v), "run.h5: /parameters: engine settings: theta must be in [0.5, 1]");
@@ -519,7 +549,8 @@ TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
   sim::TiltOptions asked = defaults;
   asked.settings.tolerance = 1e-7;
   asked.rate_deg = 0.004;
-  const sim::InheritedOptions b = sim::inherit_options(stored, asked, {"tolerance", "rate"}, 0.08, "run.h5");
+  const sim::InheritedOptions b =
+      sim::inherit_options(stored, asked, {"tolerance", "rate"}, 0.08, "run.h5");
   EXPECT_EQ(b.options.rate_deg, 0.004);
   EXPECT_EQ(b.options.settings.tolerance, 1e-7);
   EXPECT_EQ(b.options.frame_every, 10);  // 20 steps at 0.002 deg: 0.04 deg
@@ -544,11 +575,14 @@ TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
   EXPECT_EQ(to.changes[0].run_value + " " + to.changes[0].value, "none 0.2");
   // a frame interval given is kept as given
   asked.frame_every = 7;
-  EXPECT_EQ(sim::inherit_options(stored, asked, {"rate", "frame-every"}, 0.08, "run.h5").options.frame_every, 7);
+  EXPECT_EQ(sim::inherit_options(stored, asked, {"rate", "frame-every"}, 0.08, "run.h5")
+                .options.frame_every,
+            7);
   // an option given with the run's own value is no change
   asked = defaults;
   asked.rate_deg = 0.002;
-  EXPECT_TRUE(sim::inherit_options(stored, asked, {"rate"}, std::nullopt, "run.h5").changes.empty());
+  EXPECT_TRUE(
+      sim::inherit_options(stored, asked, {"rate"}, std::nullopt, "run.h5").changes.empty());
   // a run without a tilt parameter: an Error naming the file
   io::Values broken = stored;
   broken.erase("tilt_rate_deg_per_step");

@@ -46,11 +46,22 @@ inline std::string printable(const std::string& text) {
   const std::size_t n = text.size();
   for (std::size_t k = 0; k < n;) {
     const auto c = static_cast<unsigned char>(text[k]);
-    if ((c < 0x20 && c != '\t') || c == 0x7f) { escape(c); ++k; continue; }
-    if (c < 0x80) { out += static_cast<char>(c); ++k; continue; }
+    if ((c < 0x20 && c != '\t') || c == 0x7f) {
+      escape(c);
+      ++k;
+      continue;
+    }
+    if (c < 0x80) {
+      out += static_cast<char>(c);
+      ++k;
+      continue;
+    }
     // A multi-byte UTF-8 sequence: its length from the lead byte, its continuation bytes
     // 10xxxxxx, no overlong form, no surrogate, at most U+10FFFF, and not a C1 control.
-    std::size_t len = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    std::size_t len = c >= 0xc2 && c <= 0xdf   ? 2
+                      : c >= 0xe0 && c <= 0xef ? 3
+                      : c >= 0xf0 && c <= 0xf4 ? 4
+                                               : 0;
     bool ok = len > 0 && k + len <= n;
     std::uint32_t cp = len == 2 ? c & 0x1fu : len == 3 ? c & 0x0fu : c & 0x07u;
     for (std::size_t q = 1; ok && q < len; ++q) {
@@ -58,9 +69,14 @@ inline std::string printable(const std::string& text) {
       ok = (d & 0xc0) == 0x80;
       cp = (cp << 6) | (d & 0x3fu);
     }
-    if (ok) ok = !(len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) &&
-                 !(len == 4 && (cp < 0x10000 || cp > 0x10ffff)) && !(cp >= 0x80 && cp <= 0x9f);
-    if (!ok) { escape(c); ++k; continue; }
+    if (ok)
+      ok = !(len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) &&
+           !(len == 4 && (cp < 0x10000 || cp > 0x10ffff)) && !(cp >= 0x80 && cp <= 0x9f);
+    if (!ok) {
+      escape(c);
+      ++k;
+      continue;
+    }
     out.append(text, k, len);
     k += len;
   }

@@ -45,10 +45,10 @@ struct Grains {
   std::vector<double> inertia;  ///< moment of inertia per unit thickness [kg m]
   std::vector<Species> species;
   // state
-  std::vector<Vec2> position;           ///< centre [m]
-  std::vector<Vec2> velocity;           ///< [m/s]
-  std::vector<double> orientation;      ///< rotation angle, counter-clockwise [rad]
-  std::vector<double> angular_velocity; ///< counter-clockwise [rad/s]
+  std::vector<Vec2> position;            ///< centre [m]
+  std::vector<Vec2> velocity;            ///< [m/s]
+  std::vector<double> orientation;       ///< rotation angle, counter-clockwise [rad]
+  std::vector<double> angular_velocity;  ///< counter-clockwise [rad/s]
 
   std::size_t size() const { return radius.size(); }
   void resize(std::size_t n);
@@ -73,7 +73,8 @@ struct Contacts {
   std::vector<Vec2> normal;     ///< unit normal, from j towards i
   std::vector<double> fn;       ///< normal force, >= 0 [N/m]
   std::vector<double> ft;       ///< tangential force along t [N/m]
-  std::vector<double> gap;      ///< signed gap in the step's predicted configuration, < 0 is overlap [m]
+  std::vector<double>
+      gap;  ///< signed gap in the step's predicted configuration, < 0 is overlap [m]
   std::vector<ContactStatus> status;
 
   std::size_t size() const { return i.size(); }

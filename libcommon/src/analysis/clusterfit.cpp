@@ -34,7 +34,8 @@ struct Window {
 
 // nu_inf from critical's ensemble table: the mean of the bins whose centre lies in
 // [lo, hi), or a linear interpolation at theta when no bin does.
-std::optional<std::pair<double, std::optional<double>>> ensemble_nu(const Table& ens, const Window& w) {
+std::optional<std::pair<double, std::optional<double>>> ensemble_nu(const Table& ens,
+                                                                    const Window& w) {
   const Column &th = ens.column("theta"), &nu = ens.column("nu"), &se = ens.column("nu_se");
   const std::size_t n = ens.rows();
   if (!w.theta) return std::nullopt;
@@ -48,7 +49,10 @@ std::optional<std::pair<double, std::optional<double>>> ensemble_nu(const Table&
       if (!t || !v || *t < *w.lo || *t >= *w.hi) continue;
       sum += *v;
       ++cnt;
-      if (auto s = se.get(k)) sum_se2 += *s * *s; else all_se = false;
+      if (auto s = se.get(k))
+        sum_se2 += *s * *s;
+      else
+        all_se = false;
     }
   }
   if (cnt > 0) {
@@ -81,7 +85,9 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   if (src == NuInfSource::automatic) src = critical ? NuInfSource::ensemble : NuInfSource::pile;
   const Table* ens = nullptr;
   if (src == NuInfSource::ensemble) {
-    if (!critical) throw Error(field("nu_inf") + " ensemble needs the critical product (" + field("nu") + " FILE)");
+    if (!critical)
+      throw Error(field("nu_inf") + " ensemble needs the critical product (" + field("nu") +
+                  " FILE)");
     ens = &critical->table("ensemble");
   }
   std::optional<double> nu_c = opt.nu_c;
@@ -125,7 +131,9 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
                   {"rc_from", std::string(opt.rc_from == RcFrom::window ? "window" : "affine")},
                   {"min_points", static_cast<std::int64_t>(opt.min_points)},
                   {"power_theta_lo_deg", opt.power.lo},
-                  {"nu_c_source", std::string(opt.nu_c ? "option" : critical && nu_c ? "critical" : "none")}};
+                  {"nu_c_source", std::string(opt.nu_c           ? "option"
+                                              : critical && nu_c ? "critical"
+                                                                 : "none")}};
   if (std::isfinite(opt.power.hi)) p.parameters["power_theta_hi_deg"] = opt.power.hi;
   if (opt.theta_c) p.parameters["theta_c_given_deg"] = *opt.theta_c;
   if (nu_c) {
@@ -151,21 +159,33 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
 
   Table& fits = p.add_table("fits", "eq (4) fitted in each theta window, and r_c (eq 5)");
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
-           {"theta_hi", "deg", ColumnKind::real}, {"points", "", ColumnKind::integer},
-           {"weighted", "", ColumnKind::integer}, {"nu_inf", "", ColumnKind::real},
-           {"nu_inf_se", "", ColumnKind::real}, {"A", "", ColumnKind::real},
-           {"A_se", "", ColumnKind::real}, {"alpha", "", ColumnKind::real},
-           {"alpha_se", "", ColumnKind::real}, {"chi2", "", ColumnKind::real},
-           {"dof", "", ColumnKind::integer}, {"converged", "", ColumnKind::integer},
-           {"r_c", "D", ColumnKind::real}, {"r_c_se", "D", ColumnKind::real},
-           {"r_c_fit", "D", ColumnKind::real}, {"in_power", "", ColumnKind::integer}})
+           {"theta", "deg", ColumnKind::real},
+           {"theta_lo", "deg", ColumnKind::real},
+           {"theta_hi", "deg", ColumnKind::real},
+           {"points", "", ColumnKind::integer},
+           {"weighted", "", ColumnKind::integer},
+           {"nu_inf", "", ColumnKind::real},
+           {"nu_inf_se", "", ColumnKind::real},
+           {"A", "", ColumnKind::real},
+           {"A_se", "", ColumnKind::real},
+           {"alpha", "", ColumnKind::real},
+           {"alpha_se", "", ColumnKind::real},
+           {"chi2", "", ColumnKind::real},
+           {"dof", "", ColumnKind::integer},
+           {"converged", "", ColumnKind::integer},
+           {"r_c", "D", ColumnKind::real},
+           {"r_c_se", "D", ColumnKind::real},
+           {"r_c_fit", "D", ColumnKind::real},
+           {"in_power", "", ColumnKind::integer}})
     fits.add_column(n, u, k);
   Table& model = p.add_table("model", "nu_bar(r) of each window with the fitted eq (4)");
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real}, {"r", "D", ColumnKind::real},
-           {"nu_bar", "", ColumnKind::real}, {"se", "", ColumnKind::real},
-           {"model", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer}})
+           {"theta", "deg", ColumnKind::real},
+           {"r", "D", ColumnKind::real},
+           {"nu_bar", "", ColumnKind::real},
+           {"se", "", ColumnKind::real},
+           {"model", "", ColumnKind::real},
+           {"in_fit", "", ColumnKind::integer}})
     model.add_column(n, u, k);
 
   struct Fitted {
@@ -191,7 +211,10 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
     }
     std::optional<double> nu_inf, nu_inf_se;
     if (src == NuInfSource::ensemble) {
-      if (auto e = ensemble_nu(*ens, w)) { nu_inf = e->first; nu_inf_se = e->second; }
+      if (auto e = ensemble_nu(*ens, w)) {
+        nu_inf = e->first;
+        nu_inf_se = e->second;
+      }
     } else if (src == NuInfSource::pile) {
       nu_inf = w.nu_pile;
       nu_inf_se = w.nu_pile_se;
@@ -236,7 +259,10 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
       ft.a_se = f->fit.se(0);
       ft.alpha_se = f->fit.se(1);
       ft.nu_inf_se = nu_inf_se;
-      if (f->fit.cov.rows() >= 2) { ft.cov = f->fit.cov.topLeftCorner<2, 2>(); ft.has_cov = true; }
+      if (f->fit.cov.rows() >= 2) {
+        ft.cov = f->fit.cov.topLeftCorner<2, 2>();
+        ft.has_cov = true;
+      }
       ft.row = row;
       fitted.push_back(ft);
     }
@@ -245,10 +271,12 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
       model.column("theta").add(w.theta);
       model.column("r").add(w.r[k]);
       model.column("nu_bar").add(w.nu[k]);
-      model.column("se").add(std::isfinite(w.se[k]) ? std::optional<double>(w.se[k]) : std::nullopt);
+      model.column("se").add(std::isfinite(w.se[k]) ? std::optional<double>(w.se[k])
+                                                    : std::nullopt);
       const bool in = w.r[k] >= opt.r_min && w.r[k] <= opt.r_max;
       std::optional<double> m;
-      if (ok) m = w.r[k] <= opt.r_max ? *nu_inf * (1.0 + f->a() * std::pow(w.r[k], f->alpha())) : *nu_inf;
+      if (ok)
+        m = w.r[k] <= opt.r_max ? *nu_inf * (1.0 + f->a() * std::pow(w.r[k], f->alpha())) : *nu_inf;
       model.column("model").add(m);
       model.column("in_fit").add_int(in);
     }
@@ -258,9 +286,11 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   if (fitted.empty()) p.omit("no window could be fitted (too few radii, nu_inf = 0, or no data)");
 
   // Affine fits of A and alpha in theta.
-  Table& aff = p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta");
+  Table& aff =
+      p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta");
   aff.add_column("param", "", ColumnKind::text);
-  for (const char* n : {"c0", "c0_se", "c1", "c1_se", "chi2"}) aff.add_column(n, n[1] == '1' ? "deg-1" : "");
+  for (const char* n : {"c0", "c0_se", "c1", "c1_se", "chi2"})
+    aff.add_column(n, n[1] == '1' ? "deg-1" : "");
   aff.add_column("dof", "", ColumnKind::integer);
   aff.add_column("points", "", ColumnKind::integer);
   std::optional<FitResult> fit_a, fit_alpha;
@@ -282,7 +312,8 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
                       bool weighted) -> std::optional<FitResult> {
       if (th.size() < 2) return std::nullopt;
       try {
-        FitResult r = fit_affine(th, v, weighted ? std::span<const double>(sv) : std::span<const double>());
+        FitResult r =
+            fit_affine(th, v, weighted ? std::span<const double>(sv) : std::span<const double>());
         aff.column("param").add_text(name);
         aff.column("c0").add(r.p[0]);
         aff.column("c0_se").add(r.se(0));
@@ -298,7 +329,8 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
     };
     fit_a = affine("A", a, as, a_w);
     fit_alpha = affine("alpha", al, als, al_w);
-    if (!fit_a || !fit_alpha) p.omit("affine fits not done: fewer than 2 fitted windows with theta");
+    if (!fit_a || !fit_alpha)
+      p.omit("affine fits not done: fewer than 2 fitted windows with theta");
   }
 
   // r_c (eq 5) per window.
@@ -345,8 +377,8 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   const std::size_t need = opt.theta_c ? 3 : 4;
   if (pth.size() >= need) {
     try {
-      DivergenceFit d = fit_divergence(pth, prc, p_w ? std::span<const double>(pse) : std::span<const double>(),
-                                       opt.theta_c);
+      DivergenceFit d = fit_divergence(
+          pth, prc, p_w ? std::span<const double>(pse) : std::span<const double>(), opt.theta_c);
       // A fitted theta_c that runs onto the last angle of the range is a boundary solution,
       // not a divergence: r_c does not grow toward any theta_c in the data, and the fit
       // sends (theta_c - theta_max) to zero, with a meaningless beta and a vanishing error.
@@ -356,9 +388,11 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
                               d.theta_c - theta_max <= 1e-6 * (theta_max - theta_min);
       if (degenerate) {
         p.results["power_degenerate"] = std::int64_t{1};
-        p.omit("power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
-                          "power range (r_c does not grow toward a theta_c in these windows); no beta. "
-                          "Give " + field("theta_c") + ", or more runs or a wider " + field("power_from") + " range");
+        p.omit(
+            "power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
+            "power range (r_c does not grow toward a theta_c in these windows); no beta. "
+            "Give " +
+            field("theta_c") + ", or more runs or a wider " + field("power_from") + " range");
       } else if (d.fit.converged) {
         p.results["beta"] = d.beta;
         if (d.se_beta) p.results["beta_se"] = *d.se_beta;
@@ -373,7 +407,8 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
         p.results["power_weighted"] = std::int64_t{p_w};
         for (std::size_t k = 0; k < prow.size(); ++k) {
           fits.column("in_power").num[prow[k]] = 1.0;
-          fits.column("r_c_fit").num[prow[k]] = std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
+          fits.column("r_c_fit").num[prow[k]] =
+              std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
         }
       } else if (!d.fit.converged) {
         p.omit("power-law fit did not converge: " + d.fit.status);
@@ -383,7 +418,7 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
     }
   } else if (nu_c) {
     p.omit("power-law fit not done: " + std::to_string(pth.size()) +
-                      " windows with r_c in the power range, need " + std::to_string(need));
+           " windows with r_c in the power range, need " + std::to_string(need));
   }
   return p;
 }

@@ -21,11 +21,13 @@ struct FrameInfo {
   std::optional<std::int64_t> window;
 };
 
-std::int64_t as_int(const Column& c, std::size_t r, const std::string& table, const std::string& src) {
+std::int64_t as_int(const Column& c, std::size_t r, const std::string& table,
+                    const std::string& src) {
   auto v = c.get(r);
   if (!v || *v != std::floor(*v))
-    throw Error(src, "", "table " + table + ", row " + std::to_string(r + 1) + ": column " + c.name +
-                             " must be an integer");
+    throw Error(src, "",
+                "table " + table + ", row " + std::to_string(r + 1) + ": column " + c.name +
+                    " must be an integer");
   return static_cast<std::int64_t>(*v);
 }
 }  // namespace
@@ -50,8 +52,9 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       f.theta = theta.get(r);
       f.nu = nu.get(r);
       if (!index.emplace(std::make_pair(f.run, f.frame), frames.size()).second)
-        throw Error(src, "", "table frames: run " + std::to_string(f.run) + " frame " +
-                                 std::to_string(f.frame) + " appears twice");
+        throw Error(src, "",
+                    "table frames: run " + std::to_string(f.run) + " frame " +
+                        std::to_string(f.frame) + " appears twice");
       frames.push_back(f);
     }
   }
@@ -60,8 +63,12 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   std::int64_t skipped_no_theta = 0, skipped_range = 0;
   for (FrameInfo& f : frames) {
     if (f.theta) {
-      if (!opt.theta.contains(*f.theta)) { ++skipped_range; continue; }
-      f.window = static_cast<std::int64_t>(std::floor((*f.theta - opt.window_start) / opt.window + 1e-12));
+      if (!opt.theta.contains(*f.theta)) {
+        ++skipped_range;
+        continue;
+      }
+      f.window =
+          static_cast<std::int64_t>(std::floor((*f.theta - opt.window_start) / opt.window + 1e-12));
     } else if (!any_theta && !opt.theta.bounded()) {
       f.window = 0;  // no theta anywhere: one window of every frame
     } else {
@@ -74,20 +81,19 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   p.parameters = {{"window_deg", opt.window}, {"window_start_deg", opt.window_start}};
   record_range(p.parameters, "theta", opt.theta);
   for (const auto& [k, v] : in.parameters) p.parameters["localnu_" + k] = v;
-  p.notes = {
-      "nu_bar(theta, r) = mean of nu_i(theta, r) over critical contacts (eq 3), r in D",
-      "frames: per frame, se = sd/sqrt(n) over the frame's critical contacts (treated as "
-      "independent: an underestimate, contacts are correlated)",
-      "windows: [start + k w, start + (k+1) w); nu_bar pools every critical contact of the "
-      "window's frames; se is the cluster-robust error of that pooled mean with runs as "
-      "clusters when >= 2 runs contribute (se_over = runs), else frames (se_over = frames, "
-      "frames of one run are correlated in time), else contacts",
-      "theta of a window: the mean theta of its frames; nu_pile: the mean pile nu of its "
-      "frames, se over runs (>= 2) or frames",
-      "a window has no theta (NA) when the input frames have none: then all frames form one "
-      "window"};
-  p.results["frames_used"] = static_cast<std::int64_t>(
-      std::count_if(frames.begin(), frames.end(), [](const FrameInfo& f) { return f.window.has_value(); }));
+  p.notes = {"nu_bar(theta, r) = mean of nu_i(theta, r) over critical contacts (eq 3), r in D",
+             "frames: per frame, se = sd/sqrt(n) over the frame's critical contacts (treated as "
+             "independent: an underestimate, contacts are correlated)",
+             "windows: [start + k w, start + (k+1) w); nu_bar pools every critical contact of the "
+             "window's frames; se is the cluster-robust error of that pooled mean with runs as "
+             "clusters when >= 2 runs contribute (se_over = runs), else frames (se_over = frames, "
+             "frames of one run are correlated in time), else contacts",
+             "theta of a window: the mean theta of its frames; nu_pile: the mean pile nu of its "
+             "frames, se over runs (>= 2) or frames",
+             "a window has no theta (NA) when the input frames have none: then all frames form one "
+             "window"};
+  p.results["frames_used"] = static_cast<std::int64_t>(std::count_if(
+      frames.begin(), frames.end(), [](const FrameInfo& f) { return f.window.has_value(); }));
   if (skipped_no_theta) p.results["frames_without_theta"] = skipped_no_theta;
   if (skipped_range) p.results["frames_outside_range"] = skipped_range;
 
@@ -95,20 +101,31 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   if (opt.frame_table) {
     fr_t = &p.add_table("frames", "nu_bar(r) of each frame");
     for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-             {"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
-             {"theta", "deg", ColumnKind::real}, {"r", "D", ColumnKind::real},
-             {"n", "", ColumnKind::integer}, {"nu_bar", "", ColumnKind::real},
-             {"se", "", ColumnKind::real}, {"nu_pile", "", ColumnKind::real}})
+             {"run", "", ColumnKind::integer},
+             {"frame", "", ColumnKind::integer},
+             {"theta", "deg", ColumnKind::real},
+             {"r", "D", ColumnKind::real},
+             {"n", "", ColumnKind::integer},
+             {"nu_bar", "", ColumnKind::real},
+             {"se", "", ColumnKind::real},
+             {"nu_pile", "", ColumnKind::real}})
       fr_t->add_column(n, u, k);
   }
-  Table& w_t = p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window");
+  Table& w_t =
+      p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window");
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
-           {"theta_hi", "deg", ColumnKind::real}, {"r", "D", ColumnKind::real},
-           {"runs", "", ColumnKind::integer}, {"frames", "", ColumnKind::integer},
-           {"n", "", ColumnKind::integer}, {"nu_bar", "", ColumnKind::real},
-           {"se", "", ColumnKind::real}, {"se_over", "", ColumnKind::text},
-           {"nu_pile", "", ColumnKind::real}, {"nu_pile_se", "", ColumnKind::real}})
+           {"theta", "deg", ColumnKind::real},
+           {"theta_lo", "deg", ColumnKind::real},
+           {"theta_hi", "deg", ColumnKind::real},
+           {"r", "D", ColumnKind::real},
+           {"runs", "", ColumnKind::integer},
+           {"frames", "", ColumnKind::integer},
+           {"n", "", ColumnKind::integer},
+           {"nu_bar", "", ColumnKind::real},
+           {"se", "", ColumnKind::real},
+           {"se_over", "", ColumnKind::text},
+           {"nu_pile", "", ColumnKind::real},
+           {"nu_pile_se", "", ColumnKind::real}})
     w_t.add_column(n, u, k);
 
   // Group the states rows.
@@ -122,20 +139,24 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
                  &n = st.column("n"), &sum = st.column("sum"), &sum2 = st.column("sum2");
     const std::size_t rows = st.rows();
     for (std::size_t q = 0; q < rows; ++q) {
-      const auto key = std::make_pair(as_int(run, q, "states", src), as_int(frame, q, "states", src));
+      const auto key =
+          std::make_pair(as_int(run, q, "states", src), as_int(frame, q, "states", src));
       auto it = index.find(key);
       if (it == index.end())
-        throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": run " +
-                                 std::to_string(key.first) + " frame " + std::to_string(key.second) +
-                                 " is not in table frames");
+        throw Error(src, "",
+                    "table states, row " + std::to_string(q + 1) + ": run " +
+                        std::to_string(key.first) + " frame " + std::to_string(key.second) +
+                        " is not in table frames");
       const FrameInfo& f = frames[it->second];
       const auto rr = r.get(q);
-      if (!rr || !(*rr > 0)) throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": bad radius");
+      if (!rr || !(*rr > 0))
+        throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": bad radius");
       Sums s;
       s.n = as_int(n, q, "states", src);
       s.sum = sum.get(q).value_or(0.0);
       s.sum2 = sum2.get(q).value_or(0.0);
-      if (s.n < 0) throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
+      if (s.n < 0)
+        throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
       if (fr_t) {
         const Summary sm = s.summary();
         fr_t->column("run").add_int(f.run);
@@ -162,7 +183,10 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
     for (const auto& [fi, s] : c.by_frame) {
       const FrameInfo& f = frames[fi];
       if (f.theta) thetas.push_back(*f.theta);
-      if (f.nu) { nus.push_back(*f.nu); run_nu[f.run].push_back(*f.nu); }
+      if (f.nu) {
+        nus.push_back(*f.nu);
+        run_nu[f.run].push_back(*f.nu);
+      }
     }
     std::vector<Sums> clusters;
     SeOver kind;
@@ -185,8 +209,14 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
     }
     const bool has_theta = !thetas.empty();
     w_t.column("theta").add(has_theta ? summarize(thetas).mean : std::nullopt);
-    w_t.column("theta_lo").add(has_theta ? std::optional<double>(opt.window_start + static_cast<double>(win) * opt.window) : std::nullopt);
-    w_t.column("theta_hi").add(has_theta ? std::optional<double>(opt.window_start + static_cast<double>(win + 1) * opt.window) : std::nullopt);
+    w_t.column("theta_lo")
+        .add(has_theta
+                 ? std::optional<double>(opt.window_start + static_cast<double>(win) * opt.window)
+                 : std::nullopt);
+    w_t.column("theta_hi")
+        .add(has_theta ? std::optional<double>(opt.window_start +
+                                               static_cast<double>(win + 1) * opt.window)
+                       : std::nullopt);
     w_t.column("r").add(r);
     w_t.column("runs").add_int(static_cast<std::int64_t>(c.by_run.size()));
     w_t.column("frames").add_int(static_cast<std::int64_t>(c.by_frame.size()));

@@ -36,8 +36,13 @@ ContactSet select_contacts(const Contacts& c, std::span<const Species> species, 
   validate(rule, mu);
   ContactSet s;
   const std::size_t n = c.size();
-  s.row.reserve(n); s.i.reserve(n); s.j.reserve(n); s.point.reserve(n);
-  s.critical.reserve(n); s.sliding.reserve(n); s.mobilisation.reserve(n);
+  s.row.reserve(n);
+  s.i.reserve(n);
+  s.j.reserve(n);
+  s.point.reserve(n);
+  s.critical.reserve(n);
+  s.sliding.reserve(n);
+  s.mobilisation.reserve(n);
   const bool have_status = c.status.size() == n;
   s.has_status = have_status;
   for (std::size_t k = 0; k < n; ++k) {
@@ -234,8 +239,10 @@ FrameMotion frame_motion(const Grains& g, const Contacts& c) {
   std::vector<std::int64_t> touched(g.size(), 0);  // active contacts of each grain
   for (std::size_t k = 0; k < c.size(); ++k) {
     if (!(c.fn[k] > 0.0)) continue;
-    if (c.i[k] >= 0 && static_cast<std::size_t>(c.i[k]) < g.size()) ++touched[static_cast<std::size_t>(c.i[k])];
-    if (c.j[k] >= 0 && static_cast<std::size_t>(c.j[k]) < g.size()) ++touched[static_cast<std::size_t>(c.j[k])];
+    if (c.i[k] >= 0 && static_cast<std::size_t>(c.i[k]) < g.size())
+      ++touched[static_cast<std::size_t>(c.i[k])];
+    if (c.j[k] >= 0 && static_cast<std::size_t>(c.j[k]) < g.size())
+      ++touched[static_cast<std::size_t>(c.j[k])];
   }
   std::int64_t contact_ends = 0;
   const bool moving = g.velocity.size() == g.size() && g.mass.size() == g.size();
@@ -281,11 +288,12 @@ std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const 
   return out;
 }
 
-RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g, const std::vector<double>& u_t,
-                           double rest_speed, double slip_speed) {
+RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g,
+                           const std::vector<double>& u_t, double rest_speed, double slip_speed) {
   if (u_t.size() != set.size()) throw Error("contacts_at_rest: one slip speed per contact");
   auto slow = [&](std::int32_t b) {
-    return b < 0 || static_cast<std::size_t>(b) >= g.size() || g.velocity[static_cast<std::size_t>(b)].norm() < rest_speed;
+    return b < 0 || static_cast<std::size_t>(b) >= g.size() ||
+           g.velocity[static_cast<std::size_t>(b)].norm() < rest_speed;
   };
   RestCount n;
   for (std::size_t q = 0; q < set.size(); ++q) {

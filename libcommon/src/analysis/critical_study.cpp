@@ -9,10 +9,10 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cstdio>
-#include <string>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 namespace cdpile::analysis {
 
@@ -46,8 +46,9 @@ void check_steps(const RunRecord& r) {
   const std::size_t n = r.steps.step.size();
   auto same = [&](std::size_t m, const char* what, bool optional) {
     if ((optional && m == 0) || m == n) return;
-    throw Error(r.name, "/observables", std::string(what) + " has " + std::to_string(m) +
-                                            " rows, the step series " + std::to_string(n));
+    throw Error(r.name, "/observables",
+                std::string(what) + " has " + std::to_string(m) + " rows, the step series " +
+                    std::to_string(n));
   };
   same(r.steps.theta.size(), "tilt_angle", false);
   same(r.steps.contacts.size(), "the contact count", false);
@@ -68,13 +69,15 @@ std::vector<std::int64_t> static_steps(const RunRecord& r, const RestRule& rest)
   const std::size_t n = s.step.size();
   const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
   const double v_scale = std::sqrt(r.gravity * r.diameter);   // sqrt(g D)
-  if (n == 0 || s.kinetic_energy.size() != n || s.rotational_energy.size() != n || s.converged.size() != n ||
-      s.max_speed.size() != n || s.grains_without_contact.size() != n || r.free_grains <= 0 || !(scale > 0.0))
+  if (n == 0 || s.kinetic_energy.size() != n || s.rotational_energy.size() != n ||
+      s.converged.size() != n || s.max_speed.size() != n || s.grains_without_contact.size() != n ||
+      r.free_grains <= 0 || !(scale > 0.0))
     return {};
   std::vector<std::int64_t> out(n);
   const double np = static_cast<double>(r.free_grains);
   for (std::size_t k = 0; k < n; ++k)
-    out[k] = s.converged[k] == 1 && (s.kinetic_energy[k] + s.rotational_energy[k]) / np / scale < rest.energy &&
+    out[k] = s.converged[k] == 1 &&
+             (s.kinetic_energy[k] + s.rotational_energy[k]) / np / scale < rest.energy &&
              s.max_speed[k] / v_scale < rest.speed && s.grains_without_contact[k] == 0;
   return out;
 }
@@ -85,16 +88,18 @@ std::optional<bool> static_frame(const RunRecord& r, const FrameRecord& f, const
   const RunSteps& s = r.steps;
   const double scale = r.mean_mass * r.gravity * r.diameter;
   const double v_scale = std::sqrt(r.gravity * r.diameter);
-  if (s.converged.size() != s.step.size() || !f.agitation || !f.max_speed || !(scale > 0.0)) return std::nullopt;
+  if (s.converged.size() != s.step.size() || !f.agitation || !f.max_speed || !(scale > 0.0))
+    return std::nullopt;
   const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
   if (it == s.step.end() || *it != f.step) {
     // frame 0 of a run is the pile before the first tilt step: static if at rest
     if (f.step != 0) return std::nullopt;
-    return *f.agitation / scale < rest.energy && *f.max_speed / v_scale < rest.speed && f.grains_without_contact == 0;
+    return *f.agitation / scale < rest.energy && *f.max_speed / v_scale < rest.speed &&
+           f.grains_without_contact == 0;
   }
   const auto k = static_cast<std::size_t>(it - s.step.begin());
-  return s.converged[k] == 1 && *f.agitation / scale < rest.energy && *f.max_speed / v_scale < rest.speed &&
-         f.grains_without_contact == 0;
+  return s.converged[k] == 1 && *f.agitation / scale < rest.energy &&
+         *f.max_speed / v_scale < rest.speed && f.grains_without_contact == 0;
 }
 
 // The nu(theta) series a run contributes to the ensemble and the envelope.
@@ -111,7 +116,9 @@ std::string exact(double v) {
 }
 
 // Parameters written as text and read back, or given as 1e-3 and 0.001, are the same.
-bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)); }
+bool same_value(double a, double b) {
+  return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b));
+}
 
 std::string join(const std::vector<std::string>& parts, const char* sep) {
   std::string s;
@@ -121,11 +128,12 @@ std::string join(const std::vector<std::string>& parts, const char* sep) {
 
 // For each run, how its recorded per-step critical count departs from the rule asked for
 // (empty when it follows it, or when the run records no count).
-std::vector<std::optional<StepRuleMismatch>> step_rule_mismatches(const std::vector<RunRecord>& runs,
-                                                                  const CriticalRule& rule) {
+std::vector<std::optional<StepRuleMismatch>> step_rule_mismatches(
+    const std::vector<RunRecord>& runs, const CriticalRule& rule) {
   std::vector<std::optional<StepRuleMismatch>> out(runs.size());
   for (std::size_t k = 0; k < runs.size(); ++k)
-    if (!runs[k].steps.critical.empty()) out[k] = step_rule_mismatch(runs[k].recorded_rule, rule, runs[k].mu);
+    if (!runs[k].steps.critical.empty())
+      out[k] = step_rule_mismatch(runs[k].recorded_rule, rule, runs[k].mu);
   return out;
 }
 
@@ -137,10 +145,14 @@ void note_step_series(Product& p, const std::vector<RunRecord>& runs,
     if (runs[k].steps.step.empty())
       p.omit(name + ": no per-step observables: no steps, events or theta_c from this run");
     if (!mismatch[k]) continue;
-    p.notes.push_back(name + (mismatch[k]->unknown ? " does not record the rule of its per-step critical count ("
-                                                   : " recorded its per-step critical count with another rule (") +
-                      mismatch[k]->why + "): its per-step Nc, nu and lambda are NA and nu(theta) comes from "
-                      "its frames unless " + field("series") + " sliding");
+    p.notes.push_back(name +
+                      (mismatch[k]->unknown
+                           ? " does not record the rule of its per-step critical count ("
+                           : " recorded its per-step critical count with another rule (") +
+                      mismatch[k]->why +
+                      "): its per-step Nc, nu and lambda are NA and nu(theta) comes from "
+                      "its frames unless " +
+                      field("series") + " sliding");
   }
 }
 
@@ -151,9 +163,11 @@ void note_step_series(Product& p, const std::vector<RunRecord>& runs,
 // window: the maximum itself with --series frames, the state just before it otherwise (as
 // an event's nu_before). A maximum with no such frame, or one whose frame has no bound, is
 // not judged. Records the counts and, when any judged frame is above its bound, a warning.
-void judge_static_bound(Product& p, const std::vector<RunRecord>& runs, const std::vector<Curve>& curves,
+void judge_static_bound(Product& p, const std::vector<RunRecord>& runs,
+                        const std::vector<Curve>& curves,
                         const std::vector<std::vector<std::int64_t>>& steps, const Grid& w,
-                        const std::vector<std::size_t>& windows, std::int64_t frames, std::int64_t above) {
+                        const std::vector<std::size_t>& windows, std::int64_t frames,
+                        std::int64_t above) {
   std::int64_t judged = 0, judged_above = 0;
   for (std::size_t ri = 0; ri < runs.size(); ++ri) {
     const Curve& cv = curves[ri];
@@ -164,7 +178,8 @@ void judge_static_bound(Product& p, const std::vector<RunRecord>& runs, const st
       if (!at) continue;
       const FrameRecord* frame = nullptr;
       for (const FrameRecord& f : runs[ri].frames)
-        if (f.step <= steps[ri][*at] && w.bin(f.theta) == b && (!frame || f.step > frame->step)) frame = &f;
+        if (f.step <= steps[ri][*at] && w.bin(f.theta) == b && (!frame || f.step > frame->step))
+          frame = &f;
       if (!frame || !frame->bound) continue;
       ++judged;
       judged_above += frame->bound->above();
@@ -173,20 +188,23 @@ void judge_static_bound(Product& p, const std::vector<RunRecord>& runs, const st
   p.results["nu_c_maxima_judged"] = judged;
   p.results["nu_c_maxima_above_static_bound"] = judged_above;
   if (judged_above == 0) return;
-  p.notes.push_back(std::string(warning_prefix) + "nu_c comes from frames above the static bound: " +
-                    std::to_string(judged_above) + " of the " + std::to_string(judged) +
-                    " envelope maxima in the fit [" + format_short(w.lower(windows.front())) + ", " +
-                    format_short(w.upper(windows.back())) + "] deg are at frames with Nc > 2M - 3N (moving "
-                    "or unconverged, not static); " + std::to_string(above) + " of " + std::to_string(frames) +
-                    " frames of the runs are above their bound");
+  p.notes.push_back(
+      std::string(warning_prefix) +
+      "nu_c comes from frames above the static bound: " + std::to_string(judged_above) +
+      " of the " + std::to_string(judged) + " envelope maxima in the fit [" +
+      format_short(w.lower(windows.front())) + ", " + format_short(w.upper(windows.back())) +
+      "] deg are at frames with Nc > 2M - 3N (moving "
+      "or unconverged, not static); " +
+      std::to_string(above) + " of " + std::to_string(frames) +
+      " frames of the runs are above their bound");
 }
 
 // One reading of nu(theta) over the runs (all states, or static states only): the ensemble
 // mean on grid g, the envelope of maxima on windows w and its fit (Fig 1c).
 struct Reading {
   std::vector<Summary> ens, env, env_at;
-  std::vector<std::uint8_t> in_fit;      // per window
-  std::vector<double> fit;               // per window, NaN where not fitted
+  std::vector<std::uint8_t> in_fit;  // per window
+  std::vector<double> fit;           // per window, NaN where not fitted
   std::vector<std::size_t> windows_in_fit;
   bool saturates = false;
 };
@@ -198,8 +216,8 @@ std::string key(const char* base, const std::string& suffix, const char* tail = 
 }
 
 Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& g, const Grid& w,
-                      const CriticalOptions& opt, const std::string& suffix, const std::string& label,
-                      std::optional<double> z_mean) {
+                      const CriticalOptions& opt, const std::string& suffix,
+                      const std::string& label, std::optional<double> z_mean) {
   Reading rd;
   std::vector<std::vector<std::optional<double>>> means, maxima, argmax;
   for (const Curve& c : curves) {
@@ -238,18 +256,21 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     return rd;
   }
   try {
-    EnvelopeFit ef = fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
+    EnvelopeFit ef =
+        fit_envelope(ft, fv, all_se ? std::span<const double>(fs) : std::span<const double>());
     // The limit nu_c is determined only when the envelope bends over inside the fitted
     // range: at least one relaxation length tau within it, and a limit that is a
     // fraction. A near-linear envelope (a small or fast-tilted pile) fits with a huge
     // tau and B, whose "limit" is an extrapolation far outside the data.
     const double span = ft.back() - ft.front();
-    rd.saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span && ef.nu_c() > 0.0 && ef.nu_c() <= 1.0;
-    if (ef.fit.converged) p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
+    rd.saturates = ef.fit.converged && ef.tau() > 0.0 && ef.tau() < span && ef.nu_c() > 0.0 &&
+                   ef.nu_c() <= 1.0;
+    if (ef.fit.converged)
+      p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
     if (ef.fit.converged && !rd.saturates)
       p.omit(label + "envelope does not saturate in the fitted range [" + format_short(ft.front()) +
-                        ", " + format_short(ft.back()) + "] deg (tau = " + format_short(ef.tau()) +
-                        " deg, limit = " + format_short(ef.nu_c()) + "): nu_c is not determined");
+             ", " + format_short(ft.back()) + "] deg (tau = " + format_short(ef.tau()) +
+             " deg, limit = " + format_short(ef.nu_c()) + "): nu_c is not determined");
     if (!ef.fit.converged) p.omit(label + "envelope fit did not converge: " + ef.fit.status);
     if (!rd.saturates) return rd;
     p.results[key("nu_c", suffix)] = ef.nu_c();
@@ -270,7 +291,8 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
       rd.fit[b] = ef.nu_c() - ef.b() * std::exp(-c / ef.tau());
     }
     if (z_mean && ef.nu_c() > 0)
-      if (auto l = critical_spacing(*z_mean, ef.nu_c(), 1.0)) p.results[key("lambda_c", suffix, "_D")] = *l;
+      if (auto l = critical_spacing(*z_mean, ef.nu_c(), 1.0))
+        p.results[key("lambda_c", suffix, "_D")] = *l;
   } catch (const Error& e) {
     p.omit(label + "envelope fit failed: " + e.what());
   }
@@ -287,17 +309,21 @@ std::vector<std::string> product_warnings(const Product& p) {
   return out;
 }
 
-std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, const CriticalRule& rule,
-                                                   const Friction& mu) {
+std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec,
+                                                   const CriticalRule& rule, const Friction& mu) {
   std::vector<std::string> differ, missing;
-  auto compare = [&](const char* what, const char* parameter, double asked, std::optional<double> recorded) {
-    if (!recorded) missing.push_back(std::string("no ") + parameter + " in /parameters");
+  auto compare = [&](const char* what, const char* parameter, double asked,
+                     std::optional<double> recorded) {
+    if (!recorded)
+      missing.push_back(std::string("no ") + parameter + " in /parameters");
     else if (!same_value(asked, *recorded))
-      differ.push_back(std::string(what) + " " + exact(asked) + " asked, " + exact(*recorded) + " recorded");
+      differ.push_back(std::string(what) + " " + exact(asked) + " asked, " + exact(*recorded) +
+                       " recorded");
   };
   compare("eps", "critical_eps", rule.eps, rec.eps);
   compare("mu", "mu_grain", mu.grain, rec.mu_grain);
-  if (rule.include_walls) compare("mu_wall", "mu_wall", mu.wall, rec.mu_wall);
+  if (rule.include_walls)
+    compare("mu_wall", "mu_wall", mu.wall, rec.mu_wall);
   else if (!rule.floor_grains_are_walls)
     differ.push_back("floor grains counted as grains, not in critical_grain");
   // A known difference says more than a missing parameter.
@@ -310,8 +336,9 @@ void require_step_rule(const std::string& name, const RecordedRule& rec, const C
                        const Friction& mu) {
   const auto m = step_rule_mismatch(rec, rule, mu);
   if (!m || m->unknown) return;
-  throw UsageError(field("series") + " steps: " + name + " recorded its per-step critical count with another rule (" +
-                   m->why + "); use " + field("series") + " frames or auto");
+  throw UsageError(field("series") + " steps: " + name +
+                   " recorded its per-step critical count with another rule (" + m->why +
+                   "); use " + field("series") + " frames or auto");
 }
 
 std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& rule) {
@@ -328,7 +355,8 @@ std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& r
 }
 
 std::vector<std::string> critical_table_names(const CriticalOptions& opt) {
-  if (opt.step_table) return {"runs", "steps", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
+  if (opt.step_table)
+    return {"runs", "steps", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
   return {"runs", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
 }
 
@@ -350,22 +378,30 @@ SeriesChoice choose_series(const std::vector<RunRecord>& runs, const CriticalOpt
   bool all_critical = !runs.empty(), all_sliding = !runs.empty();
   for (const RunRecord& r : runs) {
     check_steps(r);
-    all_critical = all_critical && !r.steps.step.empty() && r.steps.critical.size() == r.steps.step.size();
-    all_sliding = all_sliding && !r.steps.step.empty() && r.steps.sliding.size() == r.steps.step.size();
+    all_critical =
+        all_critical && !r.steps.step.empty() && r.steps.critical.size() == r.steps.step.size();
+    all_sliding =
+        all_sliding && !r.steps.step.empty() && r.steps.sliding.size() == r.steps.step.size();
   }
   SeriesChoice c;
   c.mismatch = step_rule_mismatches(runs, opt.rule);
-  const bool all_follow = std::none_of(c.mismatch.begin(), c.mismatch.end(), [](const auto& m) { return m.has_value(); });
+  const bool all_follow = std::none_of(c.mismatch.begin(), c.mismatch.end(),
+                                       [](const auto& m) { return m.has_value(); });
   SeriesSource src = opt.source;
-  if (src == SeriesSource::automatic) src = all_critical && all_follow ? SeriesSource::steps : SeriesSource::frames;
+  if (src == SeriesSource::automatic)
+    src = all_critical && all_follow ? SeriesSource::steps : SeriesSource::frames;
   if (src == SeriesSource::steps && !all_critical && !runs.empty())
-    throw Error(field("series") + " steps: a run does not record a per-step critical count "
-                "(observable critical_grain or critical); use " + field("series") + " frames or sliding");
+    throw Error(field("series") +
+                " steps: a run does not record a per-step critical count "
+                "(observable critical_grain or critical); use " +
+                field("series") + " frames or sliding");
   for (std::size_t k = 0; src == SeriesSource::steps && k < runs.size(); ++k) {
     require_step_rule(runs[k].name, runs[k].recorded_rule, opt.rule, runs[k].mu);
     if (c.mismatch[k])  // not recorded: the counts may follow any rule
-      throw Error(runs[k].name, "", field("series") + " steps: the rule of the per-step critical count is not recorded (" +
-                                        c.mismatch[k]->why + "); use " + field("series") + " frames");
+      throw Error(runs[k].name, "",
+                  field("series") +
+                      " steps: the rule of the per-step critical count is not recorded (" +
+                      c.mismatch[k]->why + "); use " + field("series") + " frames");
   }
   if (src == SeriesSource::sliding && !all_sliding && !runs.empty())
     throw Error(field("series") + " sliding: a run does not record the per-step sliding count");
@@ -377,18 +413,19 @@ SeriesChoice choose_series(const std::vector<RunRecord>& runs, const CriticalOpt
 Product describe_study(const CriticalOptions& opt, SeriesSource src) {
   Product p;
   p.kind = "critical";
-  p.parameters = {{"eps", opt.rule.eps},
-                  {"include_walls", std::int64_t{opt.rule.include_walls}},
-                  {"floor_grains_are_walls", std::int64_t{opt.rule.floor_grains_are_walls}},
-                  {"rattlers", std::string(opt.rattlers == RattlerRule::exclude ? "exclude" : "include")},
-                  {"event_hysteresis", opt.events.hysteresis},
-                  {"event_min_drop", opt.events.min_drop},
-                  {"avalanche_threshold", opt.avalanche.threshold},
-                  {"avalanche_hold_deg", opt.avalanche.hold},
-                  {"cut_at_avalanche", std::int64_t{opt.cut_at_avalanche}},
-                  {"grid_step_deg", opt.grid_step},
-                  {"envelope_window_deg", opt.envelope_window},
-                  {"series", std::string(source_name(src))}};
+  p.parameters = {
+      {"eps", opt.rule.eps},
+      {"include_walls", std::int64_t{opt.rule.include_walls}},
+      {"floor_grains_are_walls", std::int64_t{opt.rule.floor_grains_are_walls}},
+      {"rattlers", std::string(opt.rattlers == RattlerRule::exclude ? "exclude" : "include")},
+      {"event_hysteresis", opt.events.hysteresis},
+      {"event_min_drop", opt.events.min_drop},
+      {"avalanche_threshold", opt.avalanche.threshold},
+      {"avalanche_hold_deg", opt.avalanche.hold},
+      {"cut_at_avalanche", std::int64_t{opt.cut_at_avalanche}},
+      {"grid_step_deg", opt.grid_step},
+      {"envelope_window_deg", opt.envelope_window},
+      {"series", std::string(source_name(src))}};
   p.notes = {
       "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; N counts active contacts (f_n > 0), "
       "grain-grain unless include_walls",
@@ -434,58 +471,108 @@ StudyTables add_study_tables(Product& p, bool step_table) {
                 p.add_table("events", "rearrangement events: a drop of the contact count N"),
                 p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
                 p.add_table("envelope", "mean over runs of the maximum of nu in theta windows")};
-  add_columns(t.runs, {{"run", "", ColumnKind::integer}, {"name", "", ColumnKind::text},
-                       {"grains", "", ColumnKind::integer}, {"diameter", "m", ColumnKind::real},
-                       {"steps", "", ColumnKind::integer}, {"frames", "", ColumnKind::integer},
-                       {"events", "", ColumnKind::integer}, {"theta_c", "deg", ColumnKind::real},
-                       {"theta_c_recorded", "deg", ColumnKind::real}, {"nu_max", "", ColumnKind::real}});
+  add_columns(t.runs, {{"run", "", ColumnKind::integer},
+                       {"name", "", ColumnKind::text},
+                       {"grains", "", ColumnKind::integer},
+                       {"diameter", "m", ColumnKind::real},
+                       {"steps", "", ColumnKind::integer},
+                       {"frames", "", ColumnKind::integer},
+                       {"events", "", ColumnKind::integer},
+                       {"theta_c", "deg", ColumnKind::real},
+                       {"theta_c_recorded", "deg", ColumnKind::real},
+                       {"nu_max", "", ColumnKind::real}});
   if (t.steps)
-    add_columns(*t.steps, {{"run", "", ColumnKind::integer}, {"step", "", ColumnKind::integer},
-                           {"theta", "deg", ColumnKind::real}, {"N", "", ColumnKind::integer},
-                           {"Nc", "", ColumnKind::integer}, {"nu", "", ColumnKind::real},
-                           {"sliding", "", ColumnKind::integer}, {"nu_sliding", "", ColumnKind::real},
-                           {"z_all", "", ColumnKind::real}, {"lambda", "D", ColumnKind::real},
-                           {"Ek", "J m-1", ColumnKind::real}, {"ek_norm", "", ColumnKind::real},
+    add_columns(*t.steps, {{"run", "", ColumnKind::integer},
+                           {"step", "", ColumnKind::integer},
+                           {"theta", "deg", ColumnKind::real},
+                           {"N", "", ColumnKind::integer},
+                           {"Nc", "", ColumnKind::integer},
+                           {"nu", "", ColumnKind::real},
+                           {"sliding", "", ColumnKind::integer},
+                           {"nu_sliding", "", ColumnKind::real},
+                           {"z_all", "", ColumnKind::real},
+                           {"lambda", "D", ColumnKind::real},
+                           {"Ek", "J m-1", ColumnKind::real},
+                           {"ek_norm", "", ColumnKind::real},
                            {"static", "", ColumnKind::integer}});
-  add_columns(t.frames, {{"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
-                         {"step", "", ColumnKind::integer}, {"theta", "deg", ColumnKind::real},
-                         {"N", "", ColumnKind::integer}, {"Nc", "", ColumnKind::integer},
-                         {"nu", "", ColumnKind::real}, {"sliding", "", ColumnKind::integer},
-                         {"nu_sliding", "", ColumnKind::real}, {"z", "", ColumnKind::real},
-                         {"z_all", "", ColumnKind::real}, {"loaded_grains", "", ColumnKind::integer},
-                         {"lambda", "D", ColumnKind::real}, {"Ek", "J m-1", ColumnKind::real},
-                         {"ek_norm", "", ColumnKind::real}, {"loading", "", ColumnKind::integer},
-                         {"contacts_load_bearing", "", ColumnKind::integer}, {"grains_load_bearing", "", ColumnKind::integer},
-                         {"critical_load_bearing", "", ColumnKind::integer}, {"static_bound", "", ColumnKind::integer},
-                         {"above_static_bound", "", ColumnKind::integer}, {"agitation_norm", "", ColumnKind::real},
-                         {"max_speed_norm", "", ColumnKind::real}, {"grains_without_contact", "", ColumnKind::integer},
-                         {"converged", "", ColumnKind::integer}, {"static", "", ColumnKind::integer},
-                         {"slipping", "", ColumnKind::integer}, {"critical_slipping", "", ColumnKind::integer},
-                         {"z_paper", "", ColumnKind::real}, {"N_rest", "", ColumnKind::integer},
-                         {"Nc_rest", "", ColumnKind::integer}, {"nu_rest", "", ColumnKind::real}});
-  add_columns(t.events, {{"run", "", ColumnKind::integer}, {"event", "", ColumnKind::integer},
-                         {"peak_step", "", ColumnKind::integer}, {"trough_step", "", ColumnKind::integer},
-                         {"theta", "deg", ColumnKind::real}, {"theta_end", "deg", ColumnKind::real},
-                         {"n_peak", "", ColumnKind::integer}, {"n_trough", "", ColumnKind::integer},
-                         {"loss", "", ColumnKind::real}, {"nu_before", "", ColumnKind::real},
-                         {"nu_before_step", "", ColumnKind::integer}, {"nu_sliding_before", "", ColumnKind::real},
-                         {"open", "", ColumnKind::integer}, {"after_avalanche", "", ColumnKind::integer}});
-  add_columns(t.ensemble, {{"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
-                           {"nu", "", ColumnKind::real}, {"nu_se", "", ColumnKind::real},
-                           {"runs_static", "", ColumnKind::integer}, {"nu_static", "", ColumnKind::real},
-                           {"nu_static_se", "", ColumnKind::real}, {"runs_rest", "", ColumnKind::integer},
-                           {"nu_rest", "", ColumnKind::real}, {"nu_rest_se", "", ColumnKind::real}});
-  add_columns(t.envelope, {{"theta", "deg", ColumnKind::real}, {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real}, {"runs", "", ColumnKind::integer},
-                           {"envelope", "", ColumnKind::real}, {"envelope_se", "", ColumnKind::real},
-                           {"fit", "", ColumnKind::real}, {"in_fit", "", ColumnKind::integer},
-                           {"theta_static", "deg", ColumnKind::real}, {"runs_static", "", ColumnKind::integer},
-                           {"envelope_static", "", ColumnKind::real}, {"envelope_static_se", "", ColumnKind::real},
-                           {"fit_static", "", ColumnKind::real}, {"in_fit_static", "", ColumnKind::integer},
-                           {"theta_rest", "deg", ColumnKind::real}, {"runs_rest", "", ColumnKind::integer},
-                           {"envelope_rest", "", ColumnKind::real}, {"envelope_rest_se", "", ColumnKind::real},
-                           {"fit_rest", "", ColumnKind::real}, {"in_fit_rest", "", ColumnKind::integer}});
+  add_columns(t.frames, {{"run", "", ColumnKind::integer},
+                         {"frame", "", ColumnKind::integer},
+                         {"step", "", ColumnKind::integer},
+                         {"theta", "deg", ColumnKind::real},
+                         {"N", "", ColumnKind::integer},
+                         {"Nc", "", ColumnKind::integer},
+                         {"nu", "", ColumnKind::real},
+                         {"sliding", "", ColumnKind::integer},
+                         {"nu_sliding", "", ColumnKind::real},
+                         {"z", "", ColumnKind::real},
+                         {"z_all", "", ColumnKind::real},
+                         {"loaded_grains", "", ColumnKind::integer},
+                         {"lambda", "D", ColumnKind::real},
+                         {"Ek", "J m-1", ColumnKind::real},
+                         {"ek_norm", "", ColumnKind::real},
+                         {"loading", "", ColumnKind::integer},
+                         {"contacts_load_bearing", "", ColumnKind::integer},
+                         {"grains_load_bearing", "", ColumnKind::integer},
+                         {"critical_load_bearing", "", ColumnKind::integer},
+                         {"static_bound", "", ColumnKind::integer},
+                         {"above_static_bound", "", ColumnKind::integer},
+                         {"agitation_norm", "", ColumnKind::real},
+                         {"max_speed_norm", "", ColumnKind::real},
+                         {"grains_without_contact", "", ColumnKind::integer},
+                         {"converged", "", ColumnKind::integer},
+                         {"static", "", ColumnKind::integer},
+                         {"slipping", "", ColumnKind::integer},
+                         {"critical_slipping", "", ColumnKind::integer},
+                         {"z_paper", "", ColumnKind::real},
+                         {"N_rest", "", ColumnKind::integer},
+                         {"Nc_rest", "", ColumnKind::integer},
+                         {"nu_rest", "", ColumnKind::real}});
+  add_columns(t.events, {{"run", "", ColumnKind::integer},
+                         {"event", "", ColumnKind::integer},
+                         {"peak_step", "", ColumnKind::integer},
+                         {"trough_step", "", ColumnKind::integer},
+                         {"theta", "deg", ColumnKind::real},
+                         {"theta_end", "deg", ColumnKind::real},
+                         {"n_peak", "", ColumnKind::integer},
+                         {"n_trough", "", ColumnKind::integer},
+                         {"loss", "", ColumnKind::real},
+                         {"nu_before", "", ColumnKind::real},
+                         {"nu_before_step", "", ColumnKind::integer},
+                         {"nu_sliding_before", "", ColumnKind::real},
+                         {"open", "", ColumnKind::integer},
+                         {"after_avalanche", "", ColumnKind::integer}});
+  add_columns(t.ensemble, {{"theta", "deg", ColumnKind::real},
+                           {"theta_lo", "deg", ColumnKind::real},
+                           {"theta_hi", "deg", ColumnKind::real},
+                           {"runs", "", ColumnKind::integer},
+                           {"nu", "", ColumnKind::real},
+                           {"nu_se", "", ColumnKind::real},
+                           {"runs_static", "", ColumnKind::integer},
+                           {"nu_static", "", ColumnKind::real},
+                           {"nu_static_se", "", ColumnKind::real},
+                           {"runs_rest", "", ColumnKind::integer},
+                           {"nu_rest", "", ColumnKind::real},
+                           {"nu_rest_se", "", ColumnKind::real}});
+  add_columns(t.envelope, {{"theta", "deg", ColumnKind::real},
+                           {"theta_lo", "deg", ColumnKind::real},
+                           {"theta_hi", "deg", ColumnKind::real},
+                           {"runs", "", ColumnKind::integer},
+                           {"envelope", "", ColumnKind::real},
+                           {"envelope_se", "", ColumnKind::real},
+                           {"fit", "", ColumnKind::real},
+                           {"in_fit", "", ColumnKind::integer},
+                           {"theta_static", "deg", ColumnKind::real},
+                           {"runs_static", "", ColumnKind::integer},
+                           {"envelope_static", "", ColumnKind::real},
+                           {"envelope_static_se", "", ColumnKind::real},
+                           {"fit_static", "", ColumnKind::real},
+                           {"in_fit_static", "", ColumnKind::integer},
+                           {"theta_rest", "deg", ColumnKind::real},
+                           {"runs_rest", "", ColumnKind::integer},
+                           {"envelope_rest", "", ColumnKind::real},
+                           {"envelope_rest_se", "", ColumnKind::real},
+                           {"fit_rest", "", ColumnKind::real},
+                           {"in_fit_rest", "", ColumnKind::integer}});
   return t;
 }
 
@@ -504,7 +591,7 @@ struct LoadingTotals {
   std::int64_t zp_n = 0;
   std::optional<double> zp_initial_sum;
   std::int64_t zp_initial_n = 0;
-  std::vector<WindowCounts> win_all, win_static;  // all loading frames / static ones
+  std::vector<WindowCounts> win_all, win_static;   // all loading frames / static ones
   std::int64_t bound_frames = 0, bound_above = 0;  // frames with a static bound, and above it
   double z_sum = 0.0;
   std::int64_t z_n = 0;
@@ -552,8 +639,9 @@ void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepF
     t.column("nu_sliding").add(q.nu_s[k]);
     const auto z_all = ratio(2 * s.contacts[k], r.free_grains);
     t.column("z_all").add(z_all);
-    t.column("lambda").add(z_all && std::isfinite(q.nu_c[k]) ? critical_spacing(*z_all, q.nu_c[k], 1.0)
-                                                             : std::nullopt);
+    t.column("lambda").add(z_all && std::isfinite(q.nu_c[k])
+                               ? critical_spacing(*z_all, q.nu_c[k], 1.0)
+                               : std::nullopt);
     t.column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
     t.column("ek_norm").add(q.ekn[k]);
     t.column("static").add(st_static.empty() ? nan : static_cast<double>(st_static[k]));
@@ -563,8 +651,8 @@ void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepF
 // The run's frames: their rows, with each frame's classification as loading (at or below
 // `cut`) and static or moving (docs/analysis.md, "Static and moving states"), added to the
 // loading totals; the frames' nu of the contacts at rest go to `rest_curve`.
-void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut, const CriticalOptions& opt,
-                     LoadingTotals& tot, Curve& rest_curve) {
+void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut,
+                     const CriticalOptions& opt, LoadingTotals& tot, Curve& rest_curve) {
   const RunSteps& s = r.steps;
   const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
   const double v_scale = std::sqrt(r.gravity * r.diameter);
@@ -586,33 +674,50 @@ void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut,
     t.column("z").add(st.z);
     t.column("z_all").add(st.z_all);
     t.column("loaded_grains").add_int(st.loaded_grains);
-    t.column("lambda").add(st.lambda && r.diameter > 0 ? std::optional<double>(*st.lambda / r.diameter)
-                                                        : std::nullopt);
+    t.column("lambda").add(st.lambda && r.diameter > 0
+                               ? std::optional<double>(*st.lambda / r.diameter)
+                               : std::nullopt);
     t.column("Ek").add(f.kinetic_energy);
-    t.column("ek_norm").add(f.kinetic_energy && scale > 0.0 ? std::optional<double>(*f.kinetic_energy / scale)
-                                                              : std::nullopt);
+    t.column("ek_norm").add(f.kinetic_energy && scale > 0.0
+                                ? std::optional<double>(*f.kinetic_energy / scale)
+                                : std::nullopt);
     const bool loading = f.theta <= cut;
     t.column("loading").add_int(loading);
-    if (loading && st.z) { tot.z_sum += *st.z; ++tot.z_n; }
+    if (loading && st.z) {
+      tot.z_sum += *st.z;
+      ++tot.z_n;
+    }
     // McNamara & Herrmann 2004 (docs/analysis.md, "Static bound")
-    auto count = [&](auto get) { return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt; };
+    auto count = [&](auto get) {
+      return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt;
+    };
     t.column("contacts_load_bearing").add(count([](const StaticBound& b) { return b.contacts; }));
     t.column("grains_load_bearing").add(count([](const StaticBound& b) { return b.grains; }));
     t.column("critical_load_bearing").add(count([](const StaticBound& b) { return b.critical; }));
     t.column("static_bound").add(count([](const StaticBound& b) { return b.bound(); }));
-    t.column("above_static_bound").add(count([](const StaticBound& b) { return std::int64_t{b.above()}; }));
-    if (f.bound) { ++tot.bound_frames; tot.bound_above += f.bound->above(); }
+    t.column("above_static_bound").add(count([](const StaticBound& b) {
+      return std::int64_t{b.above()};
+    }));
+    if (f.bound) {
+      ++tot.bound_frames;
+      tot.bound_above += f.bound->above();
+    }
     // static or moving (docs/analysis.md, "Static and moving states")
     const std::optional<bool> still = static_frame(r, f, opt.rest);
-    t.column("agitation_norm").add(f.agitation && scale > 0.0 ? std::optional<double>(*f.agitation / scale)
-                                                               : std::nullopt);
-    t.column("max_speed_norm").add(f.max_speed && v_scale > 0.0 ? std::optional<double>(*f.max_speed / v_scale)
-                                                                 : std::nullopt);
+    t.column("agitation_norm")
+        .add(f.agitation && scale > 0.0 ? std::optional<double>(*f.agitation / scale)
+                                        : std::nullopt);
+    t.column("max_speed_norm")
+        .add(f.max_speed && v_scale > 0.0 ? std::optional<double>(*f.max_speed / v_scale)
+                                          : std::nullopt);
     t.column("grains_without_contact").add_int(f.grains_without_contact);
     {
       const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
       const bool found = it != s.step.end() && *it == f.step && s.converged.size() == s.step.size();
-      t.column("converged").add(found ? static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())]) : nan);
+      t.column("converged")
+          .add(found
+                   ? static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())])
+                   : nan);
     }
     t.column("static").add(still ? std::optional<double>(*still ? 1.0 : 0.0) : std::nullopt);
     auto count_opt = [](const std::optional<std::int64_t>& v) {
@@ -623,19 +728,33 @@ void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut,
     t.column("z_paper").add(f.z_paper);
     t.column("N_rest").add(count_opt(f.contacts_at_rest));
     t.column("Nc_rest").add(count_opt(f.critical_at_rest));
-    const std::optional<double> nu_rest =
-        f.contacts_at_rest && f.critical_at_rest ? ratio(*f.critical_at_rest, *f.contacts_at_rest) : std::nullopt;
+    const std::optional<double> nu_rest = f.contacts_at_rest && f.critical_at_rest
+                                              ? ratio(*f.critical_at_rest, *f.contacts_at_rest)
+                                              : std::nullopt;
     t.column("nu_rest").add(nu_rest);
-    if (nu_rest && f.theta <= cut) { rest_curve.theta.push_back(f.theta); rest_curve.nu.push_back(*nu_rest); }
-    if (f.z_paper && f.frame == 0) { tot.zp_initial_sum = tot.zp_initial_sum.value_or(0.0) + *f.z_paper; ++tot.zp_initial_n; }
-    if (loading && f.z_paper) { tot.zp_sum += *f.z_paper; ++tot.zp_n; }
+    if (nu_rest && f.theta <= cut) {
+      rest_curve.theta.push_back(f.theta);
+      rest_curve.nu.push_back(*nu_rest);
+    }
+    if (f.z_paper && f.frame == 0) {
+      tot.zp_initial_sum = tot.zp_initial_sum.value_or(0.0) + *f.z_paper;
+      ++tot.zp_initial_n;
+    }
+    if (loading && f.z_paper) {
+      tot.zp_sum += *f.z_paper;
+      ++tot.zp_n;
+    }
     if (loading && still && *still) {
       ++tot.frames_static;
       if (f.bound) tot.frames_static_above += f.bound->above();
     }
     if (const auto wi = window_of(f.theta); loading && wi) {
-      if (tot.win_all.size() <= *wi) { tot.win_all.resize(*wi + 1); tot.win_static.resize(*wi + 1); }
-      for (WindowCounts* wc : {&tot.win_all[*wi], (still && *still) ? &tot.win_static[*wi] : nullptr}) {
+      if (tot.win_all.size() <= *wi) {
+        tot.win_all.resize(*wi + 1);
+        tot.win_static.resize(*wi + 1);
+      }
+      for (WindowCounts* wc :
+           {&tot.win_all[*wi], (still && *still) ? &tot.win_static[*wi] : nullptr}) {
         if (!wc) continue;
         ++wc->frames;
         wc->contacts += st.contacts;
@@ -650,35 +769,52 @@ void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut,
 }
 
 // The run's nu(theta) series by the chosen source, with the step of each point.
-Curve nu_series(const RunRecord& r, SeriesSource src, const StepFractions& q, std::vector<std::int64_t>& steps) {
+Curve nu_series(const RunRecord& r, SeriesSource src, const StepFractions& q,
+                std::vector<std::int64_t>& steps) {
   const RunSteps& s = r.steps;
   Curve cv;
   if (src == SeriesSource::frames) {
     for (const FrameRecord& f : r.frames)
-      if (f.state.nu) { cv.theta.push_back(f.theta); cv.nu.push_back(*f.state.nu); steps.push_back(f.step); }
+      if (f.state.nu) {
+        cv.theta.push_back(f.theta);
+        cv.nu.push_back(*f.state.nu);
+        steps.push_back(f.step);
+      }
   } else {
     const std::vector<double>& v = src == SeriesSource::steps ? q.nu_c : q.nu_s;
     for (std::size_t k = 0; k < s.step.size(); ++k)
-      if (std::isfinite(v[k])) { cv.theta.push_back(s.theta[k]); cv.nu.push_back(v[k]); steps.push_back(s.step[k]); }
+      if (std::isfinite(v[k])) {
+        cv.theta.push_back(s.theta[k]);
+        cv.nu.push_back(v[k]);
+        steps.push_back(s.step[k]);
+      }
   }
   return cv;
 }
 
 // The run's static states of the loading phase: the series at the static steps when every
 // run says which steps are static, else the static frames.
-Curve static_series(const RunRecord& r, SeriesSource src, const StepFractions& q, bool static_steps_known,
-                    const std::vector<std::int64_t>& st_static, double cut, const RestRule& rest) {
+Curve static_series(const RunRecord& r, SeriesSource src, const StepFractions& q,
+                    bool static_steps_known, const std::vector<std::int64_t>& st_static, double cut,
+                    const RestRule& rest) {
   const RunSteps& s = r.steps;
   Curve sv;
   if (static_steps_known) {
     const std::vector<double>& v = src == SeriesSource::steps ? q.nu_c : q.nu_s;
     for (std::size_t k = 0; k < s.step.size(); ++k)
-      if (std::isfinite(v[k]) && st_static[k] == 1 && s.theta[k] <= cut) { sv.theta.push_back(s.theta[k]); sv.nu.push_back(v[k]); }
+      if (std::isfinite(v[k]) && st_static[k] == 1 && s.theta[k] <= cut) {
+        sv.theta.push_back(s.theta[k]);
+        sv.nu.push_back(v[k]);
+      }
   } else {
     for (const FrameRecord& f : r.frames) {
-      const std::optional<double> v = src == SeriesSource::sliding ? f.state.nu_sliding : f.state.nu;
+      const std::optional<double> v =
+          src == SeriesSource::sliding ? f.state.nu_sliding : f.state.nu;
       const std::optional<bool> still = static_frame(r, f, rest);
-      if (v && still && *still && f.theta <= cut) { sv.theta.push_back(f.theta); sv.nu.push_back(*v); }
+      if (v && still && *still && f.theta <= cut) {
+        sv.theta.push_back(f.theta);
+        sv.nu.push_back(*v);
+      }
     }
   }
   return sv;
@@ -690,15 +826,18 @@ std::optional<double> nu_at_theta_c(const Curve& sv, double theta_c, double wind
   double sum = 0.0;
   std::int64_t m = 0;
   for (std::size_t k = 0; k < sv.theta.size(); ++k)
-    if (sv.theta[k] >= theta_c - window && sv.theta[k] <= theta_c) { sum += sv.nu[k]; ++m; }
+    if (sv.theta[k] >= theta_c - window && sv.theta[k] <= theta_c) {
+      sum += sv.nu[k];
+      ++m;
+    }
   if (m == 0) return std::nullopt;
   return sum / static_cast<double>(m);
 }
 
 // The run's rearrangement events (Fig 2), each with the state of the series just before.
 std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const Curve& cv,
-                         const std::vector<std::int64_t>& cv_step, const StepFractions& q, double cut,
-                         const EventRule& rule) {
+                         const std::vector<std::int64_t>& cv_step, const StepFractions& q,
+                         double cut, const EventRule& rule) {
   const RunSteps& s = r.steps;
   const auto events = rearrangements(s.contacts, rule);
   std::int64_t e_index = 0;
@@ -757,7 +896,8 @@ struct Readings {
 
 // The ensemble results of the loading phases: theta_c, z, the static states and nu at
 // theta_c. Returns the mean z of the loading frames (for lambda_c).
-std::optional<double> write_loading_results(Product& p, std::size_t runs, const LoadingTotals& tot) {
+std::optional<double> write_loading_results(Product& p, std::size_t runs,
+                                            const LoadingTotals& tot) {
   p.results["runs"] = static_cast<std::int64_t>(runs);
   if (!tot.theta_cs.empty()) {
     Summary s = summarize(tot.theta_cs);
@@ -769,14 +909,16 @@ std::optional<double> write_loading_results(Product& p, std::size_t runs, const 
       tot.z_n > 0 ? std::optional<double>(tot.z_sum / static_cast<double>(tot.z_n)) : std::nullopt;
   if (z_mean) p.results["z_loading_mean"] = *z_mean;
   if (tot.zp_n > 0) p.results["z_paper_loading_mean"] = tot.zp_sum / static_cast<double>(tot.zp_n);
-  if (tot.zp_initial_n > 0) p.results["z_paper_initial"] = *tot.zp_initial_sum / static_cast<double>(tot.zp_initial_n);
+  if (tot.zp_initial_n > 0)
+    p.results["z_paper_initial"] = *tot.zp_initial_sum / static_cast<double>(tot.zp_initial_n);
   if (tot.bound_frames > 0) {
     p.results["static_bound_frames"] = tot.bound_frames;
     p.results["static_bound_frames_above"] = tot.bound_above;
   }
   if (tot.steps_loading > 0) {
     p.results["static_steps"] = tot.steps_static;
-    p.results["static_steps_fraction"] = static_cast<double>(tot.steps_static) / static_cast<double>(tot.steps_loading);
+    p.results["static_steps_fraction"] =
+        static_cast<double>(tot.steps_static) / static_cast<double>(tot.steps_loading);
   }
   p.results["static_frames"] = tot.frames_static;
   p.results["static_frames_above_static_bound"] = tot.frames_static_above;
@@ -787,19 +929,25 @@ std::optional<double> write_loading_results(Product& p, std::size_t runs, const 
     if (s.se) p.results["nu_theta_c_se"] = *s.se;
   }
   if (tot.frames_static_above > 0)
-    p.notes.push_back(std::string(warning_prefix) + std::to_string(tot.frames_static_above) + " of the " +
-                      std::to_string(tot.frames_static) + " static frames of the loading phase hold more critical "
-                      "contacts than their static bound 2M - 3N: at rest and converged, yet not rigid-static "
-                      "(a contact stiffness, or the tolerance of the critical test)");
+    p.notes.push_back(
+        std::string(warning_prefix) + std::to_string(tot.frames_static_above) + " of the " +
+        std::to_string(tot.frames_static) +
+        " static frames of the loading phase hold more critical "
+        "contacts than their static bound 2M - 3N: at rest and converged, yet not rigid-static "
+        "(a contact stiffness, or the tolerance of the critical test)");
   return z_mean;
 }
 
 // Ensemble and envelope on common grids, every state and the static ones, and nu_c (Fig 1c).
-void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunRecord>& runs, const Readings& rd,
-                     const CriticalOptions& opt, std::optional<double> z_mean, const LoadingTotals& tot) {
+void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunRecord>& runs,
+                     const Readings& rd, const CriticalOptions& opt, std::optional<double> z_mean,
+                     const LoadingTotals& tot) {
   double tmin = inf, tmax = -inf;
   for (const Curve& c : rd.all)
-    for (double x : c.theta) { tmin = std::min(tmin, x); tmax = std::max(tmax, x); }
+    for (double x : c.theta) {
+      tmin = std::min(tmin, x);
+      tmax = std::max(tmax, x);
+    }
   if (!(tmin <= tmax)) {
     p.omit("no nu(theta) data: the ensemble and envelope tables are empty");
     return;
@@ -815,7 +963,8 @@ void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunReco
   const Reading still = read_envelope(p, rd.still, g, w, opt, "_static", "static states: ", z_mean);
   const Reading all = read_envelope(p, rd.all, g, w, opt, "", "", z_mean);
   if (all.saturates)
-    judge_static_bound(p, runs, rd.all, rd.all_steps, w, all.windows_in_fit, tot.bound_frames, tot.bound_above);
+    judge_static_bound(p, runs, rd.all, rd.all_steps, w, all.windows_in_fit, tot.bound_frames,
+                       tot.bound_above);
   Table& ens_t = t.ensemble;
   for (std::size_t b = 0; b < g.count; ++b) {
     if (all.ens[b].n == 0) continue;
@@ -862,18 +1011,28 @@ void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunReco
 // contacts, and the contacts that slip beside the critical ones (sliding is motion,
 // critical is force).
 void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOptions& opt) {
-  Table& mob_t = p.add_table("mobilisation", "P(|f_t|/(mu f_n)) of the counted contacts per tilt window, "
-                                             "loading frames (all and static)");
-  Table& win_t = p.add_table("windows", "per tilt window, loading frames pooled over runs: critical and "
-                                        "slipping contacts, all frames and static ones");
-  add_columns(mob_t, {{"theta_lo", "deg", ColumnKind::real}, {"theta_hi", "deg", ColumnKind::real},
-                      {"m_lo", "", ColumnKind::real}, {"m_hi", "", ColumnKind::real},
-                      {"contacts", "", ColumnKind::integer}, {"pdf", "", ColumnKind::real},
-                      {"contacts_static", "", ColumnKind::integer}, {"pdf_static", "", ColumnKind::real}});
-  add_columns(win_t, {{"theta_lo", "deg", ColumnKind::real}, {"theta_hi", "deg", ColumnKind::real},
-                      {"frames", "", ColumnKind::integer}, {"frames_static", "", ColumnKind::integer},
-                      {"nu", "", ColumnKind::real}, {"nu_static", "", ColumnKind::real},
-                      {"nu_slipping", "", ColumnKind::real}, {"nu_slipping_static", "", ColumnKind::real},
+  Table& mob_t = p.add_table("mobilisation",
+                             "P(|f_t|/(mu f_n)) of the counted contacts per tilt window, "
+                             "loading frames (all and static)");
+  Table& win_t = p.add_table("windows",
+                             "per tilt window, loading frames pooled over runs: critical and "
+                             "slipping contacts, all frames and static ones");
+  add_columns(mob_t, {{"theta_lo", "deg", ColumnKind::real},
+                      {"theta_hi", "deg", ColumnKind::real},
+                      {"m_lo", "", ColumnKind::real},
+                      {"m_hi", "", ColumnKind::real},
+                      {"contacts", "", ColumnKind::integer},
+                      {"pdf", "", ColumnKind::real},
+                      {"contacts_static", "", ColumnKind::integer},
+                      {"pdf_static", "", ColumnKind::real}});
+  add_columns(win_t, {{"theta_lo", "deg", ColumnKind::real},
+                      {"theta_hi", "deg", ColumnKind::real},
+                      {"frames", "", ColumnKind::integer},
+                      {"frames_static", "", ColumnKind::integer},
+                      {"nu", "", ColumnKind::real},
+                      {"nu_static", "", ColumnKind::real},
+                      {"nu_slipping", "", ColumnKind::real},
+                      {"nu_slipping_static", "", ColumnKind::real},
                       {"critical_slipping_fraction", "", ColumnKind::real},
                       {"critical_slipping_fraction_static", "", ColumnKind::real}});
   const double width = 1.0 / static_cast<double>(mobilisation_bins);
@@ -881,8 +1040,11 @@ void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOpt
     const WindowCounts& a = tot.win_all[wi];
     const WindowCounts& st = tot.win_static[wi];
     if (a.frames == 0) continue;
-    const double lo = static_cast<double>(wi) * opt.mobilisation_window, hi = lo + opt.mobilisation_window;
-    auto frac = [](std::int64_t x, std::int64_t n) { return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan; };
+    const double lo = static_cast<double>(wi) * opt.mobilisation_window,
+                 hi = lo + opt.mobilisation_window;
+    auto frac = [](std::int64_t x, std::int64_t n) {
+      return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan;
+    };
     win_t.column("theta_lo").add(lo);
     win_t.column("theta_hi").add(hi);
     win_t.column("frames").add_int(a.frames);
@@ -894,16 +1056,24 @@ void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOpt
     win_t.column("critical_slipping_fraction").add(frac(a.critical_slipping, a.critical));
     win_t.column("critical_slipping_fraction_static").add(frac(st.critical_slipping, st.critical));
     std::int64_t total = 0, total_static = 0;
-    for (std::size_t b = 0; b < mobilisation_bins; ++b) { total += a.mobilisation[b]; total_static += st.mobilisation[b]; }
+    for (std::size_t b = 0; b < mobilisation_bins; ++b) {
+      total += a.mobilisation[b];
+      total_static += st.mobilisation[b];
+    }
     for (std::size_t b = 0; b < mobilisation_bins; ++b) {
       mob_t.column("theta_lo").add(lo);
       mob_t.column("theta_hi").add(hi);
       mob_t.column("m_lo").add(static_cast<double>(b) * width);
       mob_t.column("m_hi").add(static_cast<double>(b + 1) * width);
       mob_t.column("contacts").add_int(a.mobilisation[b]);
-      mob_t.column("pdf").add(total > 0 ? static_cast<double>(a.mobilisation[b]) / static_cast<double>(total) / width : nan);
+      mob_t.column("pdf").add(total > 0 ? static_cast<double>(a.mobilisation[b]) /
+                                              static_cast<double>(total) / width
+                                        : nan);
       mob_t.column("contacts_static").add_int(st.mobilisation[b]);
-      mob_t.column("pdf_static").add(total_static > 0 ? static_cast<double>(st.mobilisation[b]) / static_cast<double>(total_static) / width : nan);
+      mob_t.column("pdf_static")
+          .add(total_static > 0 ? static_cast<double>(st.mobilisation[b]) /
+                                      static_cast<double>(total_static) / width
+                                : nan);
     }
   }
 }
@@ -923,10 +1093,13 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
   // The static reading takes the series asked for at the static steps when every run says
   // which steps are static, else the frames' (docs/analysis.md, "Static and moving states").
   bool static_steps_known = src != SeriesSource::frames;
-  for (const RunRecord& r : runs) static_steps_known = static_steps_known && !static_steps(r, opt.rest).empty();
+  for (const RunRecord& r : runs)
+    static_steps_known = static_steps_known && !static_steps(r, opt.rest).empty();
   if (src != SeriesSource::frames && !static_steps_known && !runs.empty())
-    p.notes.push_back("static states: not every run records which steps are static (observables max_speed, "
-                      "grains_without_contact, rotational_energy, converged): the static reading uses the frames");
+    p.notes.push_back(
+        "static states: not every run records which steps are static (observables max_speed, "
+        "grains_without_contact, rotational_energy, converged): the static reading uses the "
+        "frames");
 
   Readings rd;
   rd.all.resize(runs.size());
@@ -941,10 +1114,15 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     const StepFractions q = step_fractions(r, !s.critical.empty() && !choice.mismatch[ri]);
     const std::optional<double> theta_c = avalanche_angle(r, opt.avalanche);
     if (theta_c) tot.theta_cs.push_back(*theta_c);
-    const double cut = !opt.cut_at_avalanche ? inf : theta_c ? *theta_c : r.recorded_avalanche.value_or(inf);
+    const double cut = !opt.cut_at_avalanche ? inf
+                       : theta_c             ? *theta_c
+                                             : r.recorded_avalanche.value_or(inf);
     const std::vector<std::int64_t> st_static = static_steps(r, opt.rest);
     for (std::size_t k = 0; k < st_static.size(); ++k)
-      if (s.theta[k] <= cut) { ++tot.steps_loading; tot.steps_static += st_static[k]; }
+      if (s.theta[k] <= cut) {
+        ++tot.steps_loading;
+        tot.steps_static += st_static[k];
+      }
 
     if (t.steps) write_step_rows(*t.steps, r, run, q, st_static);
     classify_frames(t.frames, r, run, cut, opt, tot, rd.rest[ri]);
@@ -952,8 +1130,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
     rd.all[ri] = nu_series(r, src, q, cv_step);
     rd.still[ri] = static_series(r, src, q, static_steps_known, st_static, cut, opt.rest);
     if (theta_c)
-      if (const auto nu = nu_at_theta_c(rd.still[ri], *theta_c, opt.envelope_window)) tot.nu_theta_c.push_back(*nu);
-    const std::size_t events = write_events(t.events, r, run, rd.all[ri], cv_step, q, cut, opt.events);
+      if (const auto nu = nu_at_theta_c(rd.still[ri], *theta_c, opt.envelope_window))
+        tot.nu_theta_c.push_back(*nu);
+    const std::size_t events =
+        write_events(t.events, r, run, rd.all[ri], cv_step, q, cut, opt.events);
     const double nu_max = keep_loading_phase(rd.all[ri], cv_step, cut, rd.all_steps[ri]);
 
     t.runs.column("run").add_int(run);

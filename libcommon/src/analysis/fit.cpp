@@ -106,7 +106,10 @@ void finish(FitResult& r, const Model& m, std::span<const double> x, std::span<c
   r.dof = static_cast<int>(pts) - n;
   r.weighted = !s.empty();
   r.cov.resize(0, 0);
-  if (!std::isfinite(chi2) || !r.p.allFinite()) { r.converged = false; return; }
+  if (!std::isfinite(chi2) || !r.p.allFinite()) {
+    r.converged = false;
+    return;
+  }
   if (r.dof <= 0) return;
   // cov = (J^T J)^-1 from the SVD of J with its columns scaled to unit norm: better
   // conditioned than inverting J^T J, and the rank test does not depend on the units of
@@ -205,7 +208,10 @@ EnvelopeFit fit_envelope(std::span<const double> theta, std::span<const double> 
   // Start: for each tau of a logarithmic scan, (nu_c, B) by linear least squares; keep the
   // best. The scan spans 1/100 to 100 times the theta range.
   double tmin = theta[0], tmax = theta[0];
-  for (double t : theta) { tmin = std::min(tmin, t); tmax = std::max(tmax, t); }
+  for (double t : theta) {
+    tmin = std::min(tmin, t);
+    tmax = std::max(tmax, t);
+  }
   const double span = std::max(tmax - tmin, 1e-6);
   Eigen::VectorXd best(3);
   double best_chi2 = std::numeric_limits<double>::infinity();
@@ -252,7 +258,10 @@ ClusterLawFit fit_cluster_law(std::span<const double> r, std::span<const double>
     p0 << 1.0, -1.5;
     std::vector<double> lx, ly;
     for (std::size_t k = 0; k < r.size(); ++k)
-      if (y[k] > 0.0) { lx.push_back(std::log(r[k])); ly.push_back(std::log(y[k])); }
+      if (y[k] > 0.0) {
+        lx.push_back(std::log(r[k]));
+        ly.push_back(std::log(y[k]));
+      }
     if (lx.size() >= 2) {
       try {
         FitResult line = fit_affine(lx, ly, {});
@@ -274,7 +283,8 @@ ClusterLawFit fit_cluster_law(std::span<const double> r, std::span<const double>
   };
   // Start: nu_inf from the value at the largest radius, then the fixed-nu_inf fit.
   std::size_t kmax = 0;
-  for (std::size_t k = 1; k < r.size(); ++k) if (r[k] > r[kmax]) kmax = k;
+  for (std::size_t k = 1; k < r.size(); ++k)
+    if (r[k] > r[kmax]) kmax = k;
   double ninf0 = nu_bar[kmax] > 0.0 ? nu_bar[kmax] : 1e-3;
   Eigen::VectorXd p0(3);
   p0 << 1.0, -1.5, ninf0;
@@ -311,11 +321,20 @@ std::optional<ClusterSize> cluster_size(double nu_c, double nu_inf, double a, do
   Eigen::Vector2d g(-1.0 / (alpha * a), -log_rc / alpha);
   double var = 0.0;
   bool have = false;
-  if (cov) { var += g.dot(*cov * g); have = true; }
+  if (cov) {
+    var += g.dot(*cov * g);
+    have = true;
+  }
   const double d_nuc = 1.0 / (alpha * q * nu_inf);
   const double d_nuinf = -nu_c / (alpha * q * nu_inf * nu_inf);
-  if (se_nu_c > 0.0) { var += d_nuc * d_nuc * se_nu_c * se_nu_c; have = true; }
-  if (se_nu_inf > 0.0) { var += d_nuinf * d_nuinf * se_nu_inf * se_nu_inf; have = true; }
+  if (se_nu_c > 0.0) {
+    var += d_nuc * d_nuc * se_nu_c * se_nu_c;
+    have = true;
+  }
+  if (se_nu_inf > 0.0) {
+    var += d_nuinf * d_nuinf * se_nu_inf * se_nu_inf;
+    have = true;
+  }
   if (have && var >= 0.0 && std::isfinite(var)) out.se = rc * std::sqrt(var);
   return out;
 }
@@ -328,7 +347,10 @@ DivergenceFit fit_divergence(std::span<const double> theta, std::span<const doub
   for (std::size_t k = 0; k < r_c.size(); ++k) y[k] = std::log(r_c[k]);
   for (std::size_t k = 0; k < sigma.size(); ++k) s[k] = sigma[k] / r_c[k];
   double tmax = -std::numeric_limits<double>::infinity(), tmin = -tmax;
-  for (double t : theta) { tmax = std::max(tmax, t); tmin = std::min(tmin, t); }
+  for (double t : theta) {
+    tmax = std::max(tmax, t);
+    tmin = std::min(tmin, t);
+  }
   DivergenceFit out;
   if (theta_c) {
     if (!(*theta_c > tmax)) throw Error("fit: theta_c must exceed every fitted theta");

@@ -44,10 +44,15 @@ struct CallbackIterator {
   CallbackIterator& operator*() { return *this; }
   CallbackIterator& operator++() { return *this; }
   CallbackIterator operator++(int) { return *this; }
-  CallbackIterator& operator=(std::size_t k) { (*f)(k); return *this; }
+  CallbackIterator& operator=(std::size_t k) {
+    (*f)(k);
+    return *this;
+  }
 };
 template <class F>
-CallbackIterator<F> reporter(F& f) { return CallbackIterator<F>{&f}; }
+CallbackIterator<F> reporter(F& f) {
+  return CallbackIterator<F>{&f};
+}
 }  // namespace
 
 struct NeighbourIndex::Impl {
@@ -134,8 +139,10 @@ PileOutline::PileOutline(std::span<const Vec2> points, double bin) : bin_(bin) {
   xmin_ = xmax_ = points[0].x();
   ymin_ = ymax_ = points[0].y();
   for (const Vec2& p : points) {
-    xmin_ = std::min(xmin_, p.x()); xmax_ = std::max(xmax_, p.x());
-    ymin_ = std::min(ymin_, p.y()); ymax_ = std::max(ymax_, p.y());
+    xmin_ = std::min(xmin_, p.x());
+    xmax_ = std::max(xmax_, p.x());
+    ymin_ = std::min(ymin_, p.y());
+    ymax_ = std::max(ymax_, p.y());
   }
   const auto cols = static_cast<std::size_t>(std::floor((xmax_ - xmin_) / bin_)) + 1;
   std::vector<double> raw(cols, -std::numeric_limits<double>::infinity());
@@ -168,10 +175,8 @@ double PileOutline::distance(const Vec2& p) const {
 void validate_radii(std::span<const double> radii) {
   if (radii.empty()) throw Error("no radius given");
   for (std::size_t k = 0; k < radii.size(); ++k) {
-    if (!std::isfinite(radii[k]) || !(radii[k] > 0.0))
-      throw Error("radii must be finite and > 0");
-    if (k > 0 && !(radii[k] > radii[k - 1]))
-      throw Error("radii must be strictly increasing");
+    if (!std::isfinite(radii[k]) || !(radii[k] > 0.0)) throw Error("radii must be finite and > 0");
+    if (k > 0 && !(radii[k] > radii[k - 1])) throw Error("radii must be strictly increasing");
   }
 }
 
@@ -216,7 +221,10 @@ LocalStates local_states(const NeighbourIndex& index, std::span<const Vec2> poin
     if (outline) {
       const double d = outline->distance(points[i]);
       for (std::size_t k = 0; k < radii.size(); ++k)
-        if (radii[k] > d) { tot[k] = 0; cr[k] = 0; }
+        if (radii[k] > d) {
+          tot[k] = 0;
+          cr[k] = 0;
+        }
     }
   }
   return out;
@@ -246,7 +254,10 @@ std::vector<Sums> state_sums(const LocalStates& s, std::span<const std::uint8_t>
 }
 
 void Histogram::add(double x) {
-  if (count.empty() || !(x >= lo && x <= hi)) { ++outside; return; }
+  if (count.empty() || !(x >= lo && x <= hi)) {
+    ++outside;
+    return;
+  }
   auto b = static_cast<std::size_t>((x - lo) / width());
   if (b >= count.size()) b = count.size() - 1;
   ++count[b];
@@ -290,13 +301,16 @@ Field nu_field(std::span<const Vec2> points, std::span<const std::uint8_t> criti
   if (points.empty()) return f;
   double xmin = points[0].x(), xmax = xmin, ymin = points[0].y(), ymax = ymin;
   for (const Vec2& p : points) {
-    xmin = std::min(xmin, p.x()); xmax = std::max(xmax, p.x());
-    ymin = std::min(ymin, p.y()); ymax = std::max(ymax, p.y());
+    xmin = std::min(xmin, p.x());
+    xmax = std::max(xmax, p.x());
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
   }
   f.x0 = xmin;
   f.y0 = ymin;
   // Counted in doubles: points far apart (a damaged file) would overflow size_t.
-  const double nodes_x = std::floor((xmax - xmin) / dx) + 1, nodes_y = std::floor((ymax - ymin) / dx) + 1;
+  const double nodes_x = std::floor((xmax - xmin) / dx) + 1,
+               nodes_y = std::floor((ymax - ymin) / dx) + 1;
   if (!(nodes_x * nodes_y <= max_field_nodes)) throw FieldTooLarge(nodes_x * nodes_y);
   f.nx = static_cast<std::size_t>(nodes_x);
   f.ny = static_cast<std::size_t>(nodes_y);

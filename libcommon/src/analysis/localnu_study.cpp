@@ -43,28 +43,38 @@ LocalNuStudy::LocalNuStudy(LocalNuOptions opt) : opt_(std::move(opt)) {
     std::sort(query_.begin(), query_.end());
   }
   for (double r : opt_.radii)
-    out_k_.push_back(static_cast<std::size_t>(std::find(query_.begin(), query_.end(), r) - query_.begin()));
-  pdf_k_ = static_cast<std::size_t>(std::find(query_.begin(), query_.end(), opt_.pdf_radius) - query_.begin());
+    out_k_.push_back(
+        static_cast<std::size_t>(std::find(query_.begin(), query_.end(), r) - query_.begin()));
+  pdf_k_ = static_cast<std::size_t>(std::find(query_.begin(), query_.end(), opt_.pdf_radius) -
+                                    query_.begin());
   pc_ = Histogram(0.0, 1.0, opt_.pdf_bins);
   pnc_ = Histogram(0.0, 1.0, opt_.pdf_bins);
 
   frames_t_.name = "frames";
   frames_t_.title = "one row per frame: the state of the pile";
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
-           {"step", "", ColumnKind::integer}, {"theta", "deg", ColumnKind::real},
-           {"diameter", "m", ColumnKind::real}, {"N", "", ColumnKind::integer},
-           {"Nc", "", ColumnKind::integer}, {"nu", "", ColumnKind::real},
+           {"run", "", ColumnKind::integer},
+           {"frame", "", ColumnKind::integer},
+           {"step", "", ColumnKind::integer},
+           {"theta", "deg", ColumnKind::real},
+           {"diameter", "m", ColumnKind::real},
+           {"N", "", ColumnKind::integer},
+           {"Nc", "", ColumnKind::integer},
+           {"nu", "", ColumnKind::real},
            {"loading", "", ColumnKind::integer}})
     frames_t_.add_column(n, u, k);
   states_t_.name = "states";
   states_t_.title =
       "one row per frame and radius: sums of nu_i(r) over the frame's critical contacts";
   for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"run", "", ColumnKind::integer}, {"frame", "", ColumnKind::integer},
-           {"theta", "deg", ColumnKind::real}, {"r", "D", ColumnKind::real},
-           {"n", "", ColumnKind::integer}, {"sum", "", ColumnKind::real},
-           {"sum2", "", ColumnKind::real}, {"nu_bar", "", ColumnKind::real},
+           {"run", "", ColumnKind::integer},
+           {"frame", "", ColumnKind::integer},
+           {"theta", "deg", ColumnKind::real},
+           {"r", "D", ColumnKind::real},
+           {"n", "", ColumnKind::integer},
+           {"sum", "", ColumnKind::real},
+           {"sum2", "", ColumnKind::real},
+           {"nu_bar", "", ColumnKind::real},
            {"se", "", ColumnKind::real}})
     states_t_.add_column(n, u, k);
 }
@@ -95,8 +105,9 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
   frames_t_.column("diameter").add(diameter);
   frames_t_.column("N").add_int(n);
   frames_t_.column("Nc").add_int(nc);
-  frames_t_.column("nu").add(n > 0 ? std::optional<double>(static_cast<double>(nc) / static_cast<double>(n))
-                                   : std::nullopt);
+  frames_t_.column("nu").add(
+      n > 0 ? std::optional<double>(static_cast<double>(nc) / static_cast<double>(n))
+            : std::nullopt);
   frames_t_.column("loading").add_int(loading);
 
   const std::vector<Sums> sums = state_sums(s, set.critical, 1);  // eq (3) numerators
@@ -122,35 +133,48 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
 
   if (map_this && !mapped_) {
     mapped_ = true;
-    map_info_ = {{"map_run", run}, {"map_frame", frame}, {"map_step", step},
-                 {"map_radius_D", opt_.map_radius}, {"map_spacing_D", opt_.map_spacing},
-                 {"map_nu_c", opt_.nu_c}, {"map_diameter_m", diameter}};
+    map_info_ = {{"map_run", run},
+                 {"map_frame", frame},
+                 {"map_step", step},
+                 {"map_radius_D", opt_.map_radius},
+                 {"map_spacing_D", opt_.map_spacing},
+                 {"map_nu_c", opt_.nu_c},
+                 {"map_diameter_m", diameter}};
     if (theta) map_info_["map_theta_deg"] = *theta;
     Field f;
     try {
-      f = nu_field(set.point, set.critical, opt_.map_radius * diameter, opt_.map_spacing * diameter);
+      f = nu_field(set.point, set.critical, opt_.map_radius * diameter,
+                   opt_.map_spacing * diameter);
     } catch (const FieldTooLarge& e) {
       char what[240];
       const std::string spacing = field("map_spacing");
-      std::snprintf(what, sizeof what,
-                    "frame %lld: %s %g D gives a map of %.3g nodes over its contacts, more than %.0e; "
-                    "give a larger %s",
-                    static_cast<long long>(frame), spacing.c_str(), opt_.map_spacing, e.nodes, max_field_nodes,
-                    spacing.c_str());
+      std::snprintf(
+          what, sizeof what,
+          "frame %lld: %s %g D gives a map of %.3g nodes over its contacts, more than %.0e; "
+          "give a larger %s",
+          static_cast<long long>(frame), spacing.c_str(), opt_.map_spacing, e.nodes,
+          max_field_nodes, spacing.c_str());
       throw Error(run_name, "", what);
     }
     map_t_.name = "map";
-    map_t_.title = "the nu field on a grid over the pile at one frame (Fig 5); row-major, x fastest";
+    map_t_.title =
+        "the nu field on a grid over the pile at one frame (Fig 5); row-major, x fastest";
     for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-             {"ix", "", ColumnKind::integer}, {"iy", "", ColumnKind::integer},
-             {"x", "m", ColumnKind::real}, {"y", "m", ColumnKind::real},
-             {"x_D", "D", ColumnKind::real}, {"y_D", "D", ColumnKind::real},
-             {"contacts", "", ColumnKind::integer}, {"critical", "", ColumnKind::integer},
-             {"nu", "", ColumnKind::real}, {"above", "", ColumnKind::integer}})
+             {"ix", "", ColumnKind::integer},
+             {"iy", "", ColumnKind::integer},
+             {"x", "m", ColumnKind::real},
+             {"y", "m", ColumnKind::real},
+             {"x_D", "D", ColumnKind::real},
+             {"y_D", "D", ColumnKind::real},
+             {"contacts", "", ColumnKind::integer},
+             {"critical", "", ColumnKind::integer},
+             {"nu", "", ColumnKind::real},
+             {"above", "", ColumnKind::integer}})
       map_t_.add_column(nm, u, k);
     for (std::size_t b = 0; b < f.ny; ++b)
       for (std::size_t a = 0; a < f.nx; ++a) {
-        const double x = f.x0 + static_cast<double>(a) * f.dx, y = f.y0 + static_cast<double>(b) * f.dx;
+        const double x = f.x0 + static_cast<double>(a) * f.dx,
+                     y = f.y0 + static_cast<double>(b) * f.dx;
         const auto v = f.nu(a, b);
         map_t_.column("ix").add_int(static_cast<std::int64_t>(a));
         map_t_.column("iy").add_int(static_cast<std::int64_t>(b));
@@ -161,7 +185,8 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
         map_t_.column("contacts").add_int(f.total[b * f.nx + a]);
         map_t_.column("critical").add_int(f.critical[b * f.nx + a]);
         map_t_.column("nu").add(v);
-        map_t_.column("above").add(v ? std::optional<double>(*v >= opt_.nu_c ? 1.0 : 0.0) : std::nullopt);
+        map_t_.column("above").add(v ? std::optional<double>(*v >= opt_.nu_c ? 1.0 : 0.0)
+                                     : std::nullopt);
       }
     map_info_["map_nx"] = static_cast<std::int64_t>(f.nx);
     map_info_["map_ny"] = static_cast<std::int64_t>(f.ny);
@@ -172,10 +197,14 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
     if (opt_.per_contact) {
       contacts_t_.name = "contacts";
       contacts_t_.title = "nu_i(r) of every contact of the mapped frame";
-      for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-               {"x", "m", ColumnKind::real}, {"y", "m", ColumnKind::real},
-               {"i", "", ColumnKind::integer}, {"j", "", ColumnKind::integer},
-               {"critical", "", ColumnKind::integer}, {"sliding", "", ColumnKind::integer},
+      for (auto [nm, u, k] :
+           std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
+               {"x", "m", ColumnKind::real},
+               {"y", "m", ColumnKind::real},
+               {"i", "", ColumnKind::integer},
+               {"j", "", ColumnKind::integer},
+               {"critical", "", ColumnKind::integer},
+               {"sliding", "", ColumnKind::integer},
                {"mobilisation", "", ColumnKind::real}})
         contacts_t_.add_column(nm, u, k);
       for (double r : opt_.radii) contacts_t_.add_column(radius_name(r), "", ColumnKind::real);
@@ -186,7 +215,8 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
         contacts_t_.column("j").add_int(set.j[c]);
         contacts_t_.column("critical").add_int(set.critical[c]);
         // NA, not 0, when the input says nothing about the solver's status
-        contacts_t_.column("sliding").add(set.has_status ? std::optional<double>(set.sliding[c]) : std::nullopt);
+        contacts_t_.column("sliding").add(set.has_status ? std::optional<double>(set.sliding[c])
+                                                         : std::nullopt);
         contacts_t_.column("mobilisation").add(set.mobilisation[c]);
         for (std::size_t q = 0; q < opt_.radii.size(); ++q)
           contacts_t_.columns[7 + q].add(s.nu(c, out_k_[q]));
@@ -245,11 +275,15 @@ Product LocalNuStudy::product() const {
 
   p.tables.push_back(relabel(frames_t_));
   p.tables.push_back(states_t_);
-  Table& pdf = p.add_table("pdf", "pdfs of nu_i(pdf_radius) over critical (P_c) and non-critical (P_nc) contacts");
+  Table& pdf = p.add_table(
+      "pdf", "pdfs of nu_i(pdf_radius) over critical (P_c) and non-critical (P_nc) contacts");
   for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"nu", "", ColumnKind::real}, {"nu_lo", "", ColumnKind::real},
-           {"nu_hi", "", ColumnKind::real}, {"count_c", "", ColumnKind::integer},
-           {"count_nc", "", ColumnKind::integer}, {"P_c", "", ColumnKind::real},
+           {"nu", "", ColumnKind::real},
+           {"nu_lo", "", ColumnKind::real},
+           {"nu_hi", "", ColumnKind::real},
+           {"count_c", "", ColumnKind::integer},
+           {"count_nc", "", ColumnKind::integer},
+           {"P_c", "", ColumnKind::real},
            {"P_nc", "", ColumnKind::real}})
     pdf.add_column(nm, u, k);
   for (std::size_t b = 0; b < pc_.count.size(); ++b) {

@@ -95,7 +95,10 @@ std::vector<std::optional<double>> bin_mean(std::span<const double> theta,
   std::vector<std::int64_t> cnt(grid.count, 0);
   for (std::size_t k = 0; k < theta.size(); ++k) {
     if (!std::isfinite(value[k])) continue;
-    if (auto b = grid.bin(theta[k])) { sum[*b] += value[k]; ++cnt[*b]; }
+    if (auto b = grid.bin(theta[k])) {
+      sum[*b] += value[k];
+      ++cnt[*b];
+    }
   }
   std::vector<std::optional<double>> out(grid.count);
   for (std::size_t b = 0; b < grid.count; ++b)

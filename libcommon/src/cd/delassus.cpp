@@ -6,10 +6,10 @@
 #include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
-#include <chrono>
-#include <cstdio>
-#include <cmath>
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -113,8 +113,7 @@ DelassusProblem read_siconos_fc2d(const std::string& path) {
     char colon = 0;
     if (!(s >> word_col >> j >> colon >> word_loc >> a >> word_to >> b) || word_col != "col" ||
         colon != ':' || word_loc != "locations" || word_to != "to")
-      lines.fail("expected the header of column " + std::to_string(col) + ", got '" + line +
-                 "'");
+      lines.fail("expected the header of column " + std::to_string(col) + ", got '" + line + "'");
     if (j != col || a != location || b < a - 1)
       lines.fail("column header '" + line + "' out of sequence (expected column " +
                  std::to_string(col) + " from location " + std::to_string(location) + ")");
@@ -154,8 +153,8 @@ DelassusProblem read_siconos_fc2d(const std::string& path) {
     std::istringstream s(line);
     std::string token;
     while (s >> token) {
-      if (numbers.size() == expect) lines.fail("more values than the 3m = " +
-                                               std::to_string(expect) + " of q and mu");
+      if (numbers.size() == expect)
+        lines.fail("more values than the 3m = " + std::to_string(expect) + " of q and mu");
       numbers.push_back(parse_real(token, lines));
       if (numbers.size() > static_cast<std::size_t>(2 * m) && numbers.back() < 0.0)
         lines.fail("negative friction coefficient '" + token + "'");
@@ -242,7 +241,7 @@ double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r,
 struct BlockColumns {
   std::vector<Eigen::Index> start;  ///< m + 1 offsets into row and block
   std::vector<Eigen::Index> row;    ///< the contact b of each block
-  std::vector<double> block;        ///< 4 per block: W(2b, 2a), W(2b, 2a+1), W(2b+1, 2a), W(2b+1, 2a+1)
+  std::vector<double> block;  ///< 4 per block: W(2b, 2a), W(2b, 2a+1), W(2b+1, 2a), W(2b+1, 2a+1)
 };
 
 BlockColumns block_columns(const DelassusProblem& p) {
@@ -345,8 +344,7 @@ NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOp
       }
     }
   }
-  report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 

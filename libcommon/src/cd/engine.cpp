@@ -60,7 +60,8 @@ Engine::Engine(Box box, Grains grains, Settings settings)
   inv_inertia_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(grains_.radius[i] > 0.0) || !(grains_.mass[i] > 0.0) || !(grains_.inertia[i] > 0.0))
-      throw Error("engine: grain " + std::to_string(i) + " has a non-positive radius, mass or inertia");
+      throw Error("engine: grain " + std::to_string(i) +
+                  " has a non-positive radius, mass or inertia");
     const bool fixed = is_fixed(grains_, i);
     inv_mass_[i] = fixed ? 0.0 : 1.0 / grains_.mass[i];
     inv_inertia_[i] = fixed ? 0.0 : 1.0 / grains_.inertia[i];
@@ -83,8 +84,7 @@ Engine::Engine(Box box, Grains grains, Settings settings)
 
 void Engine::lock_rotation(std::size_t grain, bool locked) {
   if (grain >= grains_.size()) throw Error("engine: no grain " + std::to_string(grain));
-  inv_inertia_[grain] =
-      (locked || is_fixed(grains_, grain)) ? 0.0 : 1.0 / grains_.inertia[grain];
+  inv_inertia_[grain] = (locked || is_fixed(grains_, grain)) ? 0.0 : 1.0 / grains_.inertia[grain];
   if (locked) grains_.angular_velocity[grain] = 0.0;
 }
 
@@ -120,8 +120,8 @@ StepReport Engine::step(double tilt_angle) {
   measure(report);
   profile_.steps += 1;
   profile_.sweeps += report.sweeps;
-  profile_.contact_updates += static_cast<std::int64_t>(report.sweeps) *
-                              static_cast<std::int64_t>(system_.rows.size());
+  profile_.contact_updates +=
+      static_cast<std::int64_t>(report.sweeps) * static_cast<std::int64_t>(system_.rows.size());
   return report;
 }
 
@@ -149,7 +149,8 @@ void Engine::detect(const Vec2& g) {
     const bool fixed = inv_mass_[i] == 0.0;
     // Free velocity v_free = v + h g (stage 1); a fixed grain has none.
     const Vec2 vf = fixed ? Vec2::Zero() : Vec2(v + h * g);
-    system_.bodies[i] = {vf.x(), vf.y(), grains_.angular_velocity[i], inv_mass_[i], inv_inertia_[i]};
+    system_.bodies[i] = {vf.x(), vf.y(), grains_.angular_velocity[i], inv_mass_[i],
+                         inv_inertia_[i]};
     predicted_[i] = grains_.position[i] + lead * v;
     margin_[i] = fixed ? 0.0 : h * (v.norm() + g_norm * h);
     r_max = std::max(r_max, grains_.radius[i]);
@@ -360,8 +361,7 @@ void Engine::update_positions() {
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
     grains_.position[i] = predicted_[i] + (th * h) * grains_.velocity[i];
-    grains_.orientation[i] +=
-        h * ((1.0 - th) * omega_begin_[i] + th * grains_.angular_velocity[i]);
+    grains_.orientation[i] += h * ((1.0 - th) * omega_begin_[i] + th * grains_.angular_velocity[i]);
   }
 }
 

@@ -71,7 +71,8 @@ void measure_sweep(const SweepSums& s, double gravity_velocity, SolveReport& rep
   report.residual = s.largest / unit;
   report.residual_rms =
       s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
-  if (!std::isfinite(report.residual)) throw Error("engine: the solver diverged (non-finite impulse)");
+  if (!std::isfinite(report.residual))
+    throw Error("engine: the solver diverged (non-finite impulse)");
 }
 
 bool criterion_met(const SolverSettings& settings, const SolveReport& r, const ContactSystem& s,
@@ -125,7 +126,8 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
     if (k + 1 == settings_.max_sweeps) break;  // end on a sweep's impulses
     double d2 = 0.0;
     for (std::size_t a = 0; a < m; ++a) {
-      const double dn = system.rows[a].rn - before[2 * a], dt = system.rows[a].rt - before[2 * a + 1];
+      const double dn = system.rows[a].rn - before[2 * a],
+                   dt = system.rows[a].rt - before[2 * a + 1];
       d2 += dn * dn + dt * dt;
     }
     const double beta = d2_previous > 0.0 ? d2 / d2_previous : 2.0;

@@ -10,25 +10,34 @@ namespace cdpile::cli {
 void declare_product_output(Usage& u, const std::vector<std::string>& tables) {
   u.output("output: HDF5 product, or TSV if FILE ends in .tsv (default: TSV on standard output)");
   u.text("format", "auto", "output format", {"auto", "tsv", "hdf5"});
-  u.text_list("table", "write only these tables to TSV (without the commented file header unless --header)", tables);
-  u.flag("header", "with --table, write the commented file header too (provenance, parameters, results, notes), "
-         "as a product read back by another tool needs");
+  u.text_list("table",
+              "write only these tables to TSV (without the commented file header unless --header)",
+              tables);
+  u.flag(
+      "header",
+      "with --table, write the commented file header too (provenance, parameters, results, notes), "
+      "as a product read back by another tool needs");
 }
 
-void refuse_table_if(const Args& a, const std::string& table, bool left_out, const std::string& why) {
+void refuse_table_if(const Args& a, const std::string& table, bool left_out,
+                     const std::string& why) {
   if (!left_out) return;
   const std::vector<std::string> only = a.text_list("table");
-  if (std::find(only.begin(), only.end(), table) != only.end()) throw UsageError("--table " + table + " " + why);
+  if (std::find(only.begin(), only.end(), table) != only.end())
+    throw UsageError("--table " + table + " " + why);
 }
 
-void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history) {
-  for (const std::string& why : p.not_computed) info(why);  // not only in a '# note:' line of the output
-  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")), a.text_list("table"),
-           a.text_list("table").empty() || a.flag("header"));
+void emit_product(const Args& a, const analysis::Product& p,
+                  const std::vector<io::Provenance>& history) {
+  for (const std::string& why : p.not_computed)
+    info(why);  // not only in a '# note:' line of the output
+  io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")),
+           a.text_list("table"), a.text_list("table").empty() || a.flag("header"));
 }
 
 void refuse_repeated_inputs(const std::vector<std::string>& paths) {
-  if (std::count(paths.begin(), paths.end(), "-") > 1) throw UsageError("'-' (standard input) given twice");
+  if (std::count(paths.begin(), paths.end(), "-") > 1)
+    throw UsageError("'-' (standard input) given twice");
   for (std::size_t i = 0; i < paths.size(); ++i)
     for (std::size_t j = i + 1; j < paths.size(); ++j) {
       std::error_code ec;
@@ -39,7 +48,8 @@ void refuse_repeated_inputs(const std::vector<std::string>& paths) {
 }
 
 void check_output(const Args& a) {
-  const bool hdf5 = io::resolve_format(a.output(), io::parse_format(a.text("format"))) == io::Format::hdf5;
+  const bool hdf5 =
+      io::resolve_format(a.output(), io::parse_format(a.text("format"))) == io::Format::hdf5;
   if (!a.text_list("table").empty() && hdf5)
     throw UsageError("--table chooses tables of TSV output; an HDF5 product (-o " + a.output() +
                      ") holds them all (use a .tsv name or --format tsv)");
@@ -48,11 +58,14 @@ void check_output(const Args& a) {
 
 void declare_critical_rule(Usage& u, const std::string& mu_help) {
   u.group("Critical contacts");
-  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
+  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n",
+         "", 0.0, 0.999999);
   u.real_opt("mu", mu_help, "", 1e-12, 1e6);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)", "", 1e-12, 1e6);
+  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)",
+             "", 1e-12, 1e6);
   u.flag("walls", "count contacts with walls (and glued floor grains)");
-  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as", {"wall", "grain"});
+  u.text("floor-grains", "wall", "contacts with grains glued to the floor count as",
+         {"wall", "grain"});
 }
 
 analysis::CriticalRule critical_rule(const Args& a) {
@@ -63,6 +76,8 @@ analysis::CriticalRule critical_rule(const Args& a) {
   return r;
 }
 
-io::FrictionChoice friction_choice(const Args& a) { return {a.real_opt("mu"), a.real_opt("mu-wall")}; }
+io::FrictionChoice friction_choice(const Args& a) {
+  return {a.real_opt("mu"), a.real_opt("mu-wall")};
+}
 
 }  // namespace cdpile::cli

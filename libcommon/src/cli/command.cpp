@@ -71,11 +71,13 @@ const char* kind_word(Kind k) {
   }
 }
 
-[[noreturn]] void bad_value(const OptionSpec& o, const std::string& v, const std::string& why = "") {
+[[noreturn]] void bad_value(const OptionSpec& o, const std::string& v,
+                            const std::string& why = "") {
   std::string want = kind_word(o.kind);
   const std::string range = range_text(o);
   if (!range.empty()) want += " " + range;
-  throw UsageError("--" + o.name + ": expected " + want + ", got '" + v + "'" + (why.empty() ? "" : " (" + why + ")"));
+  throw UsageError("--" + o.name + ": expected " + want + ", got '" + v + "'" +
+                   (why.empty() ? "" : " (" + why + ")"));
 }
 
 double parse_real(const OptionSpec& o, const std::string& v) {
@@ -96,7 +98,8 @@ std::int64_t parse_integer(const OptionSpec& o, const std::string& v) {
   if (!v.empty() && *b == '+') ++b;
   auto r = std::from_chars(b, e, x);
   if (v.empty() || r.ec != std::errc() || r.ptr != e) bad_value(o, v);
-  if (static_cast<double>(x) < o.min || static_cast<double>(x) > o.max) bad_value(o, v, "out of range");
+  if (static_cast<double>(x) < o.min || static_cast<double>(x) > o.max)
+    bad_value(o, v, "out of range");
   return x;
 }
 
@@ -141,19 +144,24 @@ void check_choices(const Usage& usage, const OptionSpec& o, const std::string& v
   auto ch = usage.choices_.find(o.name);
   if (ch == usage.choices_.end() || ch->second.empty()) return;
   const auto& allowed = ch->second;
-  const std::vector<std::string> items = o.kind == Kind::text_list ? split_list(v) : std::vector<std::string>{v};
+  const std::vector<std::string> items =
+      o.kind == Kind::text_list ? split_list(v) : std::vector<std::string>{v};
   for (const std::string& item : items) {
     if (std::find(allowed.begin(), allowed.end(), item) != allowed.end()) continue;
     std::string list;
     for (const auto& c : allowed) list += (list.empty() ? "" : ", ") + c;
     if (o.kind == Kind::text_list)
-      throw UsageError("--" + o.name + ": expected one or more of " + list + " (comma-separated), got '" + item + "'");
+      throw UsageError("--" + o.name + ": expected one or more of " + list +
+                       " (comma-separated), got '" + item + "'");
     throw UsageError("--" + o.name + ": expected one of " + list + ", got '" + v + "'");
   }
 }
 
 std::string shell_quote(const std::string& s) {
-  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") == std::string::npos)
+  if (!s.empty() &&
+      s.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_./=:,+@%") ==
+          std::string::npos)
     return s;
   std::string q = "'";
   for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
@@ -192,9 +200,12 @@ std::string option_detail(const OptionSpec& o) {
   std::string d = o.help;
   std::vector<std::string> extra;
   if (!o.unit.empty()) extra.push_back("unit: " + o.unit);
-  if (o.kind != Kind::flag && o.has_default) extra.push_back("default: " + (o.default_text.empty() ? std::string("''") : o.default_text));
+  if (o.kind != Kind::flag && o.has_default)
+    extra.push_back("default: " + (o.default_text.empty() ? std::string("''") : o.default_text));
   if (o.required) extra.push_back("required");
-  const std::string range = (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list) ? range_text(o) : "";
+  const std::string range =
+      (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list) ? range_text(o)
+                                                                                     : "";
   if (!range.empty()) extra.push_back(range);
   if (!extra.empty()) {
     d += " (";
@@ -215,10 +226,12 @@ std::string option_label(const OptionSpec& o) {
 void add_standard_options(Usage& u) {
   u.group("Standard options");
   u.flag("force", "replace an existing output file (otherwise it is never overwritten)");
-  u.flag("quiet", "print no progress or information on stderr (warnings and errors are still printed)");
+  u.flag("quiet",
+         "print no progress or information on stderr (warnings and errors are still printed)");
   if (u.writes_hdf5)
-    u.text_opt("author", "the author recorded in HDF5 output (/h5md/author), 'NAME' or 'NAME <EMAIL>' "
-                         "(default: $CDPILE_AUTHOR, else your full name from the password database)");
+    u.text_opt("author",
+               "the author recorded in HDF5 output (/h5md/author), 'NAME' or 'NAME <EMAIL>' "
+               "(default: $CDPILE_AUTHOR, else your full name from the password database)");
   u.flag("help", "print this help and exit", 'h');
   u.flag("version", "print the version and exit");
 }
@@ -249,38 +262,51 @@ Usage& Usage::argument(const std::string& n, const std::string& help, bool repea
 
 Usage& Usage::flag(const std::string& n, const std::string& help, char short_name) {
   OptionSpec s;
-  s.name = n; s.help = help; s.kind = Kind::flag; s.short_name = short_name;
+  s.name = n;
+  s.help = help;
+  s.kind = Kind::flag;
+  s.short_name = short_name;
   return add(s);
 }
 
-Usage& Usage::integer(const std::string& n, std::int64_t def, const std::string& help, std::int64_t min,
-                      std::int64_t max, const std::string& unit) {
+Usage& Usage::integer(const std::string& n, std::int64_t def, const std::string& help,
+                      std::int64_t min, std::int64_t max, const std::string& unit) {
   OptionSpec s;
-  s.name = n; s.help = help; s.kind = Kind::integer; s.unit = unit;
-  s.default_text = std::to_string(def); s.has_default = true;
+  s.name = n;
+  s.help = help;
+  s.kind = Kind::integer;
+  s.unit = unit;
+  s.default_text = std::to_string(def);
+  s.has_default = true;
   s.min = min == INT64_MIN ? -1e308 : static_cast<double>(min);
   s.max = max == INT64_MAX ? 1e308 : static_cast<double>(max);
   return add(s);
 }
 
-Usage& Usage::integer_opt(const std::string& n, const std::string& help, std::int64_t min, std::int64_t max,
-                          const std::string& unit) {
+Usage& Usage::integer_opt(const std::string& n, const std::string& help, std::int64_t min,
+                          std::int64_t max, const std::string& unit) {
   integer(n, 0, help, min, max, unit);
   options.back().has_default = false;
   options.back().default_text.clear();
   return *this;
 }
 
-Usage& Usage::real(const std::string& n, double def, const std::string& help, const std::string& unit,
-                   double min, double max) {
+Usage& Usage::real(const std::string& n, double def, const std::string& help,
+                   const std::string& unit, double min, double max) {
   OptionSpec s;
-  s.name = n; s.help = help; s.kind = Kind::real; s.unit = unit;
-  s.default_text = format_number(def); s.has_default = true; s.min = min; s.max = max;
+  s.name = n;
+  s.help = help;
+  s.kind = Kind::real;
+  s.unit = unit;
+  s.default_text = format_number(def);
+  s.has_default = true;
+  s.min = min;
+  s.max = max;
   return add(s);
 }
 
-Usage& Usage::real_opt(const std::string& n, const std::string& help, const std::string& unit, double min,
-                       double max) {
+Usage& Usage::real_opt(const std::string& n, const std::string& help, const std::string& unit,
+                       double min, double max) {
   real(n, 0, help, unit, min, max);
   options.back().has_default = false;
   options.back().default_text.clear();
@@ -290,15 +316,24 @@ Usage& Usage::real_opt(const std::string& n, const std::string& help, const std:
 Usage& Usage::real_list(const std::string& n, const std::string& def, const std::string& help,
                         const std::string& unit, double min, double max) {
   OptionSpec s;
-  s.name = n; s.help = help; s.kind = Kind::real_list; s.unit = unit;
-  s.default_text = def; s.has_default = true; s.min = min; s.max = max;
+  s.name = n;
+  s.help = help;
+  s.kind = Kind::real_list;
+  s.unit = unit;
+  s.default_text = def;
+  s.has_default = true;
+  s.min = min;
+  s.max = max;
   return add(s);
 }
 
 Usage& Usage::text(const std::string& n, const std::string& def, const std::string& help,
                    const std::vector<std::string>& choices) {
   OptionSpec s;
-  s.name = n; s.kind = Kind::text; s.default_text = def; s.has_default = true;
+  s.name = n;
+  s.kind = Kind::text;
+  s.default_text = def;
+  s.has_default = true;
   s.help = help;
   if (!choices.empty()) {
     s.help += "; one of:";
@@ -312,13 +347,18 @@ Usage& Usage::text(const std::string& n, const std::string& def, const std::stri
 
 Usage& Usage::text_opt(const std::string& n, const std::string& help) {
   OptionSpec s;
-  s.name = n; s.kind = Kind::text; s.help = help;
+  s.name = n;
+  s.kind = Kind::text;
+  s.help = help;
   return add(s);
 }
 
-Usage& Usage::text_list(const std::string& n, const std::string& help, const std::vector<std::string>& choices) {
+Usage& Usage::text_list(const std::string& n, const std::string& help,
+                        const std::vector<std::string>& choices) {
   OptionSpec s;
-  s.name = n; s.kind = Kind::text_list; s.help = help + "; comma-separated, each one of:";
+  s.name = n;
+  s.kind = Kind::text_list;
+  s.help = help + "; comma-separated, each one of:";
   for (std::size_t k = 0; k < choices.size(); ++k) s.help += (k ? ", " : " ") + choices[k];
   add(s);
   choices_[n] = choices;
@@ -327,8 +367,14 @@ Usage& Usage::text_list(const std::string& n, const std::string& help, const std
 
 Usage& Usage::output(const std::string& help, const std::string& def) {
   OptionSpec s;
-  s.name = "output"; s.short_name = 'o'; s.kind = Kind::path_out; s.help = help;
-  if (!def.empty()) { s.default_text = def; s.has_default = true; }
+  s.name = "output";
+  s.short_name = 'o';
+  s.kind = Kind::path_out;
+  s.help = help;
+  if (!def.empty()) {
+    s.default_text = def;
+    s.has_default = true;
+  }
   return add(s);
 }
 
@@ -340,13 +386,15 @@ Usage& Usage::group(const std::string& title) {
 }
 
 Usage& Usage::alias(const std::string& old_name, const std::string& n) {
-  const bool declared = std::any_of(options.begin(), options.end(), [&](const OptionSpec& o) { return o.name == n; });
+  const bool declared =
+      std::any_of(options.begin(), options.end(), [&](const OptionSpec& o) { return o.name == n; });
   if (!declared) throw std::logic_error("alias --" + old_name + " of an undeclared option --" + n);
   aliases_[old_name] = n;
   return *this;
 }
 
-Usage& Usage::example(const std::string& title, const std::string& command, const std::string& explanation) {
+Usage& Usage::example(const std::string& title, const std::string& command,
+                      const std::string& explanation) {
   examples.push_back({title, command, explanation});
   return *this;
 }
@@ -432,7 +480,8 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
       desc.add_options()(key.c_str(), po::value<std::string>());
   }
   for (const auto& [old_name, n] : usage.aliases_) {
-    const auto o = std::find_if(usage.options.begin(), usage.options.end(), [&](const OptionSpec& x) { return x.name == n; });
+    const auto o = std::find_if(usage.options.begin(), usage.options.end(),
+                                [&](const OptionSpec& x) { return x.name == n; });
     if (o->kind == Kind::flag)
       desc.add_options()(old_name.c_str(), po::bool_switch());
     else
@@ -469,7 +518,8 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
   }
   Args a;
   a.tool_ = usage.name;
-  for (const auto& s : argv) a.command_line_ += (a.command_line_.empty() ? "" : " ") + shell_quote(s);
+  for (const auto& s : argv)
+    a.command_line_ += (a.command_line_.empty() ? "" : " ") + shell_quote(s);
   for (const auto& o : usage.options) {
     a.kinds_[o.name] = o.kind;
     if (o.kind == Kind::flag) {
@@ -513,10 +563,11 @@ std::string usage_line(const Usage& u) {
   }
   return s;
 }
-const char* kExitCodes = "Exit status: 0 success; 1 runtime or data error (bad input file, failed write); "
-                         "2 usage error (unknown option, bad value, missing argument); 130 interrupted by "
-                         "Ctrl-C (SIGINT), 143 by SIGTERM. Errors are one line on stderr: "
-                         "'tool: FILE: WHERE: WHAT'.";
+const char* kExitCodes =
+    "Exit status: 0 success; 1 runtime or data error (bad input file, failed write); "
+    "2 usage error (unknown option, bad value, missing argument); 130 interrupted by "
+    "Ctrl-C (SIGINT), 143 by SIGTERM. Errors are one line on stderr: "
+    "'tool: FILE: WHERE: WHAT'.";
 }  // namespace
 
 std::string help_text(const Usage& u) {
@@ -542,7 +593,8 @@ std::string help_text(const Usage& u) {
   }
   if (!u.examples.empty()) {
     out << "\nExamples:\n";
-    for (const auto& e : u.examples) out << "  " << e.title << ":\n      $ " << e.command << "\n" << wrap(e.explanation, 6);
+    for (const auto& e : u.examples)
+      out << "  " << e.title << ":\n      $ " << e.command << "\n" << wrap(e.explanation, 6);
   }
   out << "\n" << wrap(kExitCodes, 0);
   return out.str();
@@ -563,20 +615,28 @@ std::string help_markdown(const Usage& u) {
       group = o.group;
       out << "## " << group << "\n\n| option | meaning | unit | default |\n|---|---|---|---|\n";
     }
-    std::string label = (o.short_name ? std::string("-") + o.short_name + ", " : "") + "--" + o.name;
+    std::string label =
+        (o.short_name ? std::string("-") + o.short_name + ", " : "") + "--" + o.name;
     const std::string m = metavar(o);
     if (!m.empty()) label += " " + m;
     std::string help = o.help;
-    const std::string range = (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list) ? range_text(o) : "";
+    const std::string range =
+        (o.kind == Kind::integer || o.kind == Kind::real || o.kind == Kind::real_list)
+            ? range_text(o)
+            : "";
     if (!range.empty()) help += " (" + range + ")";
     out << "| `" << label << "` | " << help << " | " << o.unit << " | "
         << (o.has_default ? "`" + o.default_text + "`" : (o.required ? "required" : "")) << " |\n";
-    if (&o == &u.options.back() || u.options[static_cast<std::size_t>(&o - u.options.data()) + 1].group != group)
+    if (&o == &u.options.back() ||
+        u.options[static_cast<std::size_t>(&o - u.options.data()) + 1].group != group)
       out << "\n";
   }
   if (!u.examples.empty()) {
     out << "## Examples\n\n";
-    for (const auto& e : u.examples) out << "**" << e.title << "**\n\n```sh\n" << e.command << "\n```\n\n" << e.explanation << "\n\n";
+    for (const auto& e : u.examples)
+      out << "**" << e.title << "**\n\n```sh\n"
+          << e.command << "\n```\n\n"
+          << e.explanation << "\n\n";
   }
   out << "## Exit status\n\n" << kExitCodes << "\n";
   return out.str();
@@ -588,9 +648,12 @@ namespace {
 std::string roff(const std::string& s) {
   std::string out;
   for (char c : s) {
-    if (c == '\\') out += "\\e";
-    else if (c == '-') out += "\\-";
-    else out += c;
+    if (c == '\\')
+      out += "\\e";
+    else if (c == '-')
+      out += "\\-";
+    else
+      out += c;
   }
   if (!out.empty() && (out[0] == '.' || out[0] == '\'')) out = "\\&" + out;
   return out;
@@ -610,7 +673,8 @@ std::string help_man(const Usage& u) {
   for (const auto& para : u.description) out << ".PP\n" << roff(para) << "\n";
   if (!u.positionals.empty()) {
     out << ".SH ARGUMENTS\n";
-    for (const auto& p : u.positionals) out << ".TP\n.B " << roff(upper(p.name)) << "\n" << roff(p.help) << "\n";
+    for (const auto& p : u.positionals)
+      out << ".TP\n.B " << roff(upper(p.name)) << "\n" << roff(p.help) << "\n";
   }
   std::string group;
   for (const auto& o : u.options) {
@@ -625,11 +689,14 @@ std::string help_man(const Usage& u) {
   if (!u.examples.empty()) {
     out << ".SH EXAMPLES\n";
     for (const auto& e : u.examples)
-      out << ".PP\n" << roff(e.title) << ":\n.IP\n.nf\n" << roff(e.command) << "\n.fi\n.PP\n" << roff(e.explanation) << "\n";
+      out << ".PP\n"
+          << roff(e.title) << ":\n.IP\n.nf\n"
+          << roff(e.command) << "\n.fi\n.PP\n"
+          << roff(e.explanation) << "\n";
   }
   out << ".SH EXIT STATUS\n" << roff(kExitCodes) << "\n";
-  out << ".SH SEE ALSO\nThe cdpile manuals (docs/cli.md, docs/tools/" << roff(u.name) << ".md) and \\fB"
-      << roff(u.name) << " \\-\\-help\\fR.\n";
+  out << ".SH SEE ALSO\nThe cdpile manuals (docs/cli.md, docs/tools/" << roff(u.name)
+      << ".md) and \\fB" << roff(u.name) << " \\-\\-help\\fR.\n";
   return out.str();
 }
 
@@ -644,7 +711,8 @@ void check_output_is_not_an_input(const Args& a) {
   std::error_code ec;
   if (out.empty() || out == "-" || !std::filesystem::exists(out, ec)) return;
   std::vector<std::string> inputs;
-  for (const auto& [name, values] : a.positional_) inputs.insert(inputs.end(), values.begin(), values.end());
+  for (const auto& [name, values] : a.positional_)
+    inputs.insert(inputs.end(), values.begin(), values.end());
   for (const auto& [name, kind] : a.kinds_)
     if (kind == Kind::text && name != "output")
       for (const auto& item : split_list(a.text(name))) inputs.push_back(item);
@@ -657,7 +725,9 @@ void check_output_is_not_an_input(const Args& a) {
 
 const std::string& tool_name() { return g_tool; }
 
-void warn(const std::string& what) { std::cerr << g_tool << ": warning: " << printable(what) << std::endl; }
+void warn(const std::string& what) {
+  std::cerr << g_tool << ": warning: " << printable(what) << std::endl;
+}
 void info(const std::string& what) {
   if (!g_quiet) std::cerr << g_tool << ": " << printable(what) << std::endl;
 }
@@ -671,7 +741,8 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, 
   std::string name = argc > 0 ? argv[0] : "cdpile";
   if (auto slash = name.rfind('/'); slash != std::string::npos) name = name.substr(slash + 1);
   g_tool = name;
-  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is io::BrokenPipe: temporaries removed, then SIGPIPE
+  std::signal(SIGPIPE,
+              SIG_IGN);  // a closed pipe is io::BrokenPipe: temporaries removed, then SIGPIPE
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   io::h5::silence_errors();
@@ -690,17 +761,30 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, 
   std::vector<std::string> args(argv, argv + argc);
   for (std::size_t k = 1; k < args.size(); ++k) {
     if (args[k] == "--") break;
-    if (args[k] == "--help" || args[k] == "-h") { std::cout << help_text(usage); return 0; }
-    if (args[k] == "--help-markdown") { std::cout << help_markdown(usage); return 0; }
-    if (args[k] == "--help-man") { std::cout << help_man(usage); return 0; }
-    if (args[k] == "--version") { std::cout << name << " (cdpile) " << CDPILE_VERSION << "\n"; return 0; }
+    if (args[k] == "--help" || args[k] == "-h") {
+      std::cout << help_text(usage);
+      return 0;
+    }
+    if (args[k] == "--help-markdown") {
+      std::cout << help_markdown(usage);
+      return 0;
+    }
+    if (args[k] == "--help-man") {
+      std::cout << help_man(usage);
+      return 0;
+    }
+    if (args[k] == "--version") {
+      std::cout << name << " (cdpile) " << CDPILE_VERSION << "\n";
+      return 0;
+    }
   }
   try {
     Args a = parse(usage, args);
     check_output_is_not_an_input(a);
     g_quiet = a.quiet();
     if (a.given("author")) {
-      if (io::parse_author(a.text("author")).name.empty()) throw UsageError("--author: expected a name, got '" + a.text("author") + "'");
+      if (io::parse_author(a.text("author")).name.empty())
+        throw UsageError("--author: expected a name, got '" + a.text("author") + "'");
       io::set_author(a.text("author"));
     }
     const int code = body(a);
@@ -717,7 +801,8 @@ int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, 
     std::raise(SIGPIPE);
     return 128 + SIGPIPE;
   } catch (const UsageError& e) {
-    std::cerr << name << ": " << printable(e.what()) << " (see '" << name << " --help')" << std::endl;
+    std::cerr << name << ": " << printable(e.what()) << " (see '" << name << " --help')"
+              << std::endl;
     io::remove_temporaries();
     return 2;
   } catch (const Error& e) {

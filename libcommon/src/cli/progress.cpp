@@ -29,7 +29,8 @@ std::string fit_progress(const std::vector<ProgressField>& fields, std::size_t w
     // the kept field dropped first: the highest drop_order, the last one among equals
     std::size_t worst = fields.size();
     for (std::size_t k = 0; k < fields.size(); ++k)
-      if (keep[k] && fields[k].drop_order > 0 && (worst == fields.size() || fields[k].drop_order >= fields[worst].drop_order))
+      if (keep[k] && fields[k].drop_order > 0 &&
+          (worst == fields.size() || fields[k].drop_order >= fields[worst].drop_order))
         worst = k;
     if (worst == fields.size()) return line.substr(0, room);
     keep[worst] = false;
@@ -74,7 +75,9 @@ bool progress_wanted(const Args& a) { return !a.quiet() && isatty(STDERR_FILENO)
 
 Progress::Progress(bool shown) : shown_(shown), start_(Clock::now()), last_(start_) {}
 
-double Progress::seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+double Progress::seconds() const {
+  return std::chrono::duration<double>(Clock::now() - start_).count();
+}
 
 double Progress::rate(double count) const { return count / std::max(seconds(), 1e-9); }
 

@@ -9,29 +9,38 @@ namespace cdpile::cli {
 void declare_solver_options(Usage& u) {
   const cd::Settings d;
   u.group("Solver");
-  u.real("time-step", d.time_step, "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12, 1.0);
-  u.real("theta-method", d.theta, "theta-method parameter of the Moreau-Jean scheme (theta, the tilt, is another)", "", 0.5, 1.0);
-  u.real("tolerance", d.tolerance, "NSGS convergence threshold of --criterion, relative to the velocity scale", "", 1e-15, 1.0);
-  u.integer("max-sweeps", d.max_sweeps, "cap of NSGS sweeps per step (hitting it is counted and reported)", 1, 100000000);
+  u.real("time-step", d.time_step, "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12,
+         1.0);
+  u.real("theta-method", d.theta,
+         "theta-method parameter of the Moreau-Jean scheme (theta, the tilt, is another)", "", 0.5,
+         1.0);
+  u.real("tolerance", d.tolerance,
+         "NSGS convergence threshold of --criterion, relative to the velocity scale", "", 1e-15,
+         1.0);
+  u.integer("max-sweeps", d.max_sweeps,
+            "cap of NSGS sweeps per step (hitting it is counted and reported)", 1, 100000000);
   u.text("criterion", cd::criterion_name(d.criterion),
          "when NSGS stops: 'maxm', every contact's velocity correction <= tolerance; "
          "'quad', their root mean square <= tolerance; 'qm16', quad and every correction "
          "<= 16.66 tolerance (LMGC90's names); 'law', the contact law's residual "
          "<= tolerance g h, whatever the solver (docs/method.md)",
          {"maxm", "quad", "qm16", "law"});
-  u.integer("check-every", d.check_every, "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
+  u.integer("check-every", d.check_every,
+            "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
   u.text("solver", cd::solver_name(d.solver),
          "contact solver: 'nsgs', non-smooth Gauss-Seidel; 'nncg', NSGS with a nonlinear "
-         "conjugate-gradient step after each sweep (docs/method.md)", {"nsgs", "nncg"});
+         "conjugate-gradient step after each sweep (docs/method.md)",
+         {"nsgs", "nncg"});
   u.real("stiffness", 0.0,
          "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "
          "impulses picks the step's forces near the previous ones; 0 for rigid contacts "
-         "(docs/method.md, \"Force selection\")", "m g/D", 0.0, 1e300);
+         "(docs/method.md, \"Force selection\")",
+         "m g/D", 0.0, 1e300);
   u.integer("scramble", 0,
             "0: sweeps in pair order; else the seed of a random sweep order drawn anew every "
-            "step (LMGC90's quick scramble): another solver path through the same steps", 0,
-            std::numeric_limits<std::int64_t>::max());
+            "step (LMGC90's quick scramble): another solver path through the same steps",
+            0, std::numeric_limits<std::int64_t>::max());
   u.real("alert", 0.1, "alert distance: contact candidates within this gap", "D", 0.0, 10.0);
   u.alias("theta", "theta-method");  // the old spelling, beside theta the tilt everywhere else
 }

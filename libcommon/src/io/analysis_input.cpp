@@ -20,11 +20,14 @@ std::optional<double> real_parameter(const Values& v, const char* key, const std
 // `theta(k)`, or empty. `last_loading` is the fallback.
 template <class Id, class Theta>
 std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o, Id id, Theta theta,
-                                     std::optional<std::size_t> last_loading, const std::string& file) {
+                                     std::optional<std::size_t> last_loading,
+                                     const std::string& file) {
   if (o.map_frame) {
     for (std::size_t k = 0; k < count; ++k)
       if (id(k) == *o.map_frame) return k;
-    throw Error(file, "", "no frame " + std::to_string(*o.map_frame) + " to map (" + field("map_frame") + ")");
+    throw Error(
+        file, "",
+        "no frame " + std::to_string(*o.map_frame) + " to map (" + field("map_frame") + ")");
   }
   if (o.map_theta) {
     std::optional<std::size_t> best;
@@ -34,7 +37,8 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
         d = std::abs(*t - *o.map_theta);
         best = k;
       }
-    if (!best) throw Error(file, "", "no frame has a tilt angle to compare with " + field("map_theta"));
+    if (!best)
+      throw Error(file, "", "no frame has a tilt angle to compare with " + field("map_theta"));
     return best;
   }
   if (last_loading) return last_loading;
@@ -44,15 +48,17 @@ std::optional<std::size_t> map_index(std::size_t count, const LocalNuReading& o,
 // A contact table has no parameters and no grains, so mu and D are required options: a
 // missing one is a usage error, reported before the table is parsed.
 void require_table_options(const LocalNuReading& o, const std::string& file) {
-  const std::string missing = !o.mu.grain && !o.diameter ? field("mu") + " and " + field("diameter") + " are"
-                              : !o.mu.grain             ? field("mu") + " is"
-                              : !o.diameter             ? field("diameter") + " is"
-                                                        : "";
+  const std::string missing = !o.mu.grain && !o.diameter
+                                  ? field("mu") + " and " + field("diameter") + " are"
+                              : !o.mu.grain ? field("mu") + " is"
+                              : !o.diameter ? field("diameter") + " is"
+                                            : "";
   if (!missing.empty()) throw UsageError(missing + " required for a contact table (" + file + ")");
 }
 }  // namespace
 
-analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, const std::string& file) {
+analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c,
+                                   const std::string& file) {
   analysis::Friction mu;
   if (c.grain) {
     mu.grain = *c.grain;
@@ -63,20 +69,25 @@ analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c, 
   } else {
     throw Error(file, "", "a contact table has no friction coefficient; give " + field("mu"));
   }
-  if (c.wall) mu.wall = *c.wall;
-  else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt) mu.wall = *m;
-  else mu.wall = mu.grain;
+  if (c.wall)
+    mu.wall = *c.wall;
+  else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt)
+    mu.wall = *m;
+  else
+    mu.wall = mu.grain;
   // mu <= 0 makes every active contact critical: refuse it with the file's name (the
   // command-line layer already refuses it on the command line).
   if (!(mu.grain > 0.0) || !std::isfinite(mu.grain))
-    throw Error(file, h ? "/parameters" : "", "mu_grain must be > 0, got " + format_number(mu.grain));
+    throw Error(file, h ? "/parameters" : "",
+                "mu_grain must be > 0, got " + format_number(mu.grain));
   if (!(mu.wall > 0.0) || !std::isfinite(mu.wall))
     throw Error(file, h ? "/parameters" : "", "mu_wall must be > 0, got " + format_number(mu.wall));
   return mu;
 }
 
 analysis::RecordedRule recorded_rule(const RunHeader& h, const std::string& file) {
-  return {real_parameter(h.parameters, "critical_eps", file), real_parameter(h.parameters, "mu_grain", file),
+  return {real_parameter(h.parameters, "critical_eps", file),
+          real_parameter(h.parameters, "mu_grain", file),
           real_parameter(h.parameters, "mu_wall", file)};
 }
 
@@ -92,14 +103,17 @@ analysis::ContactSet classify(const Frame& fr, std::size_t k, const analysis::Fr
 }
 }  // namespace
 
-analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
-                                       const analysis::CriticalRule& rule, const std::string& file) {
+analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k,
+                                       const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule,
+                                       const std::string& file) {
   // The whole frame is read, not only its contacts: reading checks its grain state too
   // (docs/schema.md promises finite values everywhere), for a few N x 2 doubles a frame.
   return classify(rr.frame(k), k, mu, rule, file);
 }
 
-analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file, const analysis::CriticalRule& rule) {
+analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
+                                   const analysis::CriticalRule& rule) {
   const RunHeader& h = rr.header();
   const Grains& g = rr.grain_properties();
   analysis::RunRecord r;
@@ -115,12 +129,15 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 }
 
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
-                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                                    analysis::RattlerRule rattlers, double slip_speed, double rest_speed) {
+                                    const analysis::Friction& mu,
+                                    const analysis::CriticalRule& rule,
+                                    analysis::RattlerRule rattlers, double slip_speed,
+                                    double rest_speed) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
   // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
-  const double slip = r.gravity > 0.0 && r.diameter > 0.0 ? slip_speed * std::sqrt(r.gravity * r.diameter) : 0.0;
+  const double slip =
+      r.gravity > 0.0 && r.diameter > 0.0 ? slip_speed * std::sqrt(r.gravity * r.diameter) : 0.0;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
     const Frame fr = rr.frame(k);
     analysis::FrameRecord f;
@@ -145,8 +162,8 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
       }
       f.slipping = slipping;
       f.critical_slipping = critical;
-      const analysis::RestCount at_rest =
-          analysis::contacts_at_rest(fr.contacts, set, fr.grains, u, rest_speed * std::sqrt(r.gravity * r.diameter), slip);
+      const analysis::RestCount at_rest = analysis::contacts_at_rest(
+          fr.contacts, set, fr.grains, u, rest_speed * std::sqrt(r.gravity * r.diameter), slip);
       f.contacts_at_rest = at_rest.contacts;
       f.critical_at_rest = at_rest.critical;
     }
@@ -179,7 +196,8 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     if (in.text().find_first_not_of(" \t\r\n") == std::string::npos)
       throw Error(file, "", "empty: neither a run (HDF5) nor a contact table");
     if (const std::string kind = tsv_product_kind(in.text()); !kind.empty())
-      throw Error(file, "", "is a '" + kind + "' product, expected a run (HDF5) or a contact table");
+      throw Error(file, "",
+                  "is a '" + kind + "' product, expected a run (HDF5) or a contact table");
     require_table_options(o, file);
     ContactTable t = read_contact_table(in.text(), file, {o.duplicates});
     info.table = true;
@@ -189,23 +207,27 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     if (!t.has_status)
       for (auto& f : t.frames) f.contacts.status.clear();
     const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
-    if (o.theta_c) { info.theta_c = o.theta_c; info.theta_c_from = "option"; }
-    else info.theta_c_from = "none";
+    if (o.theta_c) {
+      info.theta_c = o.theta_c;
+      info.theta_c_from = "option";
+    } else
+      info.theta_c_from = "none";
     std::optional<std::size_t> last_loading;
     for (std::size_t k = 0; k < t.frames.size(); ++k)
       if (is_loading(t.frames[k].theta)) last_loading = k;
     std::optional<std::size_t> to_map;
     if (map_here)
-      to_map = map_index(t.frames.size(), o, [&](std::size_t k) { return t.frames[k].frame; },
-                         [&](std::size_t k) { return t.frames[k].theta; }, last_loading, file);
+      to_map = map_index(
+          t.frames.size(), o, [&](std::size_t k) { return t.frames[k].frame; },
+          [&](std::size_t k) { return t.frames[k].theta; }, last_loading, file);
     for (std::size_t k = 0; k < t.frames.size(); ++k) {
       const ContactTableFrame& f = t.frames[k];
       analysis::ContactSet set;
       try {
         set = analysis::select_contacts(f.contacts, {}, mu, o.rule);
       } catch (const Error& e) {
-        throw Error(file, "line " + std::to_string(f.first_line), std::string("frame ") +
-                                                                      std::to_string(f.frame) + ": " + e.what());
+        throw Error(file, "line " + std::to_string(f.first_line),
+                    std::string("frame ") + std::to_string(f.frame) + ": " + e.what());
       }
       const bool loading = is_loading(f.theta);
       study.add_frame(run, file, f.frame, f.frame, f.theta, *o.diameter, set, loading, to_map == k);
@@ -239,19 +261,22 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     }
   }
   const std::size_t n = rr.frame_count();
-  auto theta_of = [&](std::size_t k) -> std::optional<double> { return rr.frame_tilt_angle(k) * 180.0 / M_PI; };
+  auto theta_of = [&](std::size_t k) -> std::optional<double> {
+    return rr.frame_tilt_angle(k) * 180.0 / M_PI;
+  };
   std::optional<std::size_t> last_loading;
   for (std::size_t k = 0; k < n; ++k)
     if (is_loading(theta_of(k))) last_loading = k;
   std::optional<std::size_t> to_map;
   if (map_here)
-    to_map = map_index(n, o, [](std::size_t k) { return static_cast<std::int64_t>(k); }, theta_of,
-                       last_loading, file);
+    to_map = map_index(
+        n, o, [](std::size_t k) { return static_cast<std::int64_t>(k); }, theta_of, last_loading,
+        file);
   for (std::size_t k = 0; k < n; ++k) {
     const analysis::ContactSet set = frame_contact_set(rr, k, mu, o.rule, file);
     const bool loading = is_loading(theta_of(k));
-    study.add_frame(run, file, static_cast<std::int64_t>(k), rr.frame_steps()[k], theta_of(k), diameter, set,
-                    loading, to_map == k);
+    study.add_frame(run, file, static_cast<std::int64_t>(k), rr.frame_steps()[k], theta_of(k),
+                    diameter, set, loading, to_map == k);
     if (to_map == k) info.mapped_frame = static_cast<std::int64_t>(k);
     ++info.frames;
     info.loading_frames += loading;

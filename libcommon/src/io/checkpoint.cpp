@@ -7,7 +7,9 @@ namespace cdpile::io {
 
 namespace {
 // Attributes of the group that are not counters.
-bool is_counter(const std::string& name) { return name != "step" && name != "time" && name != "description"; }
+bool is_counter(const std::string& name) {
+  return name != "step" && name != "time" && name != "description";
+}
 
 const Value* find(const Checkpoint& c, const std::string& name) {
   for (const auto& [n, v] : c.counters)
@@ -25,7 +27,8 @@ std::int64_t Checkpoint::counter_int(const std::string& name, const std::string&
 
 double Checkpoint::counter_real(const std::string& name, const std::string& file) const {
   const Value* v = find(*this, name);
-  if (!v || !std::holds_alternative<double>(*v)) throw Error(file, kCheckpointGroup, "no real attribute '" + name + "'");
+  if (!v || !std::holds_alternative<double>(*v))
+    throw Error(file, kCheckpointGroup, "no real attribute '" + name + "'");
   return std::get<double>(*v);
 }
 

@@ -5,12 +5,12 @@
 
 #include <algorithm>
 #include <bit>
-#include <tuple>
 #include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <string_view>
+#include <tuple>
 
 namespace cdpile::io {
 
@@ -36,8 +36,10 @@ namespace {
 enum class Sep { tab, comma, space };
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -59,7 +61,8 @@ std::vector<std::string> split(std::string_view line, Sep sep) {
   std::size_t k = 0;
   while (true) {
     const std::size_t e = line.find(c, k);
-    out.emplace_back(trim(line.substr(k, e == std::string_view::npos ? std::string_view::npos : e - k)));
+    out.emplace_back(
+        trim(line.substr(k, e == std::string_view::npos ? std::string_view::npos : e - k)));
     if (e == std::string_view::npos) break;
     k = e + 1;
   }
@@ -119,9 +122,9 @@ std::vector<TextTable> parse_text_tables(const std::string& text, const std::str
     }
     if (!in_table) {
       // the header
-      sep = line.find('\t') != std::string_view::npos ? Sep::tab
+      sep = line.find('\t') != std::string_view::npos  ? Sep::tab
             : line.find(',') != std::string_view::npos ? Sep::comma
-                                                        : Sep::space;
+                                                       : Sep::space;
       cur.columns = split(line, sep);
       cur.first_line = lineno;
       for (std::size_t k = 0; k < cur.columns.size(); ++k) {
@@ -216,7 +219,8 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
   auto integer = [&](std::size_t col, std::size_t row, const char* what) -> std::int64_t {
     const double v = t.values[col][row];
     if (v != std::floor(v) || std::abs(v) > 9.0e15)
-      throw Error(file, where(t.line[row], t.columns[col]), std::string(what) + " must be an integer");
+      throw Error(file, where(t.line[row], t.columns[col]),
+                  std::string(what) + " must be an integer");
     return static_cast<std::int64_t>(v);
   };
 
@@ -244,7 +248,8 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
     std::int32_t i = -1, j = -1;
     auto id32 = [&](std::size_t col, const char* what) {
       const std::int64_t v = integer(col, r, what);
-      if (v < std::numeric_limits<std::int32_t>::min() || v > std::numeric_limits<std::int32_t>::max())
+      if (v < std::numeric_limits<std::int32_t>::min() ||
+          v > std::numeric_limits<std::int32_t>::max())
         throw Error(file, where(t.line[r], t.columns[col]), std::string(what) + " out of range");
       return static_cast<std::int32_t>(v);
     };
@@ -284,22 +289,28 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
       if (opt.duplicates == Duplicates::error)
         throw Error(file, where(t.line[r]),
                     what + frame_text + " is also on line " + std::to_string(t.line[q]) +
-                        " (give each contact once, or merge repeated rows: " + field("duplicates") + " merge)");
-      const double scale = std::max({std::abs(t.values[cfn][q]), std::abs(t.values[cfn][r]), 1e-300});
-      const double lscale = std::max({std::abs(x), std::abs(y), std::abs(t.values[cx][q]), std::abs(t.values[cy][q]), 1e-300});
+                        " (give each contact once, or merge repeated rows: " + field("duplicates") +
+                        " merge)");
+      const double scale =
+          std::max({std::abs(t.values[cfn][q]), std::abs(t.values[cfn][r]), 1e-300});
+      const double lscale = std::max(
+          {std::abs(x), std::abs(y), std::abs(t.values[cx][q]), std::abs(t.values[cy][q]), 1e-300});
       if (std::abs(t.values[cfn][q] - t.values[cfn][r]) > 1e-9 * scale ||
           std::abs(std::abs(t.values[cft][q]) - std::abs(t.values[cft][r])) > 1e-9 * scale ||
-          std::abs(t.values[cx][q] - x) > 1e-9 * lscale || std::abs(t.values[cy][q] - y) > 1e-9 * lscale)
+          std::abs(t.values[cx][q] - x) > 1e-9 * lscale ||
+          std::abs(t.values[cy][q] - y) > 1e-9 * lscale)
         throw Error(file, where(t.line[r]),
                     what + frame_text + " is also on line " + std::to_string(t.line[q]) +
                         " with another point or other forces: not a repeat, cannot merge");
       ++out.merged;
       continue;
     }
-    fr.contacts.push_back(i, j, Vec2(x, y), Vec2::Zero(), t.values[cfn][r], t.values[cft][r], 0.0, st);
+    fr.contacts.push_back(i, j, Vec2(x, y), Vec2::Zero(), t.values[cfn][r], t.values[cft][r], 0.0,
+                          st);
   }
-  std::sort(out.frames.begin(), out.frames.end(),
-            [](const ContactTableFrame& a, const ContactTableFrame& b) { return a.frame < b.frame; });
+  std::sort(
+      out.frames.begin(), out.frames.end(),
+      [](const ContactTableFrame& a, const ContactTableFrame& b) { return a.frame < b.frame; });
   return out;
 }
 

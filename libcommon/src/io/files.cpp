@@ -20,7 +20,8 @@ namespace cdpile::io {
 
 namespace {
 
-constexpr std::array<unsigned char, 8> kHdf5Signature = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+constexpr std::array<unsigned char, 8> kHdf5Signature = {0x89, 'H',  'D',  'F',
+                                                         '\r', '\n', 0x1a, '\n'};
 
 // Temporaries to remove on an interrupt. A fixed table of C strings, so the signal
 // handler can walk it with nothing but unlink().
@@ -48,9 +49,8 @@ void write_fully(int fd, const char* data, std::size_t n, const std::string& nam
 }  // namespace
 
 bool has_hdf5_signature(const std::vector<char>& bytes) {
-  return bytes.size() >= 8 &&
-         std::equal(kHdf5Signature.begin(), kHdf5Signature.end(),
-                    reinterpret_cast<const unsigned char*>(bytes.data()));
+  return bytes.size() >= 8 && std::equal(kHdf5Signature.begin(), kHdf5Signature.end(),
+                                         reinterpret_cast<const unsigned char*>(bytes.data()));
 }
 
 bool has_hdf5_signature(const std::string& path) {
@@ -73,7 +73,8 @@ std::vector<char> read_all(const std::string& path) {
       if (r == 0) break;
       bytes.insert(bytes.end(), buf.data(), buf.data() + r);
     }
-    if (bytes.empty()) throw Error("stdin", "", "no data on standard input (did the previous tool fail?)");
+    if (bytes.empty())
+      throw Error("stdin", "", "no data on standard input (did the previous tool fail?)");
     return bytes;
   }
   std::error_code ec;
@@ -86,7 +87,8 @@ std::vector<char> read_all(const std::string& path) {
 
 Input::Input(const std::string& path) : path_(path), name_(path == "-" ? "stdin" : path) {
   if (path == "-") {
-    if (isatty(STDIN_FILENO)) throw Error("stdin", "", "standard input is a terminal; pipe data in or give a file");
+    if (isatty(STDIN_FILENO))
+      throw Error("stdin", "", "standard input is a terminal; pipe data in or give a file");
   } else {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error(path, "", "no such file");
@@ -104,7 +106,8 @@ Input::Input(const std::string& path) : path_(path), name_(path == "-" ? "stdin"
   // Standard input, a FIFO, a process substitution (<(tool -o -)) or a device: it can be
   // read once, from the start, so it is read whole and opened from memory.
   image_ = read_all(path);
-  if (path != "-" && image_.empty()) throw Error(path, "", "no data (did the tool writing it fail?)");
+  if (path != "-" && image_.empty())
+    throw Error(path, "", "no data (did the tool writing it fail?)");
   if (has_hdf5_signature(image_)) {
     file_ = h5::open_image(image_, name_);
   } else {
@@ -163,7 +166,8 @@ std::string make_temporary_beside(const std::string& target) {
   std::vector<char> buf(pattern.begin(), pattern.end());
   buf.push_back('\0');
   int fd = mkstemp(buf.data());
-  if (fd < 0) throw Error(target, "", "cannot create a temporary file beside it: " + system_reason());
+  if (fd < 0)
+    throw Error(target, "", "cannot create a temporary file beside it: " + system_reason());
   // mkstemp makes the file 0600; the finished output gets the usual 0666 & ~umask.
   const mode_t mask = ::umask(0);
   ::umask(mask);
@@ -180,8 +184,10 @@ namespace {
 }
 }  // namespace
 
-Output::Output(std::string path, bool force, bool binary) : path_(std::move(path)), name_(path_ == "-" ? "stdout" : path_) {
-  if (path_.empty()) throw UsageError("no output file given (-o FILE, or -o - for standard output)");
+Output::Output(std::string path, bool force, bool binary)
+    : path_(std::move(path)), name_(path_ == "-" ? "stdout" : path_) {
+  if (path_.empty())
+    throw UsageError("no output file given (-o FILE, or -o - for standard output)");
   if (is_stdout()) {
     if (binary && isatty(STDOUT_FILENO)) refuse_terminal();
     return;
@@ -201,7 +207,10 @@ Output::~Output() {
 
 void Output::discard() noexcept {
   if (file_.valid()) {
-    try { file_ = h5::File(); } catch (...) {}
+    try {
+      file_ = h5::File();
+    } catch (...) {
+    }
   }
   fstream_.reset();
   if (!tmp_.empty()) {

@@ -65,10 +65,12 @@ void write_attr_raw(const File& f, const std::string& path, const std::string& n
                     const std::vector<hsize_t>& dims, const void* data) {
   Handle obj = open_object(f, path);
   if (H5Aexists(obj.id(), name.c_str()) > 0) H5Adelete(obj.id(), name.c_str());
-  Handle space(dims.empty() ? H5Screate(H5S_SCALAR)
-                            : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
-  Handle attr(checked_id(H5Acreate2(obj.id(), name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT),
-                         f, path, "cannot create attribute " + name));
+  Handle space(dims.empty()
+                   ? H5Screate(H5S_SCALAR)
+                   : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
+  Handle attr(
+      checked_id(H5Acreate2(obj.id(), name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT), f,
+                 path, "cannot create attribute " + name));
   // An empty list (the labels of a text column with no rows, no notes) is a valid
   // attribute of shape [0]; H5Awrite refuses its null buffer, and there is nothing to write.
   hsize_t n = 1;
@@ -91,10 +93,14 @@ hssize_t attr_points(const Handle& attr) {
 
 std::string bytes_text(double b) {
   char buf[32];
-  if (b >= 1e9) std::snprintf(buf, sizeof buf, "%.3g GB", b / 1e9);
-  else if (b >= 1e6) std::snprintf(buf, sizeof buf, "%.3g MB", b / 1e6);
-  else if (b >= 1e3) std::snprintf(buf, sizeof buf, "%.3g kB", b / 1e3);
-  else std::snprintf(buf, sizeof buf, "%.0f bytes", b);
+  if (b >= 1e9)
+    std::snprintf(buf, sizeof buf, "%.3g GB", b / 1e9);
+  else if (b >= 1e6)
+    std::snprintf(buf, sizeof buf, "%.3g MB", b / 1e6);
+  else if (b >= 1e3)
+    std::snprintf(buf, sizeof buf, "%.3g kB", b / 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f bytes", b);
   return buf;
 }
 
@@ -114,8 +120,9 @@ void check_claim(const File& f, const std::string& path, double elements, double
   if (claim > limit) {
     char n[32];
     std::snprintf(n, sizeof n, "%.0f", elements);
-    fail(f, path, std::string("too large (claims ") + n + " elements, " + bytes_text(claim) + ", in a file of " +
-                      bytes_text(static_cast<double>(file_bytes)) + ")");
+    fail(f, path,
+         std::string("too large (claims ") + n + " elements, " + bytes_text(claim) +
+             ", in a file of " + bytes_text(static_cast<double>(file_bytes)) + ")");
   }
 }
 
@@ -125,7 +132,8 @@ void check_claim(const File& f, const std::string& path, double elements, double
 bool filtered(const File& f, const std::string& path, hid_t dataset, double element_bytes) {
   // What the dataset's index says it stores cannot exceed the file: HDF5 allocates a
   // chunk's stored size to read it, and a damaged index claiming 4 GB made it try.
-  check_claim(f, path + " (stored bytes)", static_cast<double>(H5Dget_storage_size(dataset)), 1.0, false);
+  check_claim(f, path + " (stored bytes)", static_cast<double>(H5Dget_storage_size(dataset)), 1.0,
+              false);
   Handle dcpl(H5Dget_create_plist(dataset));
   if (!dcpl.valid() || H5Pget_layout(dcpl.id()) != H5D_CHUNKED) return false;
   const bool compressed = H5Pget_nfilters(dcpl.id()) > 0;
@@ -133,7 +141,8 @@ bool filtered(const File& f, const std::string& path, hid_t dataset, double elem
   const int rank = H5Pget_chunk(dcpl.id(), H5S_MAX_RANK, chunk.data());
   if (rank < 0) fail(f, path, "cannot read the chunk size");
   double elements = 1;
-  for (int k = 0; k < rank; ++k) elements *= static_cast<double>(chunk[static_cast<std::size_t>(k)]);
+  for (int k = 0; k < rank; ++k)
+    elements *= static_cast<double>(chunk[static_cast<std::size_t>(k)]);
   check_claim(f, path + " (one chunk)", std::max(elements, 1.0), element_bytes, true);
   return compressed;
 }
@@ -144,8 +153,9 @@ std::vector<T> allocate(const File& f, const std::string& path, hsize_t n) {
   try {
     return std::vector<T>(n);
   } catch (const std::bad_alloc&) {
-    fail(f, path, "too large (" + std::to_string(n) + " elements, " +
-                      bytes_text(static_cast<double>(n) * sizeof(T)) + "; out of memory)");
+    fail(f, path,
+         "too large (" + std::to_string(n) + " elements, " +
+             bytes_text(static_cast<double>(n) * sizeof(T)) + "; out of memory)");
   } catch (const std::length_error&) {
     fail(f, path, "too large (" + std::to_string(n) + " elements)");
   }
@@ -188,7 +198,8 @@ void File::close() {
   const bool flushed = H5Fflush(raw, H5F_SCOPE_LOCAL) >= 0;
   const int flush_errno = errno;
   const bool closed = H5Fclose(raw) >= 0;
-  if (!flushed || !closed) throw Error(name_, "", "cannot write the file: " + reason(flushed ? errno : flush_errno));
+  if (!flushed || !closed)
+    throw Error(name_, "", "cannot write the file: " + reason(flushed ? errno : flush_errno));
 }
 
 File create(const std::string& path, const std::string& name) {
@@ -224,8 +235,7 @@ File create_in_memory(const std::string& name) {
 
 File open_read_unchecked(const std::string& path, const std::string& name) {
   silence_errors();
-  if (H5Fis_hdf5(path.c_str()) <= 0)
-    throw Error(name, "", "not an HDF5 file, or truncated");
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw Error(name, "", "not an HDF5 file, or truncated");
   hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (id < 0) throw Error(name, "", "cannot open as HDF5 (truncated or damaged?)");
   return File(Handle(id), name);
@@ -237,7 +247,8 @@ File open_read(const std::string& path, const std::string& name) {
   const auto bytes = static_cast<double>(std::filesystem::file_size(path, ec));
   const int superblock = superblock_version(path);
   if (superblock == 0 || superblock == 1)
-    return open_earlier_format(superblock, ec ? 0.0 : bytes, [&] { return open_read_unchecked(path, name); }, name);
+    return open_earlier_format(
+        superblock, ec ? 0.0 : bytes, [&] { return open_read_unchecked(path, name); }, name);
   return open_read_unchecked(path, name);
 }
 
@@ -252,8 +263,9 @@ File open_image(const std::vector<char>& bytes, const std::string& name) {
   silence_errors();
   const int superblock = superblock_version(bytes);
   if (superblock == 0 || superblock == 1)
-    return open_earlier_format(superblock, static_cast<double>(bytes.size()),
-                               [&] { return open_image_unchecked(bytes, name); }, name);
+    return open_earlier_format(
+        superblock, static_cast<double>(bytes.size()),
+        [&] { return open_image_unchecked(bytes, name); }, name);
   return open_image_unchecked(bytes, name);
 }
 
@@ -274,15 +286,30 @@ std::uint32_t lookup3(const unsigned char* k, std::size_t length, std::uint32_t 
   std::uint32_t a, b, c;
   a = b = c = 0xdeadbeef + static_cast<std::uint32_t>(length) + initval;
   while (length > 12) {
-    a += k[0] + (std::uint32_t{k[1]} << 8) + (std::uint32_t{k[2]} << 16) + (std::uint32_t{k[3]} << 24);
-    b += k[4] + (std::uint32_t{k[5]} << 8) + (std::uint32_t{k[6]} << 16) + (std::uint32_t{k[7]} << 24);
-    c += k[8] + (std::uint32_t{k[9]} << 8) + (std::uint32_t{k[10]} << 16) + (std::uint32_t{k[11]} << 24);
-    a -= c; a ^= rot(c, 4); c += b;
-    b -= a; b ^= rot(a, 6); a += c;
-    c -= b; c ^= rot(b, 8); b += a;
-    a -= c; a ^= rot(c, 16); c += b;
-    b -= a; b ^= rot(a, 19); a += c;
-    c -= b; c ^= rot(b, 4); b += a;
+    a += k[0] + (std::uint32_t{k[1]} << 8) + (std::uint32_t{k[2]} << 16) +
+         (std::uint32_t{k[3]} << 24);
+    b += k[4] + (std::uint32_t{k[5]} << 8) + (std::uint32_t{k[6]} << 16) +
+         (std::uint32_t{k[7]} << 24);
+    c += k[8] + (std::uint32_t{k[9]} << 8) + (std::uint32_t{k[10]} << 16) +
+         (std::uint32_t{k[11]} << 24);
+    a -= c;
+    a ^= rot(c, 4);
+    c += b;
+    b -= a;
+    b ^= rot(a, 6);
+    a += c;
+    c -= b;
+    c ^= rot(b, 8);
+    b += a;
+    a -= c;
+    a ^= rot(c, 16);
+    c += b;
+    b -= a;
+    b ^= rot(a, 19);
+    a += c;
+    c -= b;
+    c ^= rot(b, 4);
+    b += a;
     length -= 12;
     k += 12;
   }
@@ -301,13 +328,20 @@ std::uint32_t lookup3(const unsigned char* k, std::size_t length, std::uint32_t 
     case 1: a += k[0]; break;
     case 0: return c;
   }
-  c ^= b; c -= rot(b, 14);
-  a ^= c; a -= rot(c, 11);
-  b ^= a; b -= rot(a, 25);
-  c ^= b; c -= rot(b, 16);
-  a ^= c; a -= rot(c, 4);
-  b ^= a; b -= rot(a, 14);
-  c ^= b; c -= rot(b, 24);
+  c ^= b;
+  c -= rot(b, 14);
+  a ^= c;
+  a -= rot(c, 11);
+  b ^= a;
+  b -= rot(a, 25);
+  c ^= b;
+  c -= rot(b, 16);
+  a ^= c;
+  a -= rot(c, 4);
+  b ^= a;
+  b -= rot(a, 14);
+  c ^= b;
+  c -= rot(b, 24);
   return c;
 }
 }  // namespace
@@ -318,13 +352,16 @@ void reseal_superblock(std::vector<char>& image) {
   // fails its own check when opened. Superblock v2/v3: signature (8), version, sizes of
   // offsets and lengths, flags (4), four addresses, then the lookup3 checksum of the
   // bytes before it (HDF5 File Format Specification, "Superblock").
-  if (image.size() < 12 || !std::equal(image.begin(), image.begin() + 8, "\x89HDF\r\n\x1a\n")) return;
-  const auto version = static_cast<unsigned char>(image[8]), offsets = static_cast<unsigned char>(image[9]);
+  if (image.size() < 12 || !std::equal(image.begin(), image.begin() + 8, "\x89HDF\r\n\x1a\n"))
+    return;
+  const auto version = static_cast<unsigned char>(image[8]),
+             offsets = static_cast<unsigned char>(image[9]);
   if (version < 2 || version > 3) return;
   const std::size_t at = 12 + 4 * std::size_t{offsets};
   if (image.size() < at + 4) return;
   const std::uint32_t sum = lookup3(reinterpret_cast<const unsigned char*>(image.data()), at, 0);
-  for (int b = 0; b < 4; ++b) image[at + static_cast<std::size_t>(b)] = static_cast<char>((sum >> (8 * b)) & 0xff);
+  for (int b = 0; b < 4; ++b)
+    image[at + static_cast<std::size_t>(b)] = static_cast<char>((sum >> (8 * b)) & 0xff);
 }
 
 std::vector<char> image_of(const File& f) {
@@ -356,8 +393,8 @@ void create_group(const File& f, const std::string& path) {
   H5Pset_create_intermediate_group(lcpl.id(), 1);
   Handle gcpl(H5Pcreate(H5P_GROUP_CREATE));
   H5Pset_link_creation_order(gcpl.id(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
-  Handle g(checked_id(H5Gcreate2(f.id(), path.c_str(), lcpl.id(), gcpl.id(), H5P_DEFAULT), f,
-                      path, "cannot create group"));
+  Handle g(checked_id(H5Gcreate2(f.id(), path.c_str(), lcpl.id(), gcpl.id(), H5P_DEFAULT), f, path,
+                      "cannot create group"));
 }
 
 void hard_link(const File& f, const std::string& target, const std::string& link) {
@@ -370,8 +407,8 @@ void remove(const File& f, const std::string& path) {
 }
 
 void copy(const File& src, const std::string& path, const File& dst) {
-  check(H5Ocopy(src.id(), path.c_str(), dst.id(), path.c_str(), H5P_DEFAULT, H5P_DEFAULT), dst, path,
-        [&] { return "cannot copy from " + src.name(); });
+  check(H5Ocopy(src.id(), path.c_str(), dst.id(), path.c_str(), H5P_DEFAULT, H5P_DEFAULT), dst,
+        path, [&] { return "cannot copy from " + src.name(); });
 }
 
 std::vector<std::string> members(const File& f, const std::string& group) {
@@ -406,12 +443,30 @@ std::vector<hsize_t> shape(const File& f, const std::string& path) {
   return dims;
 }
 
-template <> hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
-template <> hid_t native_type<float>() { return H5T_NATIVE_FLOAT; }
-template <> hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
-template <> hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
-template <> hid_t native_type<std::int8_t>() { return H5T_NATIVE_INT8; }
-template <> hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
+template <>
+hid_t native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <>
+hid_t native_type<float>() {
+  return H5T_NATIVE_FLOAT;
+}
+template <>
+hid_t native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
+template <>
+hid_t native_type<std::int32_t>() {
+  return H5T_NATIVE_INT32;
+}
+template <>
+hid_t native_type<std::int8_t>() {
+  return H5T_NATIVE_INT8;
+}
+template <>
+hid_t native_type<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
 
 namespace {
 Handle create_dataset(const File& f, const std::string& path, hid_t type,
@@ -463,7 +518,8 @@ void append(const File& f, const std::string& path, const T* data, const std::ve
   H5Sget_simple_extent_dims(space.id(), cur.data(), nullptr);
   if (cur.size() != dims.size()) fail(f, path, "rank mismatch on append");
   for (std::size_t k = 1; k < dims.size(); ++k)
-    if (cur[k] != dims[k]) fail(f, path, "shape mismatch on append: " + dims_text(cur) + " vs " + dims_text(dims));
+    if (cur[k] != dims[k])
+      fail(f, path, "shape mismatch on append: " + dims_text(cur) + " vs " + dims_text(dims));
   if (dims[0] == 0) return;
   std::vector<hsize_t> next = cur;
   next[0] += dims[0];
@@ -513,7 +569,10 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
   }
   hsize_t n = 1;
   double elements = 1;
-  for (auto x : dims) { n *= x; elements *= static_cast<double>(x); }
+  for (auto x : dims) {
+    n *= x;
+    elements *= static_cast<double>(x);
+  }
   const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
   check_claim(f, path, elements, type_bytes, filtered(f, path, d.id(), type_bytes));
   std::vector<T> out = allocate<T>(f, path, n);
@@ -523,8 +582,9 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
   if constexpr (std::is_floating_point_v<T>) {
     for (std::size_t k = 0; k < out.size(); ++k)
       if (!std::isfinite(out[k]))
-        fail(f, path, "non-finite value (" + std::string(std::isnan(out[k]) ? "NaN" : "inf") +
-                          ") at element " + std::to_string(k));
+        fail(f, path,
+             "non-finite value (" + std::string(std::isnan(out[k]) ? "NaN" : "inf") +
+                 ") at element " + std::to_string(k));
   }
   if (dims_out) *dims_out = dims;
   return out;
@@ -538,14 +598,18 @@ std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, 
   std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
   if (rank < 1 || first > dims[0] || count > dims[0] - first)
-    fail(f, path, "rows " + std::to_string(first) + ".." + std::to_string(first + count) +
-                      " out of range " + dims_text(dims));
+    fail(f, path,
+         "rows " + std::to_string(first) + ".." + std::to_string(first + count) + " out of range " +
+             dims_text(dims));
   std::vector<hsize_t> start(dims.size(), 0), cnt = dims;
   start[0] = first;
   cnt[0] = count;
   hsize_t n = 1;
   double elements = 1;
-  for (auto x : cnt) { n *= x; elements *= static_cast<double>(x); }
+  for (auto x : cnt) {
+    n *= x;
+    elements *= static_cast<double>(x);
+  }
   {
     Handle type(H5Dget_type(d.id()));
     const auto type_bytes = static_cast<double>(H5Tget_size(type.id()));
@@ -555,24 +619,25 @@ std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, 
   if (n == 0) return out;
   H5Sselect_hyperslab(space.id(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(), nullptr);
   Handle mspace(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr));
-  check(H5Dread(d.id(), native_type<T>(), mspace.id(), space.id(), H5P_DEFAULT, out.data()), f, path,
-        [] { return "cannot read (truncated file?)"; });
+  check(H5Dread(d.id(), native_type<T>(), mspace.id(), space.id(), H5P_DEFAULT, out.data()), f,
+        path, [] { return "cannot read (truncated file?)"; });
   if constexpr (std::is_floating_point_v<T>) {
     for (std::size_t k = 0; k < out.size(); ++k)
       if (!std::isfinite(out[k]))
-        fail(f, path, "non-finite value (" + std::string(std::isnan(out[k]) ? "NaN" : "inf") +
-                          ") at element " + std::to_string(first * (n / count) + k));
+        fail(f, path,
+             "non-finite value (" + std::string(std::isnan(out[k]) ? "NaN" : "inf") +
+                 ") at element " + std::to_string(first * (n / count) + k));
   }
   return out;
 }
 
-#define CDPILE_H5_INSTANTIATE(T)                                                                 \
-  template void write<T>(const File&, const std::string&, const T*, const std::vector<hsize_t>&, \
-                         Layout);                                                                \
-  template void append<T>(const File&, const std::string&, const T*,                             \
-                          const std::vector<hsize_t>&, Layout);                                  \
-  template std::vector<T> read<T>(const File&, const std::string&, const std::vector<hsize_t>&,  \
-                                  std::vector<hsize_t>*);                                        \
+#define CDPILE_H5_INSTANTIATE(T)                                                                  \
+  template void write<T>(const File&, const std::string&, const T*, const std::vector<hsize_t>&,  \
+                         Layout);                                                                 \
+  template void append<T>(const File&, const std::string&, const T*, const std::vector<hsize_t>&, \
+                          Layout);                                                                \
+  template std::vector<T> read<T>(const File&, const std::string&, const std::vector<hsize_t>&,   \
+                                  std::vector<hsize_t>*);                                         \
   template std::vector<T> read_rows<T>(const File&, const std::string&, hsize_t, hsize_t);
 CDPILE_H5_INSTANTIATE(double)
 CDPILE_H5_INSTANTIATE(float)
@@ -585,7 +650,8 @@ CDPILE_H5_INSTANTIATE(std::uint8_t)
 // Text attributes are fixed-length strings: their bytes sit in the attribute itself, so a
 // reader never follows a global-heap reference, where damaged files made HDF5 1.10 loop
 // for ever (docs/fuzzing.md); H5MD 1.1 asks for them too.
-void set_attr(const File& f, const std::string& path, const std::string& name, const std::string& v) {
+void set_attr(const File& f, const std::string& path, const std::string& name,
+              const std::string& v) {
   set_attr_fixed(f, path, name, v);
 }
 void set_attr(const File& f, const std::string& path, const std::string& name, double v) {
@@ -617,7 +683,8 @@ Handle fixed_string_type(std::size_t size) {
 }
 }  // namespace
 
-void set_attr_fixed(const File& f, const std::string& path, const std::string& name, const std::string& v) {
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name,
+                    const std::string& v) {
   Handle t = fixed_string_type(v.size() + 1);
   std::vector<char> buf(v.size() + 1, '\0');
   std::copy(v.begin(), v.end(), buf.begin());
@@ -629,10 +696,12 @@ void set_attr_fixed(const File& f, const std::string& path, const std::string& n
   for (const auto& s : v) len = std::max(len, s.size() + 1);
   Handle t = fixed_string_type(len);
   std::vector<char> buf(len * v.size(), '\0');
-  for (std::size_t k = 0; k < v.size(); ++k) std::copy(v[k].begin(), v[k].end(), buf.begin() + static_cast<std::ptrdiff_t>(k * len));
+  for (std::size_t k = 0; k < v.size(); ++k)
+    std::copy(v[k].begin(), v[k].end(), buf.begin() + static_cast<std::ptrdiff_t>(k * len));
   write_attr_raw(f, path, name, t.id(), {v.size()}, buf.data());
 }
-void set_attr_ascii(const File& f, const std::string& path, const std::string& name, const std::string& v) {
+void set_attr_ascii(const File& f, const std::string& path, const std::string& name,
+                    const std::string& v) {
   Handle t(H5Tcopy(H5T_C_S1));
   H5Tset_size(t.id(), H5T_VARIABLE);
   H5Tset_cset(t.id(), H5T_CSET_ASCII);
@@ -652,7 +721,8 @@ H5T_class_t attr_class(const File& f, const std::string& path, const std::string
   return H5Tget_class(t.id());
 }
 
-std::vector<std::string> attr_strings(const File& f, const std::string& path, const std::string& name) {
+std::vector<std::string> attr_strings(const File& f, const std::string& path,
+                                      const std::string& name) {
   Handle a = open_attr(f, path, name);
   Handle t(H5Aget_type(a.id()));
   if (H5Tget_class(t.id()) != H5T_STRING) fail(f, path, "attribute '" + name + "' is not text");
@@ -665,14 +735,16 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path, co
     Handle mt = string_type();
     H5Tset_cset(mt.id(), H5Tget_cset(t.id()));  // HDF5 does not convert between ASCII and UTF-8
     std::vector<char*> p(static_cast<std::size_t>(n), nullptr);
-    check(H5Aread(a.id(), mt.id(), p.data()), f, path, [&] { return "cannot read attribute " + name; });
+    check(H5Aread(a.id(), mt.id(), p.data()), f, path,
+          [&] { return "cannot read attribute " + name; });
     for (char* s : p) out.emplace_back(s ? s : "");
     Handle space(H5Aget_space(a.id()));
     H5Dvlen_reclaim(mt.id(), space.id(), H5P_DEFAULT, p.data());
   } else {
     std::size_t len = H5Tget_size(t.id());
     std::vector<char> buf(len * static_cast<std::size_t>(n) + 1, '\0');
-    check(H5Aread(a.id(), t.id(), buf.data()), f, path, [&] { return "cannot read attribute " + name; });
+    check(H5Aread(a.id(), t.id(), buf.data()), f, path,
+          [&] { return "cannot read attribute " + name; });
     for (hssize_t k = 0; k < n; ++k) {
       const char* s = buf.data() + static_cast<std::size_t>(k) * len;
       out.emplace_back(s, strnlen(s, len));
@@ -693,7 +765,8 @@ std::vector<T> attr_numbers(const File& f, const std::string& path, const std::s
   Handle a = open_attr(f, path, name);
   Handle t(H5Aget_type(a.id()));
   H5T_class_t cls = H5Tget_class(t.id());
-  if (cls != H5T_INTEGER && cls != H5T_FLOAT) fail(f, path, "attribute '" + name + "' is not a number");
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT)
+    fail(f, path, "attribute '" + name + "' is not a number");
   if (std::is_integral_v<T> && cls != H5T_INTEGER)
     fail(f, path, "attribute '" + name + "' should be an integer");
   const hssize_t n = attr_points(a);
@@ -701,7 +774,8 @@ std::vector<T> attr_numbers(const File& f, const std::string& path, const std::s
   check_claim(f, path, static_cast<double>(n), static_cast<double>(H5Tget_size(t.id())), false);
   std::vector<T> out(static_cast<std::size_t>(n));
   if (out.empty()) return out;  // an empty list: H5Aread refuses a null buffer
-  check(H5Aread(a.id(), native_type<T>(), out.data()), f, path, [&] { return "cannot read attribute " + name; });
+  check(H5Aread(a.id(), native_type<T>(), out.data()), f, path,
+        [&] { return "cannot read attribute " + name; });
   if constexpr (std::is_floating_point_v<T>)
     for (T x : out)
       if (!std::isfinite(x)) fail(f, path, "attribute '" + name + "' is not finite");
@@ -719,20 +793,24 @@ std::int64_t attr_int(const File& f, const std::string& path, const std::string&
   if (v.size() != 1) fail(f, path, "attribute '" + name + "' should hold one integer");
   return v[0];
 }
-std::vector<std::int64_t> attr_ints(const File& f, const std::string& path, const std::string& name) {
+std::vector<std::int64_t> attr_ints(const File& f, const std::string& path,
+                                    const std::string& name) {
   return attr_numbers<std::int64_t>(f, path, name);
 }
 
 std::vector<std::string> attr_names(const File& f, const std::string& path) {
   Handle obj = open_object(f, path);
   H5O_info_t info;
-  check(H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS), f, path, [] { return "cannot list attributes"; });
+  check(H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS), f, path,
+        [] { return "cannot list attributes"; });
   std::vector<std::string> out;
   for (hsize_t k = 0; k < info.num_attrs; ++k) {
-    ssize_t len = H5Aget_name_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    ssize_t len =
+        H5Aget_name_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
     if (len < 0) fail(f, path, "cannot list attributes");
     std::string name(static_cast<std::size_t>(len), '\0');
-    H5Aget_name_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1, H5P_DEFAULT);
+    H5Aget_name_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
     out.push_back(name);
   }
   return out;

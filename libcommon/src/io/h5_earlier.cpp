@@ -28,8 +28,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -75,7 +75,9 @@ int version_at_signature(std::uint64_t size, Read&& read) {
 /// file type.
 void copy_attributes(const File& src, const File& dst, const std::string& path) {
   for (const std::string& name : attr_names(src, path)) {
-    auto fail = [&](const std::string& what) { throw Error(src.name(), path, "attribute '" + name + "': " + what); };
+    auto fail = [&](const std::string& what) {
+      throw Error(src.name(), path, "attribute '" + name + "': " + what);
+    };
     Handle obj(H5Oopen(src.id(), path.c_str(), H5P_DEFAULT));
     Handle a(obj.valid() ? H5Aopen(obj.id(), name.c_str(), H5P_DEFAULT) : H5I_INVALID_HID);
     if (!a.valid()) fail("cannot open");
@@ -88,7 +90,8 @@ void copy_attributes(const File& src, const File& dst, const std::string& path) 
     std::vector<unsigned char> buf(static_cast<std::size_t>(size) + 1);
     if (n > 0 && H5Aread(a.id(), mtype.id(), buf.data()) < 0) fail("cannot read");
     Handle to(H5Oopen(dst.id(), path.c_str(), H5P_DEFAULT));
-    Handle b(to.valid() ? H5Acreate2(to.id(), name.c_str(), ftype.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT)
+    Handle b(to.valid() ? H5Acreate2(to.id(), name.c_str(), ftype.id(), space.id(), H5P_DEFAULT,
+                                     H5P_DEFAULT)
                         : H5I_INVALID_HID);
     const bool written = b.valid() && (n == 0 || H5Awrite(b.id(), mtype.id(), buf.data()) >= 0);
     if (n > 0 && (H5Tdetect_class(mtype.id(), H5T_VLEN) > 0 || H5Tis_variable_str(mtype.id()) > 0))
@@ -121,7 +124,8 @@ void prepare_child(pid_t parent, double cpu_seconds, double memory_bytes) {
   double mapped = 0;
   if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
     unsigned long pages = 0;
-    if (std::fscanf(statm, "%lu", &pages) == 1) mapped = static_cast<double>(pages) * static_cast<double>(::sysconf(_SC_PAGESIZE));
+    if (std::fscanf(statm, "%lu", &pages) == 1)
+      mapped = static_cast<double>(pages) * static_cast<double>(::sysconf(_SC_PAGESIZE));
     std::fclose(statm);
   }
   const auto as = static_cast<rlim_t>(mapped + memory_bytes);
@@ -168,7 +172,8 @@ std::vector<char> rewrite_in_current_format(const File& src) {
   copy_attributes(src, dst, "/");
   for (const std::string& name : members(src, "/")) {
     H5L_info_t link;
-    if (H5Lget_info(src.id(), name.c_str(), &link, H5P_DEFAULT) < 0) throw Error(src.name(), "/" + name, "cannot read the link");
+    if (H5Lget_info(src.id(), name.c_str(), &link, H5P_DEFAULT) < 0)
+      throw Error(src.name(), "/" + name, "cannot read the link");
     if (link.type == H5L_TYPE_SOFT) {  // kept as a link, as H5Ocopy keeps those below the root
       std::vector<char> target(std::min<std::size_t>(link.u.val_size, 1 << 16) + 1, '\0');
       if (H5Lget_val(src.id(), name.c_str(), target.data(), target.size(), H5P_DEFAULT) < 0 ||
@@ -182,16 +187,20 @@ std::vector<char> rewrite_in_current_format(const File& src) {
   return image_of(dst);
 }
 
-Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds, double memory_bytes) {
+Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds,
+                    double memory_bytes) {
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot start a process to read a file of the earlier format: " + std::string(std::strerror(errno)));
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw Error("cannot start a process to read a file of the earlier format: " +
+                std::string(std::strerror(errno)));
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int err = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    throw Error("cannot start a process to read a file of the earlier format: " + std::string(std::strerror(err)));
+    throw Error("cannot start a process to read a file of the earlier format: " +
+                std::string(std::strerror(err)));
   }
   if (pid == 0) {
     ::close(fds[0]);
@@ -221,17 +230,23 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
   // Everything the child writes, until it closes the pipe by ending. The CPU bound ends a
   // loop; a wall-clock bound (far longer: the machine may be busy) ends a child that
   // waits for ever, which no damage should make it do.
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration<double>(60.0 + 20.0 * cpu_seconds);
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(60.0 + 20.0 * cpu_seconds);
   std::vector<char> got;
   bool timed_out = false;
   char buf[1 << 16];
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                          deadline - std::chrono::steady_clock::now())
+                          .count();
     pollfd p{fds[0], POLLIN, 0};
-    const int ready = left > 0 ? ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1 << 30))) : 0;
+    const int ready =
+        left > 0 ? ::poll(&p, 1, static_cast<int>(std::min<long long>(left, 1 << 30))) : 0;
     if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) { timed_out = true; break; }
+    if (ready <= 0) {
+      timed_out = true;
+      break;
+    }
     const ssize_t r = ::read(fds[0], buf, sizeof buf);
     if (r < 0 && errno == EINTR) continue;
     if (r <= 0) break;
@@ -241,12 +256,13 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
   ::close(fds[0]);
   int status = 0;
   rusage ru{};
-  while (::wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {}
+  while (::wait4(pid, &status, 0, &ru) < 0 && errno == EINTR) {
+  }
   Checked c;
   const bool ended = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (timed_out ||
-      (WIFSIGNALED(status) &&
-       (WTERMSIG(status) == SIGXCPU || (WTERMSIG(status) == SIGKILL && cpu_seconds_of(ru) >= std::floor(cpu_seconds))))) {
+  if (timed_out || (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU ||
+                                            (WTERMSIG(status) == SIGKILL &&
+                                             cpu_seconds_of(ru) >= std::floor(cpu_seconds))))) {
     c.verdict = Check::looped;
   } else if (ended && !got.empty() && got[0] == 'k') {
     c.verdict = Check::passed;
@@ -261,14 +277,16 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
   return c;
 }
 
-File open_earlier_format(int superblock, double bytes, const std::function<File()>& open, const std::string& name) {
+File open_earlier_format(int superblock, double bytes, const std::function<File()>& open,
+                         const std::string& name) {
   // Rewriting an intact file of this size takes a small part of this; a loop on damaged
   // metadata runs until it.
   const double cpu_seconds = 5.0 + std::floor(bytes / 8e6);
   // The child holds the file's data twice at most (what it reads, what it writes).
   Checked c;
   try {
-    c = run_checked([&] { return rewrite_in_current_format(open()); }, cpu_seconds, 1e9 + 3 * bytes);
+    c = run_checked([&] { return rewrite_in_current_format(open()); }, cpu_seconds,
+                    1e9 + 3 * bytes);
   } catch (const Error& e) {  // no pipe or no process: the file named, as every error
     throw Error(name, "", e.what());
   }
@@ -277,16 +295,21 @@ File open_earlier_format(int superblock, double bytes, const std::function<File(
     return File(open_image_unchecked(*image, name), image);
   }
   if (c.verdict == Check::failed)
-    throw Error(c.error.empty() ? Error::join(name, "", "too large to read within 1 GB of memory plus 3 times its size") : c.error);
-  const std::string what =
-      c.verdict == Check::crashed ? "crashed reading it"
-                                  : "did not finish reading it in " + std::to_string(static_cast<int>(cpu_seconds)) +
-                                        " s of CPU time (a loop)";
-  throw Error(name, "",
-              "damaged file of HDF5's earlier format (superblock version " + std::to_string(superblock) +
-                  ", no checksums): libhdf5 " + library_version() + " " + what +
-                  " in a separate process; an intact copy can be rewritten in the checksummed format "
-                  "with h5repack --low=2 --high=2 OLD NEW");
+    throw Error(
+        c.error.empty()
+            ? Error::join(name, "", "too large to read within 1 GB of memory plus 3 times its size")
+            : c.error);
+  const std::string what = c.verdict == Check::crashed
+                               ? "crashed reading it"
+                               : "did not finish reading it in " +
+                                     std::to_string(static_cast<int>(cpu_seconds)) +
+                                     " s of CPU time (a loop)";
+  throw Error(
+      name, "",
+      "damaged file of HDF5's earlier format (superblock version " + std::to_string(superblock) +
+          ", no checksums): libhdf5 " + library_version() + " " + what +
+          " in a separate process; an intact copy can be rewritten in the checksummed format "
+          "with h5repack --low=2 --high=2 OLD NEW");
 }
 
 }  // namespace cdpile::io::h5

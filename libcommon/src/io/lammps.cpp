@@ -19,8 +19,10 @@ namespace cdpile::io::lammps {
 namespace {
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -77,15 +79,18 @@ std::optional<std::size_t> Snapshot::find(const std::string& column) const {
 // Dumps
 
 std::vector<Snapshot> parse_dump(const std::string& text, const std::string& file) {
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw Error(file, "", "empty: not a LAMMPS dump");
-  if (text.find('\0') != std::string::npos) throw Error(file, "", "binary data: not a text LAMMPS dump");
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw Error(file, "", "empty: not a LAMMPS dump");
+  if (text.find('\0') != std::string::npos)
+    throw Error(file, "", "binary data: not a text LAMMPS dump");
   const auto lines = split_lines(text);
   std::vector<Snapshot> out;
   std::optional<Snapshot> cur;
   std::int64_t count = -1;  // rows announced by ITEM: NUMBER OF, -1 before it
   std::size_t k = 0;
   auto next_value = [&](const char* what) -> std::string_view {
-    if (k + 1 >= lines.size()) throw Error(at_line(file, k + 1), "", std::string("ends after ITEM: ") + what);
+    if (k + 1 >= lines.size())
+      throw Error(at_line(file, k + 1), "", std::string("ends after ITEM: ") + what);
     return trim(lines[k + 1]);
   };
   auto need_open = [&](std::string_view item) {
@@ -95,7 +100,10 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
   };
   while (k < lines.size()) {
     const std::string_view line = trim(lines[k]);
-    if (line.empty()) { ++k; continue; }
+    if (line.empty()) {
+      ++k;
+      continue;
+    }
     if (!starts_with(line, "ITEM:")) {
       throw Error(at_line(file, k + 1), "",
                   "expected an 'ITEM:' line, got '" + std::string(line.substr(0, 40)) + "'" +
@@ -124,19 +132,25 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
     } else if (starts_with(item, "NUMBER OF")) {
       need_open(item);
       const auto v = parse_integer(next_value("NUMBER OF"));
-      if (!v || *v < 0) throw Error(at_line(file, k + 2), "", "the number of rows is not a non-negative integer");
+      if (!v || *v < 0)
+        throw Error(at_line(file, k + 2), "", "the number of rows is not a non-negative integer");
       count = *v;
       k += 2;
     } else if (starts_with(item, "BOX BOUNDS")) {
       need_open(item);
       auto flags = words(item.substr(10));
       const bool triclinic = !flags.empty() && flags[0] == "xy";
-      if (triclinic) flags.erase(flags.begin(), flags.begin() + std::min<std::size_t>(3, flags.size()));
+      if (triclinic)
+        flags.erase(flags.begin(), flags.begin() + std::min<std::size_t>(3, flags.size()));
       for (std::size_t d = 0; d < 3; ++d) {
-        if (k + 1 + d >= lines.size()) throw Error(at_line(file, k + 1), "", "box bounds cut short");
+        if (k + 1 + d >= lines.size())
+          throw Error(at_line(file, k + 1), "", "box bounds cut short");
         const auto w = words(lines[k + 1 + d]);
         std::optional<double> lo, hi;
-        if (w.size() >= 2) { lo = parse_number(w[0]); hi = parse_number(w[1]); }
+        if (w.size() >= 2) {
+          lo = parse_number(w[0]);
+          hi = parse_number(w[1]);
+        }
         if (!lo || !hi) throw Error(at_line(file, k + 2 + d), "", "box bounds are not two numbers");
         cur->box[2 * d] = *lo;
         cur->box[2 * d + 1] = *hi;
@@ -146,7 +160,8 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
     } else if (starts_with(item, "ATOMS") || starts_with(item, "ENTRIES")) {
       need_open(item);
       const bool atoms = starts_with(item, "ATOMS");
-      if (count < 0) throw Error(at_line(file, k + 1), "", "no 'ITEM: NUMBER OF ...' before the rows");
+      if (count < 0)
+        throw Error(at_line(file, k + 1), "", "no 'ITEM: NUMBER OF ...' before the rows");
       cur->kind = atoms ? Snapshot::Kind::atoms : Snapshot::Kind::entries;
       cur->columns = words(item.substr(atoms ? 5 : 7));
       if (cur->columns.empty()) throw Error(at_line(file, k + 1), "", "no column names");
@@ -160,12 +175,13 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
         const std::size_t at = k + 1 + r;
         if (at >= lines.size() || starts_with(trim(lines[at]), "ITEM:"))
           throw Error(at_line(file, std::min(at, lines.size()) + (at >= lines.size() ? 0 : 1)), "",
-                      "step " + std::to_string(cur->step) + " ends after " + std::to_string(r) + " of " +
-                          std::to_string(n) + " rows (a truncated dump?)");
+                      "step " + std::to_string(cur->step) + " ends after " + std::to_string(r) +
+                          " of " + std::to_string(n) + " rows (a truncated dump?)");
         const auto w = words(lines[at]);
         if (w.size() != cur->columns.size())
           throw Error(at_line(file, at + 1), "",
-                      std::to_string(w.size()) + " fields, the header has " + std::to_string(cur->columns.size()));
+                      std::to_string(w.size()) + " fields, the header has " +
+                          std::to_string(cur->columns.size()));
         for (std::size_t c = 0; c < w.size(); ++c)
           cur->values[c].push_back(parse_number(w[c]).value_or(std::nan("")));
         cur->line.push_back(at + 1);
@@ -179,7 +195,9 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
       while (k < lines.size() && !starts_with(trim(lines[k]), "ITEM:")) ++k;
     }
   }
-  if (cur) throw Error(at_line(file, cur->first_line), "", "step " + std::to_string(cur->step) + " has no rows section (truncated?)");
+  if (cur)
+    throw Error(at_line(file, cur->first_line), "",
+                "step " + std::to_string(cur->step) + " has no rows section (truncated?)");
   return out;
 }
 
@@ -226,11 +244,11 @@ std::string strip_comment(std::string_view s) {
   return std::string(s);
 }
 
-void run_command(const std::vector<std::string>& w, const std::string& where, const std::string& folder,
-                 Script& into, int depth);
+void run_command(const std::vector<std::string>& w, const std::string& where,
+                 const std::string& folder, Script& into, int depth);
 
-void parse_lines(const std::string& text, const std::string& file, const std::string& folder, Script& into,
-                 int depth) {
+void parse_lines(const std::string& text, const std::string& file, const std::string& folder,
+                 Script& into, int depth) {
   const auto lines = split_lines(text);
   std::string joined;
   std::size_t first = 0;
@@ -249,8 +267,8 @@ void parse_lines(const std::string& text, const std::string& file, const std::st
   }
 }
 
-void run_command(const std::vector<std::string>& w, const std::string& where, const std::string& folder,
-                 Script& into, int depth) {
+void run_command(const std::vector<std::string>& w, const std::string& where,
+                 const std::string& folder, Script& into, int depth) {
   const std::string& cmd = w[0];
   if (cmd == "compute" && w.size() >= 4) {
     Script::Compute c;
@@ -261,10 +279,14 @@ void run_command(const std::vector<std::string>& w, const std::string& where, co
   } else if (cmd == "fix" && w.size() >= 4 && starts_with(w[3], "wall/gran")) {
     Script::WallFix f;
     for (std::size_t k = 4; k < w.size(); ++k) {
-      if (w[k] == "xplane") f.axis = 'x';
-      else if (w[k] == "yplane") f.axis = 'y';
-      else if (w[k] == "zplane") f.axis = 'z';
-      else if (w[k] == "contacts") f.contacts = true;
+      if (w[k] == "xplane")
+        f.axis = 'x';
+      else if (w[k] == "yplane")
+        f.axis = 'y';
+      else if (w[k] == "zplane")
+        f.axis = 'z';
+      else if (w[k] == "contacts")
+        f.contacts = true;
     }
     into.walls[w[1]] = f;
   } else if (cmd == "unfix" && w.size() >= 2) {
@@ -275,7 +297,8 @@ void run_command(const std::vector<std::string>& w, const std::string& where, co
     into.units = w[1];
   } else if (cmd == "timestep" && w.size() >= 2) {
     if (auto v = parse_number(w[1])) into.timestep = *v;
-  } else if (cmd == "include" && w.size() >= 2 && w[1].find('$') == std::string::npos && depth < 8) {
+  } else if (cmd == "include" && w.size() >= 2 && w[1].find('$') == std::string::npos &&
+             depth < 8) {
     const std::filesystem::path p = std::filesystem::path(folder) / w[1];
     if (std::filesystem::exists(p)) read_script(p.string(), into);
   } else if (cmd == "if") {
@@ -283,8 +306,16 @@ void run_command(const std::vector<std::string>& w, const std::string& where, co
     // commands are read (the condition is not evaluated).
     bool commands = false;
     for (std::size_t k = 2; k < w.size(); ++k) {
-      if (w[k] == "then" || w[k] == "else") { commands = true; continue; }
-      if (w[k] == "elif") { commands = false; ++k; commands = true; continue; }
+      if (w[k] == "then" || w[k] == "else") {
+        commands = true;
+        continue;
+      }
+      if (w[k] == "elif") {
+        commands = false;
+        ++k;
+        commands = true;
+        continue;
+      }
       if (commands) parse_lines(w[k], where, folder, into, depth + 1);
     }
   }
@@ -292,7 +323,8 @@ void run_command(const std::vector<std::string>& w, const std::string& where, co
 
 }  // namespace
 
-void parse_script(const std::string& text, const std::string& file, const std::string& folder, Script& into) {
+void parse_script(const std::string& text, const std::string& file, const std::string& folder,
+                  Script& into) {
   parse_lines(text, file, folder, into, 0);
 }
 
@@ -317,8 +349,9 @@ std::string length_unit_of(const std::string& style) {
 // Column roles
 
 const std::vector<std::string>& entry_roles() {
-  static const std::vector<std::string> r{"id1", "id2", "fn", "fnx", "fny", "ftx", "fty", "ftmag", "fx", "fy",
-                                          "x1",  "y1",  "x2", "y2",  "px",  "py",  "wall", "dist", "delta"};
+  static const std::vector<std::string> r{"id1",   "id2", "fn",   "fnx",  "fny",  "ftx", "fty",
+                                          "ftmag", "fx",  "fy",   "x1",   "y1",   "x2",  "y2",
+                                          "px",    "py",  "wall", "dist", "delta"};
   return r;
 }
 
@@ -333,28 +366,43 @@ bool granular_pair_style(const std::string& s) { return starts_with(s, "gran") |
 
 /// The roles of the values of one compute, in output order; `count` is how many columns of
 /// it the header has (for LIGGGHTS' history, whose length depends on the pair style).
-std::vector<std::string> compute_roles(const Script::Compute& c, const Script& s, std::size_t count) {
+std::vector<std::string> compute_roles(const Script::Compute& c, const Script& s,
+                                       std::size_t count) {
   std::vector<std::string> out;
   if (c.style == "property/local") {
     for (const auto& a : c.args) {
       if (a == "cutoff") break;
-      out.push_back(a == "patom1" || a == "natom1" ? "id1" : a == "patom2" || a == "natom2" ? "id2" : "");
+      out.push_back(a == "patom1" || a == "natom1"   ? "id1"
+                    : a == "patom2" || a == "natom2" ? "id2"
+                                                     : "");
     }
   } else if (c.style == "pair/local") {
     const bool gran = granular_pair_style(s.pair_style);
     for (const auto& a : c.args) {
       if (a == "cutoff") break;
-      if (s.pair_style.empty() && a.size() > 1 && a[0] == 'p' && std::isdigit(static_cast<unsigned char>(a[1])))
-        throw Error(c.where, "", "compute pair/local " + a + ": its meaning depends on the pair style, which the "
-                                 "script does not set (read_restart?): give " + field("pair_style"));
-      if (a == "dist") out.push_back("dist");
-      else if (a == "force") out.push_back("fn");
-      else if (a == "fx") out.push_back("fnx");
-      else if (a == "fy") out.push_back("fny");
-      else if (gran && a == "p1") out.push_back("ftx");
-      else if (gran && a == "p2") out.push_back("fty");
-      else if (gran && a == "p4") out.push_back("ftmag");
-      else out.push_back("");
+      if (s.pair_style.empty() && a.size() > 1 && a[0] == 'p' &&
+          std::isdigit(static_cast<unsigned char>(a[1])))
+        throw Error(c.where, "",
+                    "compute pair/local " + a +
+                        ": its meaning depends on the pair style, which the "
+                        "script does not set (read_restart?): give " +
+                        field("pair_style"));
+      if (a == "dist")
+        out.push_back("dist");
+      else if (a == "force")
+        out.push_back("fn");
+      else if (a == "fx")
+        out.push_back("fnx");
+      else if (a == "fy")
+        out.push_back("fny");
+      else if (gran && a == "p1")
+        out.push_back("ftx");
+      else if (gran && a == "p2")
+        out.push_back("fty");
+      else if (gran && a == "p4")
+        out.push_back("ftmag");
+      else
+        out.push_back("");
     }
   } else if (c.style == "pair/gran/local" || c.style == "wall/gran/local") {
     const bool wall = c.style == "wall/gran/local";
@@ -362,8 +410,11 @@ std::vector<std::string> compute_roles(const Script::Compute& c, const Script& s
     // history contactArea; with keywords only those; values always in this order.
     std::set<std::string> on(c.args.begin(), c.args.end());
     if (c.args.empty()) on = {"pos", "vel", "id", "force", "torque", "history", "contactArea"};
-    auto add = [&](std::initializer_list<const char*> v) { for (const char* x : v) out.push_back(x); };
-    if (on.count("pos")) wall ? add({"px", "py", "", "x1", "y1", ""}) : add({"x1", "y1", "", "x2", "y2", ""});
+    auto add = [&](std::initializer_list<const char*> v) {
+      for (const char* x : v) out.push_back(x);
+    };
+    if (on.count("pos"))
+      wall ? add({"px", "py", "", "x1", "y1", ""}) : add({"x1", "y1", "", "x2", "y2", ""});
     if (on.count("vel")) add({"", "", "", "", "", ""});
     if (on.count("id")) wall ? add({"wall", "", "id1"}) : add({"id1", "id2", ""});
     if (on.count("force")) add({"fx", "fy", ""});
@@ -393,9 +444,9 @@ std::optional<std::pair<std::string, std::size_t>> compute_column(const std::str
 
 }  // namespace
 
-std::vector<std::string> entry_column_roles(const std::vector<std::string>& columns, const Script& script,
-                                            const std::map<std::string, std::string>& explicit_roles,
-                                            const std::string& where) {
+std::vector<std::string> entry_column_roles(
+    const std::vector<std::string>& columns, const Script& script,
+    const std::map<std::string, std::string>& explicit_roles, const std::string& where) {
   std::vector<std::string> roles(columns.size());
   std::map<std::string, std::size_t> per_compute;  // columns of each compute in this header
   for (const auto& c : columns)
@@ -411,15 +462,17 @@ std::vector<std::string> entry_column_roles(const std::vector<std::string>& colu
       if (it2 == script.computes.end()) continue;
       const auto r = compute_roles(it2->second, script, per_compute[cc->first]);
       if (cc->second > r.size())
-        throw Error(where, "", "column " + c + ": compute " + cc->first + " (" + it2->second.where + ") has " +
-                                   std::to_string(r.size()) + " values");
+        throw Error(where, "",
+                    "column " + c + ": compute " + cc->first + " (" + it2->second.where + ") has " +
+                        std::to_string(r.size()) + " values");
       roles[k] = r[cc->second - 1];
     }
   }
   for (std::size_t a = 0; a < roles.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
       if (!roles[a].empty() && roles[a] == roles[b])
-        throw Error(where, "", "columns " + columns[b] + " and " + columns[a] + " both hold " + roles[a]);
+        throw Error(where, "",
+                    "columns " + columns[b] + " and " + columns[a] + " both hold " + roles[a]);
   return roles;
 }
 
@@ -435,7 +488,7 @@ struct Vec {
 /// Columns of an atoms snapshot, found by name.
 struct AtomColumns {
   std::size_t id = 0, x = 0, y = 0, size = 0;
-  int coord = 0;            // 0 x y, 1 xu yu, 2 xs ys (scaled)
+  int coord = 0;  // 0 x y, 1 xu yu, 2 xs ys (scaled)
   bool diameter = false;
   std::optional<std::size_t> mass, fx, fy, theta;
 };
@@ -449,14 +502,16 @@ std::string header_of(const Snapshot& s) {
 AtomColumns atom_columns(const Snapshot& s, const ConvertOptions& opt) {
   AtomColumns a;
   const std::string where = at_line(s.file, s.first_line);
-  auto need = [&](std::initializer_list<const char*> names, const char* what) -> std::pair<std::size_t, int> {
+  auto need = [&](std::initializer_list<const char*> names,
+                  const char* what) -> std::pair<std::size_t, int> {
     int k = 0;
     for (const char* n : names) {
       if (auto c = s.find(n)) return {*c, k};
       ++k;
     }
-    throw Error(where, "", std::string("atoms of step ") + std::to_string(s.step) + " have no " + what +
-                               " column (the header has: " + header_of(s) + ")");
+    throw Error(where, "",
+                std::string("atoms of step ") + std::to_string(s.step) + " have no " + what +
+                    " column (the header has: " + header_of(s) + ")");
   };
   a.id = need({"id"}, "id").first;
   auto [x, cx] = need({"x", "xu", "xs", "xsu"}, "x (x, xu or xs)");
@@ -464,7 +519,8 @@ AtomColumns atom_columns(const Snapshot& s, const ConvertOptions& opt) {
   a.x = x;
   a.y = y;
   a.coord = std::min(cx, 2);
-  if (std::min(cy, 2) != a.coord) throw Error(where, "", "x and y are not of the same kind (scaled, unwrapped)");
+  if (std::min(cy, 2) != a.coord)
+    throw Error(where, "", "x and y are not of the same kind (scaled, unwrapped)");
   auto [r, cr] = need({"radius", "diameter"}, "radius (radius or diameter)");
   a.size = r;
   a.diameter = cr == 1;
@@ -474,8 +530,10 @@ AtomColumns atom_columns(const Snapshot& s, const ConvertOptions& opt) {
   if (!opt.theta_column.empty()) {
     a.theta = s.find(opt.theta_column);
     if (!a.theta)
-      throw Error(where, "", "atoms of step " + std::to_string(s.step) + " have no column '" + opt.theta_column +
-                                 "' (" + field("theta_column") + "; the header has: " + header_of(s) + ")");
+      throw Error(where, "",
+                  "atoms of step " + std::to_string(s.step) + " have no column '" +
+                      opt.theta_column + "' (" + field("theta_column") +
+                      "; the header has: " + header_of(s) + ")");
   }
   return a;
 }
@@ -511,14 +569,15 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
       auto [it, fresh] = atoms.emplace(s.step, &s);
       if (!fresh)
         throw Error(at_line(s.file, s.first_line), "",
-                    "a second atoms snapshot of step " + std::to_string(s.step) + " (the first: " +
-                        at_line(it->second->file, it->second->first_line) + ")");
+                    "a second atoms snapshot of step " + std::to_string(s.step) +
+                        " (the first: " + at_line(it->second->file, it->second->first_line) + ")");
     } else {
       entries[s.step].push_back(&s);
     }
   }
-  if (atoms.empty()) throw Error(dumps.empty() ? std::string("from-lammps") : dumps.front().name, "",
-                                 "no atoms snapshot (ITEM: ATOMS of a dump custom with id x y radius)");
+  if (atoms.empty())
+    throw Error(dumps.empty() ? std::string("from-lammps") : dumps.front().name, "",
+                "no atoms snapshot (ITEM: ATOMS of a dump custom with id x y radius)");
 
   // Wall fixes: from the script (with `contacts`) and --wall.
   std::map<std::string, char> walls;
@@ -534,7 +593,8 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
   const std::optional<double> dt = opt.dt ? opt.dt : opt.script.timestep;
   out.has_theta = opt.rate.has_value() || !opt.theta_column.empty();
   out.length_unit = length_unit_of(opt.script.units);
-  if (out.length_unit.empty() && opt.script.units.empty()) out.length_unit = length_unit_of(atoms.begin()->second->units);
+  if (out.length_unit.empty() && opt.script.units.empty())
+    out.length_unit = length_unit_of(atoms.begin()->second->units);
   bool any_vector_ft = false, any_magnitude_ft = false;
   std::set<std::string> missing_walls;
 
@@ -543,8 +603,9 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
     if (ait == atoms.end()) {
       const Snapshot& e = *entries[step].front();
       throw Error(at_line(e.file, e.first_line), "",
-                  "contacts of step " + std::to_string(step) + " but no atoms snapshot of that step (dump the atoms "
-                  "at the same steps as the contacts)");
+                  "contacts of step " + std::to_string(step) +
+                      " but no atoms snapshot of that step (dump the atoms "
+                      "at the same steps as the contacts)");
     }
     const Snapshot& A = *ait->second;
     const std::string awhere = at_line(A.file, A.first_line);
@@ -559,28 +620,38 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
       if (!(idv == std::floor(idv)))
         throw Error(at_line(A.file, A.line[r]), "", "atom id is not an integer");
       if (!index.emplace(static_cast<std::int64_t>(idv), r).second)
-        throw Error(at_line(A.file, A.line[r]), "", "atom id " + fmt(idv) + " appears twice in step " + std::to_string(step));
+        throw Error(at_line(A.file, A.line[r]), "",
+                    "atom id " + fmt(idv) + " appears twice in step " + std::to_string(step));
       double x = A.values[ac.x][r], y = A.values[ac.y][r], s = A.values[ac.size][r];
-      if (ac.coord == 2) { x = A.box[0] + x * lx; y = A.box[2] + y * ly; }
+      if (ac.coord == 2) {
+        x = A.box[0] + x * lx;
+        y = A.box[2] + y * ly;
+      }
       if (!std::isfinite(x) || !std::isfinite(y) || !(s > 0))
-        throw Error(at_line(A.file, A.line[r]), "", "atom position or radius is not a finite, positive number");
+        throw Error(at_line(A.file, A.line[r]), "",
+                    "atom position or radius is not a finite, positive number");
       pos[r] = {x, y};
       rad[r] = ac.diameter ? 0.5 * s : s;
     }
     // Tilt of the frame.
     std::optional<double> theta;
     if (opt.rate) {
-      if (dt) theta = *opt.rate * *dt * static_cast<double>(step);
-      else if (A.time) theta = *opt.rate * *A.time;
-      else throw UsageError(field("rate") + " needs " + field("dt") + " (theta = rate dt step): the script has no numeric timestep and the "
-                            "dump no TIME");
+      if (dt)
+        theta = *opt.rate * *dt * static_cast<double>(step);
+      else if (A.time)
+        theta = *opt.rate * *A.time;
+      else
+        throw UsageError(field("rate") + " needs " + field("dt") +
+                         " (theta = rate dt step): the script has no numeric timestep and the "
+                         "dump no TIME");
     } else if (ac.theta) {
       const auto& v = A.values[*ac.theta];
       theta = v.empty() ? 0.0 : v[0];
       for (std::size_t r = 0; r < n; ++r)
         if (!(v[r] == *theta))
-          throw Error(at_line(A.file, A.line[r]), "", field("theta_column") + " " + opt.theta_column + " differs within step " +
-                                                          std::to_string(step));
+          throw Error(at_line(A.file, A.line[r]), "",
+                      field("theta_column") + " " + opt.theta_column + " differs within step " +
+                          std::to_string(step));
     }
     const bool periodic_x = !A.boundary[0].empty() && A.boundary[0][0] == 'p';
     const bool periodic_y = !A.boundary[1].empty() && A.boundary[1][0] == 'p';
@@ -595,28 +666,34 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
         throw Error(at_line(s.file, s.line[r]), "", "atom id is not an integer");
       auto it = index.find(static_cast<std::int64_t>(idv));
       if (it == index.end())
-        throw Error(at_line(s.file, s.line[r]), "", "atom " + fmt(idv) + " is not in the atoms of step " +
-                                                        std::to_string(step) + " (" + awhere + ")");
+        throw Error(at_line(s.file, s.line[r]), "",
+                    "atom " + fmt(idv) + " is not in the atoms of step " + std::to_string(step) +
+                        " (" + awhere + ")");
       return it->second;
     };
 
     std::vector<Row> rows;
     std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> seen;  // pair -> index in rows
-    std::vector<Vec> force(n);   // the table's forces on each atom, for the check
+    std::vector<Vec> force(n);  // the table's forces on each atom, for the check
     std::vector<bool> walled(n, false);
     auto add_row = [&](Row row, std::size_t a, std::size_t b, bool pair, Vec nrm) {
       const std::pair<std::int64_t, std::int64_t> key =
-          pair ? std::make_pair(std::min(row.i, row.j), std::max(row.i, row.j)) : std::make_pair(row.i, row.j);
+          pair ? std::make_pair(std::min(row.i, row.j), std::max(row.i, row.j))
+               : std::make_pair(row.i, row.j);
       if (auto it = seen.find(key); it != seen.end()) {
         const Row& first = rows[it->second];
         const std::string what = (pair ? "pair " : "wall contact ") + std::to_string(row.i) + "-" +
                                  std::to_string(row.j) + " of step " + std::to_string(step);
         if (opt.duplicates == Duplicates::error)
-          throw Error(row.where, "", what + " is also at " + first.where +
-                                         " (newton off or several ranks list a pair twice: " + field("duplicates") + " merge)");
+          throw Error(row.where, "",
+                      what + " is also at " + first.where +
+                          " (newton off or several ranks list a pair twice: " +
+                          field("duplicates") + " merge)");
         const double scale = std::max({std::abs(first.fn), std::abs(row.fn), 1e-300});
-        if (std::abs(first.fn - row.fn) > 1e-9 * scale || std::abs(std::abs(first.ft) - std::abs(row.ft)) > 1e-9 * scale)
-          throw Error(row.where, "", what + " is also at " + first.where + " with other forces: cannot merge");
+        if (std::abs(first.fn - row.fn) > 1e-9 * scale ||
+            std::abs(std::abs(first.ft) - std::abs(row.ft)) > 1e-9 * scale)
+          throw Error(row.where, "",
+                      what + " is also at " + first.where + " with other forces: cannot merge");
         ++out.merged;
         return;
       }
@@ -636,7 +713,8 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
 
     // Contacts of dump local snapshots (LAMMPS pairs; LIGGGHTS pairs and mesh walls).
     bool pair_seen = false, wall_seen = false;
-    for (const Snapshot* sp : entries.count(step) ? entries[step] : std::vector<const Snapshot*>{}) {
+    for (const Snapshot* sp :
+         entries.count(step) ? entries[step] : std::vector<const Snapshot*>{}) {
       const Snapshot& E = *sp;
       const std::string where = at_line(E.file, E.first_line);
       const auto roles = entry_column_roles(E.columns, opt.script, opt.columns, where);
@@ -647,31 +725,38 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
       };
       const bool wall = col("wall").has_value();
       if ((wall && wall_seen) || (!wall && pair_seen))
-        throw Error(where, "", std::string("a second ") + (wall ? "wall" : "pair") + " contacts snapshot of step " +
-                                   std::to_string(step));
+        throw Error(where, "",
+                    std::string("a second ") + (wall ? "wall" : "pair") +
+                        " contacts snapshot of step " + std::to_string(step));
       (wall ? wall_seen : pair_seen) = true;
       auto explain = [&](const std::string& what) {
-        return "contacts of step " + std::to_string(step) + " have no " + what + " (the header has: " +
-               header_of(E) + "; name the computes with " + field("script") + " or the columns with " + field("columns") + " NAME=ROLE)";
+        return "contacts of step " + std::to_string(step) + " have no " + what +
+               " (the header has: " + header_of(E) + "; name the computes with " + field("script") +
+               " or the columns with " + field("columns") + " NAME=ROLE)";
       };
       const auto c1 = col("id1"), c2 = col("id2");
-      if (!c1 || (!wall && !c2)) throw Error(where, "", explain(wall ? "particle id (id1)" : "atom ids (id1, id2)"));
-      const auto cfn = col("fn"), cfnx = col("fnx"), cfny = col("fny"), cftx = col("ftx"), cfty = col("fty"),
-                 cftm = col("ftmag"), cfx = col("fx"), cfy = col("fy"), cx1 = col("x1"), cy1 = col("y1"),
-                 cx2 = col("x2"), cy2 = col("y2"), cpx = col("px"), cpy = col("py");
+      if (!c1 || (!wall && !c2))
+        throw Error(where, "", explain(wall ? "particle id (id1)" : "atom ids (id1, id2)"));
+      const auto cfn = col("fn"), cfnx = col("fnx"), cfny = col("fny"), cftx = col("ftx"),
+                 cfty = col("fty"), cftm = col("ftmag"), cfx = col("fx"), cfy = col("fy"),
+                 cx1 = col("x1"), cy1 = col("y1"), cx2 = col("x2"), cy2 = col("y2"),
+                 cpx = col("px"), cpy = col("py");
       const bool normal_vec = cfnx && cfny, tangent_vec = cftx && cfty, total = cfx && cfy;
       if (!cfn && !normal_vec && !total)
         throw Error(where, "", explain("normal force (fn, fnx fny, or the total force fx fy)"));
       if (!tangent_vec && !total && !cftm)
-        throw Error(where, "", explain("tangential force (ftx fty, ftmag, or the total force fx fy)"));
-      if (wall && !(cpx && cpy)) throw Error(where, "", explain("contact point of the wall contacts (px py: pos)"));
+        throw Error(where, "",
+                    explain("tangential force (ftx fty, ftmag, or the total force fx fy)"));
+      if (wall && !(cpx && cpy))
+        throw Error(where, "", explain("contact point of the wall contacts (px py: pos)"));
       const bool signed_ft = tangent_vec || total;
       (signed_ft ? any_vector_ft : any_magnitude_ft) = true;
       for (std::size_t r = 0; r < E.rows(); ++r) {
         auto v = [&](std::optional<std::size_t> c) {
           const double x = E.values[*c][r];
           if (!std::isfinite(x))
-            throw Error(at_line(E.file, E.line[r]), "", "column " + E.columns[*c] + " is not a finite number");
+            throw Error(at_line(E.file, E.line[r]), "",
+                        "column " + E.columns[*c] + " is not a finite number");
           return x;
         };
         const std::size_t a = atom(v(c1), E, r);
@@ -687,7 +772,8 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
           const Vec pt{v(cpx), v(cpy)};
           const Vec d = branch(p1, pt);
           const double len = std::hypot(d.x, d.y);
-          if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
+          if (!(len > 0))
+            throw Error(row.where, "", "the wall contact point is the particle's centre");
           nrm = {d.x / len, d.y / len};
           point = pt;
           row.j = wall_id(nrm.x, nrm.y);
@@ -695,11 +781,15 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
         } else {
           b = atom(v(c2), E, r);
           row.j = static_cast<std::int64_t>(v(c2));
-          if (row.j == row.i) throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
+          if (row.j == row.i)
+            throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
           const Vec p2 = cx2 && cy2 ? Vec{v(cx2), v(cy2)} : pos[b];
           const Vec d = branch(p1, p2);
           const double dist = std::hypot(d.x, d.y);
-          if (!(dist > 0)) throw Error(row.where, "", "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) + " are at the same place");
+          if (!(dist > 0))
+            throw Error(row.where, "",
+                        "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) +
+                            " are at the same place");
           nrm = {d.x / dist, d.y / dist};
           // The middle of the overlap on the line of centres: x_j + n (r_j - h/2).
           const double h = rad[a] + rad[b] - dist;
@@ -710,12 +800,18 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
         const Vec t{-nrm.y, nrm.x};
         row.x = point.x;
         row.y = point.y;
-        if (cfn) row.fn = v(cfn);
-        else if (normal_vec) row.fn = v(cfnx) * nrm.x + v(cfny) * nrm.y;
-        else row.fn = v(cfx) * nrm.x + v(cfy) * nrm.y;
-        if (tangent_vec) row.ft = v(cftx) * t.x + v(cfty) * t.y;
-        else if (total) row.ft = v(cfx) * t.x + v(cfy) * t.y;
-        else row.ft = std::abs(v(cftm));
+        if (cfn)
+          row.fn = v(cfn);
+        else if (normal_vec)
+          row.fn = v(cfnx) * nrm.x + v(cfny) * nrm.y;
+        else
+          row.fn = v(cfx) * nrm.x + v(cfy) * nrm.y;
+        if (tangent_vec)
+          row.ft = v(cftx) * t.x + v(cfty) * t.y;
+        else if (total)
+          row.ft = v(cfx) * t.x + v(cfy) * t.y;
+        else
+          row.ft = std::abs(v(cftm));
         add_row(std::move(row), a, b, !wall, nrm);
         ++(wall ? out.wall_rows : out.pair_rows);
       }
@@ -724,18 +820,22 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
     // Contacts with the walls of `fix wall/gran ... contacts` (per-atom columns).
     for (const auto& [id, axis] : walls) {
       const std::string c = "f_" + id + "[";
-      const auto flag = A.find(c + "1]"), wfx = A.find(c + "2]"), wfy = A.find(c + "3]"), wpx = A.find(c + "5]"),
-                 wpy = A.find(c + "6]");
+      const auto flag = A.find(c + "1]"), wfx = A.find(c + "2]"), wfy = A.find(c + "3]"),
+                 wpx = A.find(c + "5]"), wpy = A.find(c + "6]");
       if (!flag || !wfx || !wfy) {
         if (opt.wall_axes.count(id))
-          throw Error(awhere, "", field("wall") + " " + id + ": the atoms of step " + std::to_string(step) + " have no " + c +
-                                      "1] " + c + "2] " + c + "3] (dump them: the contact flag and the force)");
+          throw Error(awhere, "",
+                      field("wall") + " " + id + ": the atoms of step " + std::to_string(step) +
+                          " have no " + c + "1] " + c + "2] " + c +
+                          "3] (dump them: the contact flag and the force)");
         missing_walls.insert(id);
         continue;
       }
       const bool have_point = wpx && wpy;
       if (!have_point && axis != 'x' && axis != 'y')
-        throw Error(awhere, "", "wall " + id + " is not a plane along x or y: dump its contact point, " + c + "5] " + c + "6]");
+        throw Error(awhere, "",
+                    "wall " + id + " is not a plane along x or y: dump its contact point, " + c +
+                        "5] " + c + "6]");
       const double mid = axis == 'x' ? 0.5 * (A.box[0] + A.box[1]) : 0.5 * (A.box[2] + A.box[3]);
       for (std::size_t r = 0; r < n; ++r) {
         if (!(A.values[*flag][r] > 0.5)) continue;
@@ -751,7 +851,8 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
           point = {A.values[*wpx][r], A.values[*wpy][r]};
           const Vec d = branch(pos[r], point);
           const double len = std::hypot(d.x, d.y);
-          if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
+          if (!(len > 0))
+            throw Error(row.where, "", "the wall contact point is the particle's centre");
           nrm = {d.x / len, d.y / len};
         } else {
           // A plane normal to `axis`: the wall pushes the grain away from it, so the sign
@@ -775,9 +876,13 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
 
     if (opt.check) {
       if (!ac.mass || !ac.fx || !ac.fy)
-        throw Error(awhere, "", field("check") + " needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
+        throw Error(awhere, "",
+                    field("check") +
+                        " needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
       if (any_magnitude_ft)
-        throw Error(awhere, "", field("check") + " needs signed tangential forces; the contacts give only |f_t|");
+        throw Error(
+            awhere, "",
+            field("check") + " needs signed tangential forces; the contacts give only |f_t|");
       FrameCheck fc;
       fc.step = step;
       const double th = theta.value_or(0.0) * M_PI / 180.0;
@@ -785,9 +890,11 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
         const double m = A.values[*ac.mass][r];
         const double mg = m * opt.gravity;
         const Vec total{force[r].x + mg * std::sin(th), force[r].y - mg * std::cos(th)};
-        const double diff = std::hypot(total.x - A.values[*ac.fx][r], total.y - A.values[*ac.fy][r]) / std::abs(mg);
+        const double diff =
+            std::hypot(total.x - A.values[*ac.fx][r], total.y - A.values[*ac.fy][r]) / std::abs(mg);
         if (!std::isfinite(diff))
-          throw Error(at_line(A.file, A.line[r]), "", "mass, fx or fy is not a finite number (or the mass is 0)");
+          throw Error(at_line(A.file, A.line[r]), "",
+                      "mass, fx or fy is not a finite number (or the mass is 0)");
         ++fc.grains;
         if (diff > fc.worst_all) {
           fc.worst_all = diff;
@@ -800,36 +907,47 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
       }
       out.checks.push_back(fc);
       if (fc.worst_all > opt.check_tolerance)
-        throw Error(awhere, "", "step " + std::to_string(step) + ": atom " + std::to_string(fc.worst_id) +
-                                    ": the table's contact forces plus m g differ from the dump's fx, fy by " +
-                                    fmt(fc.worst_all) + " m g (tolerance " + fmt(opt.check_tolerance) +
-                                    "; a contact or a wall missing from the dumps, another force, or the wrong tilt?)");
+        throw Error(
+            awhere, "",
+            "step " + std::to_string(step) + ": atom " + std::to_string(fc.worst_id) +
+                ": the table's contact forces plus m g differ from the dump's fx, fy by " +
+                fmt(fc.worst_all) + " m g (tolerance " + fmt(opt.check_tolerance) +
+                "; a contact or a wall missing from the dumps, another force, or the wrong tilt?)");
     }
     for (auto& r : rows) out.rows.push_back(std::move(r));
     ++out.frames;
   }
   out.ft_signed = !any_magnitude_ft;
   if (any_magnitude_ft && any_vector_ft)
-    throw Error(dumps.front().name, "", "some contacts give a signed ft and others only |f_t|: map the tangential "
-                                        "force vector (ftx fty) for every dump");
+    throw Error(dumps.front().name, "",
+                "some contacts give a signed ft and others only |f_t|: map the tangential "
+                "force vector (ftx fty) for every dump");
 
-  out.notes.push_back("contacts of a LAMMPS or LIGGGHTS run: frame = the LAMMPS step, i and j the atom ids; j < 0 "
-                      "is a wall: -1 floor, -2 left, -3 right, -4 top, -5 another wall (wall = 1)");
-  out.notes.push_back("x y: the contact point (pairs: the middle of the overlap on the line of centres, "
-                      "x_j + n (r_j - h/2); walls: on the wall); n is the unit normal from j to i");
-  out.notes.push_back(out.ft_signed ? "fn = F.n, ft = F.t with F the contact force on i and t = (-n_y, n_x)"
-                                    : "fn = F.n with F the contact force on i; ft = |f_t| (the dumps give no "
-                                      "tangential force vector)");
+  out.notes.push_back(
+      "contacts of a LAMMPS or LIGGGHTS run: frame = the LAMMPS step, i and j the atom ids; j < 0 "
+      "is a wall: -1 floor, -2 left, -3 right, -4 top, -5 another wall (wall = 1)");
+  out.notes.push_back(
+      "x y: the contact point (pairs: the middle of the overlap on the line of centres, "
+      "x_j + n (r_j - h/2); walls: on the wall); n is the unit normal from j to i");
+  out.notes.push_back(out.ft_signed
+                          ? "fn = F.n, ft = F.t with F the contact force on i and t = (-n_y, n_x)"
+                          : "fn = F.n with F the contact force on i; ft = |f_t| (the dumps give no "
+                            "tangential force vector)");
   if (out.has_theta)
-    out.notes.push_back(opt.rate ? "theta = rate x dt x step (deg)" : "theta from the atoms column " + opt.theta_column);
+    out.notes.push_back(opt.rate ? "theta = rate x dt x step (deg)"
+                                 : "theta from the atoms column " + opt.theta_column);
   for (const auto& id : missing_walls)
-    out.notes.push_back("wall fix " + id + ": its per-atom columns are not in the atoms dump; its contacts are missing");
+    out.notes.push_back(
+        "wall fix " + id +
+        ": its per-atom columns are not in the atoms dump; its contacts are missing");
   if (out.merged > 0)
-    out.notes.push_back(std::to_string(out.merged) + " repeated rows merged (" + field("duplicates") + " merge)");
+    out.notes.push_back(std::to_string(out.merged) + " repeated rows merged (" +
+                        field("duplicates") + " merge)");
   return out;
 }
 
-void write_table(std::ostream& os, const Conversion& c, const std::vector<std::string>& header_comments) {
+void write_table(std::ostream& os, const Conversion& c,
+                 const std::vector<std::string>& header_comments) {
   for (const auto& h : header_comments) os << "# " << h << '\n';
   for (const auto& n : c.notes) os << "# " << n << '\n';
   if (!c.length_unit.empty()) os << "# length_unit: " << c.length_unit << '\n';
@@ -838,8 +956,8 @@ void write_table(std::ostream& os, const Conversion& c, const std::vector<std::s
   for (const Row& r : c.rows) {
     line = std::to_string(r.frame) + '\t';
     if (c.has_theta) line += fmt(r.theta.value_or(0.0)) + '\t';
-    line += std::to_string(r.i) + '\t' + std::to_string(r.j) + '\t' + (r.wall ? "1" : "0") + '\t' + fmt(r.x) + '\t' +
-            fmt(r.y) + '\t' + fmt(r.fn) + '\t' + fmt(r.ft) + '\n';
+    line += std::to_string(r.i) + '\t' + std::to_string(r.j) + '\t' + (r.wall ? "1" : "0") + '\t' +
+            fmt(r.x) + '\t' + fmt(r.y) + '\t' + fmt(r.fn) + '\t' + fmt(r.ft) + '\n';
     os << line;
   }
 }
@@ -854,7 +972,9 @@ std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptio
   double r_max = 0;
   for (double r : g.radius) r_max = std::max(r_max, r);
   const double width = run.header().box.width;
-  const std::size_t first = opt.first.value_or(0), last = std::min(opt.last.value_or(frames ? frames - 1 : 0), frames ? frames - 1 : 0);
+  const std::size_t first = opt.first.value_or(0),
+                    last = std::min(opt.last.value_or(frames ? frames - 1 : 0),
+                                    frames ? frames - 1 : 0);
   const std::size_t every = std::max<std::size_t>(opt.every, 1);
   std::size_t written = 0;
   for (std::size_t k = first; frames > 0 && k <= last; k += every) {
@@ -864,14 +984,18 @@ std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptio
       ylo = std::min(ylo, fr.grains.position[q].y() - g.radius[q]);
       yhi = std::max(yhi, fr.grains.position[q].y() + g.radius[q]);
     }
-    os << "ITEM: TIMESTEP\n" << fr.step << "\nITEM: NUMBER OF ATOMS\n" << n
-       << "\nITEM: BOX BOUNDS ff ff pp\n0 " << fmt(width) << '\n' << fmt(ylo) << ' ' << fmt(yhi) << '\n'
-       << fmt(-r_max) << ' ' << fmt(r_max) << "\nITEM: ATOMS id type x y z radius vx vy vz omegaz mass\n";
+    os << "ITEM: TIMESTEP\n"
+       << fr.step << "\nITEM: NUMBER OF ATOMS\n"
+       << n << "\nITEM: BOX BOUNDS ff ff pp\n0 " << fmt(width) << '\n'
+       << fmt(ylo) << ' ' << fmt(yhi) << '\n'
+       << fmt(-r_max) << ' ' << fmt(r_max)
+       << "\nITEM: ATOMS id type x y z radius vx vy vz omegaz mass\n";
     for (std::size_t q = 0; q < n; ++q) {
-      os << q + 1 << ' ' << static_cast<int>(g.species[q]) + 1 << ' ' << fmt(fr.grains.position[q].x()) << ' '
-         << fmt(fr.grains.position[q].y()) << " 0 " << fmt(g.radius[q]) << ' ' << fmt(fr.grains.velocity[q].x()) << ' '
-         << fmt(fr.grains.velocity[q].y()) << " 0 " << fmt(fr.grains.angular_velocity[q]) << ' ' << fmt(g.mass[q])
-         << '\n';
+      os << q + 1 << ' ' << static_cast<int>(g.species[q]) + 1 << ' '
+         << fmt(fr.grains.position[q].x()) << ' ' << fmt(fr.grains.position[q].y()) << " 0 "
+         << fmt(g.radius[q]) << ' ' << fmt(fr.grains.velocity[q].x()) << ' '
+         << fmt(fr.grains.velocity[q].y()) << " 0 " << fmt(fr.grains.angular_velocity[q]) << ' '
+         << fmt(g.mass[q]) << '\n';
     }
     ++written;
   }

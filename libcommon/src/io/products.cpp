@@ -52,7 +52,8 @@ analysis::Value parse_value(const std::string& s) {
   return s;
 }
 
-void write_header_lines(std::ostream& os, const Product& p, const std::vector<Provenance>& history) {
+void write_header_lines(std::ostream& os, const Product& p,
+                        const std::vector<Provenance>& history) {
   if (!history.empty()) {
     const Provenance& me = history.back();
     os << "# tool: " << clean(me.tool) << ' ' << clean(me.version) << '\n';
@@ -63,12 +64,13 @@ void write_header_lines(std::ostream& os, const Product& p, const std::vector<Pr
   }
   os << "# kind: " << p.kind << '\n';
   for (const Provenance& h : history) {
-    os << "# provenance: " << clean(h.tool) << '\t' << clean(h.version) << '\t' << clean(h.date) << '\t'
-       << clean(h.inputs) << '\t' << clean(h.command_line);
+    os << "# provenance: " << clean(h.tool) << '\t' << clean(h.version) << '\t' << clean(h.date)
+       << '\t' << clean(h.inputs) << '\t' << clean(h.command_line);
     if (!h.via.empty()) os << '\t' << clean(h.via);  // a sixth field, only after a merge
     os << '\n';
   }
-  for (const auto& [k, v] : p.parameters) os << "# parameter " << k << " = " << value_text(v) << '\n';
+  for (const auto& [k, v] : p.parameters)
+    os << "# parameter " << k << " = " << value_text(v) << '\n';
   for (const auto& [k, v] : p.results) os << "# result " << k << " = " << value_text(v) << '\n';
   for (const auto& n : p.notes) os << "# note: " << clean(n) << '\n';
 }
@@ -79,7 +81,10 @@ void write_table(std::ostream& os, const Table& t) {
   if (!t.title.empty()) os << "# about: " << clean(t.title) << '\n';
   os << "# columns:";
   for (const Column& c : t.columns)
-    os << ' ' << c.name << " [" << (c.kind == ColumnKind::text ? "text" : c.unit.empty() ? "-" : c.unit)
+    os << ' ' << c.name << " ["
+       << (c.kind == ColumnKind::text ? "text"
+           : c.unit.empty()           ? "-"
+                                      : c.unit)
        << ']';
   os << '\n';
   for (std::size_t k = 0; k < t.columns.size(); ++k) os << (k ? "\t" : "") << t.columns[k].name;
@@ -177,10 +182,14 @@ void write_hdf5(const h5::File& f, const Product& p, const std::vector<Provenanc
       std::vector<std::uint8_t> defined(rows, 1);
       bool any_missing = false;
       for (std::size_t r = 0; r < rows; ++r)
-        if (!std::isfinite(c.num[r])) { defined[r] = 0; any_missing = true; }
+        if (!std::isfinite(c.num[r])) {
+          defined[r] = 0;
+          any_missing = true;
+        }
       if (c.kind == ColumnKind::integer) {
         std::vector<std::int64_t> v(rows);
-        for (std::size_t r = 0; r < rows; ++r) v[r] = defined[r] ? static_cast<std::int64_t>(c.num[r]) : 0;
+        for (std::size_t r = 0; r < rows; ++r)
+          v[r] = defined[r] ? static_cast<std::int64_t>(c.num[r]) : 0;
         h5::write(f, path, v.data(), dims, layout);
       } else {
         std::vector<double> v(rows);
@@ -190,8 +199,9 @@ void write_hdf5(const h5::File& f, const Product& p, const std::vector<Provenanc
       h5::set_attr(f, path, "unit", c.unit);
       if (any_missing) {
         h5::write(f, path + "_defined", defined.data(), dims, layout);
-        h5::set_attr(f, path, "missing",
-                     std::string("rows where " + c.name + "_defined is 0 have no value (stored as 0)"));
+        h5::set_attr(
+            f, path, "missing",
+            std::string("rows where " + c.name + "_defined is 0 have no value (stored as 0)"));
       }
     }
   }
@@ -207,7 +217,8 @@ ProductFile read_product_hdf5(const h5::File& f) {
   p.source = f.name();
   out.provenance = h.provenance;
   if (!h5::exists(f, "/tables"))
-    throw Error(f.name(), "/tables", "missing group (is this an analysis product? it is a '" + h.kind + "' file)");
+    throw Error(f.name(), "/tables",
+                "missing group (is this an analysis product? it is a '" + h.kind + "' file)");
   if (h5::has_attr(f, "/tables", "notes")) p.notes = h5::attr_strings(f, "/tables", "notes");
   const auto names = h5::has_attr(f, "/tables", "tables") ? h5::attr_strings(f, "/tables", "tables")
                                                           : h5::members(f, "/tables");
@@ -221,7 +232,8 @@ ProductFile read_product_hdf5(const h5::File& f) {
       const std::string path = g + "/" + cn;
       if (!h5::exists(f, path)) throw Error(f.name(), path, "missing column dataset");
       std::vector<hsize_t> dims;
-      const std::string unit = h5::has_attr(f, path, "unit") ? h5::attr_string(f, path, "unit") : "";
+      const std::string unit =
+          h5::has_attr(f, path, "unit") ? h5::attr_string(f, path, "unit") : "";
       ColumnKind kind = ColumnKind::real;
       if (h5::has_attr(f, path, "labels")) {
         kind = ColumnKind::text;
@@ -249,7 +261,8 @@ ProductFile read_product_hdf5(const h5::File& f) {
             if (!def[r]) c.num[r] = std::numeric_limits<double>::quiet_NaN();
         }
       }
-      if (rows && *rows != dims[0]) throw Error(f.name(), path, "column length differs from the table's");
+      if (rows && *rows != dims[0])
+        throw Error(f.name(), path, "column length differs from the table's");
       rows = dims[0];
     }
   }
@@ -297,20 +310,23 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
         while (!v.empty() && v.front() == ' ') v.erase(v.begin());
         return v;
       };
-      if (auto v = after("kind:")) { p.kind = *v; header_seen = true; }
-      else if (auto v8 = after("tables:")) {
+      if (auto v = after("kind:")) {
+        p.kind = *v;
+        header_seen = true;
+      } else if (auto v8 = after("tables:")) {
         std::istringstream items(*v8);
         std::string item;
         while (items >> item) {
           const auto eq = item.find('=');
-          const auto rows = eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
+          const auto rows =
+              eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
           if (!rows || *rows < 0) throw Error(name, "", "bad '# tables:' entry '" + item + "'");
           declared.emplace_back(item.substr(0, eq), static_cast<std::size_t>(*rows));
         }
-      }
-      else if (auto v2 = after("parameter ")) {
+      } else if (auto v2 = after("parameter ")) {
         const auto eq = v2->find(" = ");
-        if (eq != std::string::npos) p.parameters[v2->substr(0, eq)] = parse_value(v2->substr(eq + 3));
+        if (eq != std::string::npos)
+          p.parameters[v2->substr(0, eq)] = parse_value(v2->substr(eq + 3));
       } else if (auto v3 = after("result ")) {
         const auto eq = v3->find(" = ");
         if (eq != std::string::npos) p.results[v3->substr(0, eq)] = parse_value(v3->substr(eq + 3));
@@ -326,7 +342,8 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
           k = e + 1;
         }
         if (f.size() == 5 || f.size() == 6)
-          out.provenance.push_back({f[0], f[1], f[4], f[3], f[2], f.size() == 6 ? f[5] : std::string()});
+          out.provenance.push_back(
+              {f[0], f[1], f[4], f[3], f[2], f.size() == 6 ? f[5] : std::string()});
       } else if (auto v6 = after("about:")) {
         title = *v6;
       } else if (auto v7 = after("columns:")) {
@@ -345,28 +362,36 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
         }
       }
     }
-    std::string tname = tt.name.empty() ? (tables.size() == 1 ? std::string("table") : "table" + std::to_string(ti)) : tt.name;
+    std::string tname =
+        tt.name.empty() ? (tables.size() == 1 ? std::string("table") : "table" + std::to_string(ti))
+                        : tt.name;
     Table& t = p.add_table(tname, title);
     for (std::size_t k = 0; k < tt.columns.size(); ++k) {
-      const bool is_text = !tt.text[k].empty() ||
-                           std::find(opt.text_columns.begin(), opt.text_columns.end(), tt.columns[k]) !=
-                               opt.text_columns.end();
-      Column& c = t.add_column(tt.columns[k], units.count(tt.columns[k]) ? units[tt.columns[k]] : "",
-                               is_text ? ColumnKind::text : ColumnKind::real);
-      if (is_text) c.text = tt.text[k];
-      else c.num = tt.values[k];
+      const bool is_text =
+          !tt.text[k].empty() || std::find(opt.text_columns.begin(), opt.text_columns.end(),
+                                           tt.columns[k]) != opt.text_columns.end();
+      Column& c =
+          t.add_column(tt.columns[k], units.count(tt.columns[k]) ? units[tt.columns[k]] : "",
+                       is_text ? ColumnKind::text : ColumnKind::real);
+      if (is_text)
+        c.text = tt.text[k];
+      else
+        c.num = tt.values[k];
       if (is_text && c.text.size() != tt.rows()) c.text.resize(tt.rows());
     }
   }
   if (!header_seen && tables.empty()) throw Error(name, "", "empty input: no table");
   for (const auto& [table, rows] : declared) {
     // A structured binding cannot be captured by clang 14 (the fuzz preset's compiler).
-    const auto t = std::find_if(p.tables.begin(), p.tables.end(), [&wanted = table](const Table& x) { return x.name == wanted; });
+    const auto t = std::find_if(p.tables.begin(), p.tables.end(),
+                                [&wanted = table](const Table& x) { return x.name == wanted; });
     if (t == p.tables.end())
-      throw Error(name, "", "table '" + table + "' missing (the header lists it): a truncated file?");
+      throw Error(name, "",
+                  "table '" + table + "' missing (the header lists it): a truncated file?");
     if (t->rows() != rows)
-      throw Error(name, "", "table '" + table + "' has " + std::to_string(t->rows()) + " rows, the header says " +
-                                std::to_string(rows) + ": a truncated file?");
+      throw Error(name, "",
+                  "table '" + table + "' has " + std::to_string(t->rows()) +
+                      " rows, the header says " + std::to_string(rows) + ": a truncated file?");
   }
   return out;
 }
@@ -380,16 +405,22 @@ std::string tsv_product_kind(const std::string& text) {
 }
 
 ProductFile read_product(const Input& in, const std::string& expected_kind) {
-  ProductFile p = in.is_hdf5() ? read_product_hdf5(in.hdf5()) : read_product_tsv(in.text(), in.name());
+  ProductFile p =
+      in.is_hdf5() ? read_product_hdf5(in.hdf5()) : read_product_tsv(in.text(), in.name());
   p.product.source = in.name();
   // Tables written with --table and no --header: the blocks are there, the file header not.
-  const bool bare_tables = !in.is_hdf5() && (in.text().rfind("# table: ", 0) == 0 || in.text().find("\n# table: ") != std::string::npos);
+  const bool bare_tables = !in.is_hdf5() && (in.text().rfind("# table: ", 0) == 0 ||
+                                             in.text().find("\n# table: ") != std::string::npos);
   if (!expected_kind.empty() && p.product.kind != expected_kind)
     throw Error(in.name(), "",
-                !p.product.kind.empty() ? "is a '" + p.product.kind + "' product, expected '" + expected_kind + "'"
-                : bare_tables ? "not a cdpile " + expected_kind + " product: tables without the file header "
-                                "(a tool's " + field("table") + " output; write it with " + field("header") + ")"
-                              : "not a cdpile " + expected_kind + " product (no '# kind:' header line)");
+                !p.product.kind.empty()
+                    ? "is a '" + p.product.kind + "' product, expected '" + expected_kind + "'"
+                : bare_tables
+                    ? "not a cdpile " + expected_kind +
+                          " product: tables without the file header "
+                          "(a tool's " +
+                          field("table") + " output; write it with " + field("header") + ")"
+                    : "not a cdpile " + expected_kind + " product (no '# kind:' header line)");
   return p;
 }
 
@@ -422,7 +453,9 @@ analysis::RunSteps steps_from_series(const Series& s, bool include_walls, const 
   const char* n_name = include_walls ? "contacts" : "contacts_grain";
   auto n = integer(n_name);
   if (!n && !include_walls) n = integer("contacts");
-  if (!n) throw Error(file, std::string("/observables/") + n_name, "missing (the per-step contact count)");
+  if (!n)
+    throw Error(file, std::string("/observables/") + n_name,
+                "missing (the per-step contact count)");
   r.contacts = *n;
   if (auto c = integer(include_walls ? "critical" : "critical_grain")) r.critical = *c;
   if (auto c = integer("sliding")) r.sliding = *c;
@@ -445,7 +478,8 @@ namespace {
 bool text_extension(const std::string& path) {
   for (const char* ext : {".tsv", ".txt", ".dat"}) {
     const std::string e(ext);
-    if (path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) return true;
+    if (path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0)
+      return true;
   }
   return false;
 }

@@ -8,8 +8,9 @@ RunHeader sample_header(double diameter) {
   RunHeader h;
   h.kind = "pile";
   h.box = {10 * diameter * 4, 10 * diameter};
-  h.parameters = {{"mu_grain", 0.5}, {"mu_wall", 0.5}, {"gravity_m_s2", 9.81},
-                  {"density_kg_m3", 2500.0}, {"grains", std::int64_t{0}}, {"note", std::string("sample")}};
+  h.parameters = {{"mu_grain", 0.5},           {"mu_wall", 0.5},
+                  {"gravity_m_s2", 9.81},      {"density_kg_m3", 2500.0},
+                  {"grains", std::int64_t{0}}, {"note", std::string("sample")}};
   return h;
 }
 

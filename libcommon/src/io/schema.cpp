@@ -206,8 +206,9 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
   if (!h5::has_attr(f, "/", "schema_version")) bad(f, "/", "missing attribute 'schema_version'");
   const std::int64_t v = h5::attr_int(f, "/", "schema_version");
   if (v != schema_version)
-    bad(f, "/", "schema version " + std::to_string(v) + ", this build reads version " +
-                    std::to_string(schema_version));
+    bad(f, "/",
+        "schema version " + std::to_string(v) + ", this build reads version " +
+            std::to_string(schema_version));
   RunHeader h;
   h.kind = h5::attr_string(f, "/", "kind");
   if (!expected_kind.empty() && h.kind != expected_kind)
@@ -218,10 +219,11 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
   if (h5::exists(f, "/provenance")) {
     for (const auto& k : h5::members(f, "/provenance")) {
       const std::string g = "/provenance/" + k;
-      h.provenance.push_back({h5::attr_string(f, g, "tool"), h5::attr_string(f, g, "version"),
-                              h5::attr_string(f, g, "command_line"), h5::attr_string(f, g, "inputs"),
-                              h5::attr_string(f, g, "date"),
-                              h5::has_attr(f, g, "via") ? h5::attr_string(f, g, "via") : std::string()});
+      h.provenance.push_back(
+          {h5::attr_string(f, g, "tool"), h5::attr_string(f, g, "version"),
+           h5::attr_string(f, g, "command_line"), h5::attr_string(f, g, "inputs"),
+           h5::attr_string(f, g, "date"),
+           h5::has_attr(f, g, "via") ? h5::attr_string(f, g, "via") : std::string()});
     }
   }
   return h;
@@ -257,7 +259,8 @@ RunWriter::RunWriter(h5::File& f, const RunHeader& header, const Grains& g) : f_
   std::vector<std::uint8_t> species(g.size());
   for (std::size_t k = 0; k < g.size(); ++k) species[k] = static_cast<std::uint8_t>(g.species[k]);
   h5::write(f, grain_path("species"), species);
-  h5::set_attr(f, grain_path("species"), "meaning", std::string("0 free grain, 1 grain glued to the floor"));
+  h5::set_attr(f, grain_path("species"), "meaning",
+               std::string("0 free grain, 1 grain glued to the floor"));
 }
 
 RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
@@ -296,7 +299,8 @@ RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
       auto steps = h5::read<std::int64_t>(f, clock + "/step", {0});
       hsize_t rows = 0;
       while (rows < steps.size() && steps[rows] <= last_step) ++rows;
-      for (const auto& n : names) h5::truncate_rows(f, std::string(kObservables) + "/" + n + "/value", rows);
+      for (const auto& n : names)
+        h5::truncate_rows(f, std::string(kObservables) + "/" + n + "/value", rows);
       h5::truncate_rows(f, clock + "/step", rows);
       h5::truncate_rows(f, clock + "/time", rows);
     }
@@ -326,8 +330,9 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
   h5::File& f = *f_;
   for (const Frame& fr : frames)
     if (fr.grains.size() != grains_)
-      throw Error(f.name(), kGrains, "frame has " + std::to_string(fr.grains.size()) + " grains, file has " +
-                                         std::to_string(grains_));
+      throw Error(f.name(), kGrains,
+                  "frame has " + std::to_string(fr.grains.size()) + " grains, file has " +
+                      std::to_string(grains_));
   const hsize_t n = grains_, nf = frames.size();
   const std::string pos = grain_path("position");
   const bool first = !h5::exists(f, pos + "/step");
@@ -343,19 +348,27 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
   }
   h5::append(f, pos + "/step", step.data(), {nf}, {1024, 0});
   h5::append(f, pos + "/time", time.data(), {nf}, {1024, 0});
-  h5::append(f, pos + "/value", flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.grains.position; })),
+  h5::append(f, pos + "/value",
+             flat(gather<Vec2>(
+                 frames, [](const Frame& x) -> const auto& { return x.grains.position; })),
              {nf, n, 2}, kFrameLayout);
   h5::append(f, grain_path("velocity") + "/value",
-             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.grains.velocity; })),
+             flat(gather<Vec2>(
+                 frames, [](const Frame& x) -> const auto& { return x.grains.velocity; })),
              {nf, n, 2}, kFrameLayout);
   h5::append(f, grain_path("orientation") + "/value",
-             gather<double>(frames, [](const Frame& x) -> const auto& { return x.grains.orientation; }).data(), {nf, n},
-             kFrameLayout);
+             gather<double>(
+                 frames, [](const Frame& x) -> const auto& { return x.grains.orientation; })
+                 .data(),
+             {nf, n}, kFrameLayout);
   h5::append(f, grain_path("angular_velocity") + "/value",
-             gather<double>(frames, [](const Frame& x) -> const auto& { return x.grains.angular_velocity; }).data(),
+             gather<double>(
+                 frames, [](const Frame& x) -> const auto& { return x.grains.angular_velocity; })
+                 .data(),
              {nf, n}, kFrameLayout);
   if (first) {
-    for (const char* e : {"velocity", "orientation", "angular_velocity"}) make_element_links(f, grain_path(e), pos);
+    for (const char* e : {"velocity", "orientation", "angular_velocity"})
+      make_element_links(f, grain_path(e), pos);
     set_unit(f, pos + "/value", "m");
     set_unit(f, pos + "/time", "s");
     set_unit(f, grain_path("velocity") + "/value", "m s-1");
@@ -370,29 +383,51 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
   h5::append(f, cg + "/tilt_angle", tilt_deg.data(), {nf}, {1024, 0});
   h5::append(f, cg + "/offset", offset.data(), {nf}, {1024, 0});
   h5::append(f, cg + "/count", count.data(), {nf}, {1024, 0});
-  h5::append(f, cg + "/i", gather<std::int32_t>(frames, [](const Frame& x) -> const auto& { return x.contacts.i; }).data(), {k},
-             kContactLayout);
-  h5::append(f, cg + "/j", gather<std::int32_t>(frames, [](const Frame& x) -> const auto& { return x.contacts.j; }).data(), {k},
-             kContactLayout);
+  h5::append(f, cg + "/i",
+             gather<std::int32_t>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.i; })
+                 .data(),
+             {k}, kContactLayout);
+  h5::append(f, cg + "/j",
+             gather<std::int32_t>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.j; })
+                 .data(),
+             {k}, kContactLayout);
   h5::append(f, cg + "/point",
-             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.contacts.point; })), {k, 2},
-             kContactLayout);
+             flat(gather<Vec2>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.point; })),
+             {k, 2}, kContactLayout);
   h5::append(f, cg + "/normal",
-             flat(gather<Vec2>(frames, [](const Frame& x) -> const auto& { return x.contacts.normal; })), {k, 2},
+             flat(gather<Vec2>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.normal; })),
+             {k, 2}, kContactLayout);
+  h5::append(f, cg + "/fn",
+             gather<double>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.fn; })
+                 .data(),
+             {k}, kContactLayout);
+  h5::append(f, cg + "/ft",
+             gather<double>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.ft; })
+                 .data(),
+             {k}, kContactLayout);
+  h5::append(f, cg + "/gap",
+             gather<double>(
+                 frames, [](const Frame& x) -> const auto& { return x.contacts.gap; })
+                 .data(),
+             {k}, kContactLayout);
+  const auto status = gather<ContactStatus>(
+      frames, [](const Frame& x) -> const auto& { return x.contacts.status; });
+  h5::append(f, cg + "/status", reinterpret_cast<const std::int8_t*>(status.data()), {k},
              kContactLayout);
-  h5::append(f, cg + "/fn", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.fn; }).data(), {k},
-             kContactLayout);
-  h5::append(f, cg + "/ft", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.ft; }).data(), {k},
-             kContactLayout);
-  h5::append(f, cg + "/gap", gather<double>(frames, [](const Frame& x) -> const auto& { return x.contacts.gap; }).data(), {k},
-             kContactLayout);
-  const auto status = gather<ContactStatus>(frames, [](const Frame& x) -> const auto& { return x.contacts.status; });
-  h5::append(f, cg + "/status", reinterpret_cast<const std::int8_t*>(status.data()), {k}, kContactLayout);
   if (first) {
-    h5::set_attr(f, cg, "description", std::string(
-        "ragged table: frame k's contacts are rows offset[k] .. offset[k]+count[k]-1 of the flat "
-        "datasets; j < 0 is a wall (-1 floor, -2 left, -3 right); normal points from j to i; "
-        "tangent t = (-n_y, n_x); fn, ft are impulse / time step"));
+    h5::set_attr(
+        f, cg, "description",
+        std::string(
+            "ragged table: frame k's contacts are rows offset[k] .. offset[k]+count[k]-1 of the "
+            "flat "
+            "datasets; j < 0 is a wall (-1 floor, -2 left, -3 right); normal points from j to i; "
+            "tangent t = (-n_y, n_x); fn, ft are impulse / time step"));
     set_unit(f, cg + "/time", "s");
     set_unit(f, cg + "/tilt_angle", "degree");
     set_unit(f, cg + "/point", "m");
@@ -407,7 +442,8 @@ void RunWriter::append_frames(const std::vector<Frame>& frames) {
 void RunWriter::append_series(const Series& s) {
   h5::File& f = *f_;
   const hsize_t rows = s.size();
-  if (s.time.size() != rows) throw Error(f.name(), kObservables, "series: step and time differ in length");
+  if (s.time.size() != rows)
+    throw Error(f.name(), kObservables, "series: step and time differ in length");
   std::vector<std::string> names;
   for (const auto& [name, v] : s.real) names.push_back(name);
   for (const auto& [name, v] : s.integer) names.push_back(name);
@@ -435,14 +471,18 @@ void RunWriter::append_series(const Series& s) {
     return it == s.unit.end() ? std::string() : it->second;
   };
   for (const auto& [name, v] : s.real) {
-    if (v.size() != rows) throw Error(f.name(), std::string(kObservables) + "/" + name, "column length differs from step");
+    if (v.size() != rows)
+      throw Error(f.name(), std::string(kObservables) + "/" + name,
+                  "column length differs from step");
     const std::string p = std::string(kObservables) + "/" + name + "/value";
     const bool fresh = !h5::exists(f, p);
     h5::append(f, p, v.data(), {rows}, kSeriesLayout);
     if (fresh) set_unit(f, p, unit_of(name));
   }
   for (const auto& [name, v] : s.integer) {
-    if (v.size() != rows) throw Error(f.name(), std::string(kObservables) + "/" + name, "column length differs from step");
+    if (v.size() != rows)
+      throw Error(f.name(), std::string(kObservables) + "/" + name,
+                  "column length differs from step");
     const std::string p = std::string(kObservables) + "/" + name + "/value";
     const bool fresh = !h5::exists(f, p);
     h5::append(f, p, v.data(), {rows}, kSeriesLayout);
@@ -458,7 +498,8 @@ void RunWriter::set_result(const std::string& name, const Value& v) {
 void RunWriter::add_provenance(const Provenance& p) { append_provenance(*f_, p); }
 
 void RunWriter::flush() {
-  if (H5Fflush(f_->id(), H5F_SCOPE_GLOBAL) < 0) throw Error(f_->name(), "", "cannot flush (disk full?)");
+  if (H5Fflush(f_->id(), H5F_SCOPE_GLOBAL) < 0)
+    throw Error(f_->name(), "", "cannot flush (disk full?)");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -472,7 +513,8 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   if (!h5::exists(f, kGrains)) bad(f, kGrains, "missing group");
   if (!h5::exists(f, box)) bad(f, box, "missing group");
   if (h5::attr_int(f, box, "dimension") != 2)
-    bad(f, box, "dimension is " + std::to_string(h5::attr_int(f, box, "dimension")) + ", expected 2");
+    bad(f, box,
+        "dimension is " + std::to_string(h5::attr_int(f, box, "dimension")) + ", expected 2");
   auto edges = h5::read<double>(f, box + "/edges", {2});
   header_.box = {edges[0], edges[1]};
   if (!(header_.box.width > 0)) bad(f, box + "/edges", "box width must be positive");
@@ -488,12 +530,16 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
     if (!(grains_.radius[k] > 0))
       bad(f, grain_path("radius"), "radius of grain " + std::to_string(k) + " is not positive");
     if (grains_.radius[k] > width / 2)
-      bad(f, grain_path("radius"), "radius of grain " + std::to_string(k) + " is " + number_text(grains_.radius[k]) +
-                                       " m, more than half the box width " + number_text(width) + " m");
-    if (!(grains_.mass[k] > 0)) bad(f, grain_path("mass"), "mass of grain " + std::to_string(k) + " is not positive");
+      bad(f, grain_path("radius"),
+          "radius of grain " + std::to_string(k) + " is " + number_text(grains_.radius[k]) +
+              " m, more than half the box width " + number_text(width) + " m");
+    if (!(grains_.mass[k] > 0))
+      bad(f, grain_path("mass"), "mass of grain " + std::to_string(k) + " is not positive");
     if (!(grains_.inertia[k] > 0))
       bad(f, grain_path("inertia"), "inertia of grain " + std::to_string(k) + " is not positive");
-    if (species[k] > 1) bad(f, grain_path("species"), "unknown species " + std::to_string(species[k]) + " of grain " + std::to_string(k));
+    if (species[k] > 1)
+      bad(f, grain_path("species"),
+          "unknown species " + std::to_string(species[k]) + " of grain " + std::to_string(k));
   }
   grains_.species.resize(n_);
   for (std::size_t k = 0; k < n_; ++k) grains_.species[k] = static_cast<Species>(species[k]);
@@ -510,13 +556,14 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   for (const char* e : {"position", "velocity"}) {
     auto d = h5::shape(f, grain_path(e) + "/value");
     if (d.size() != 3 || d[0] != frames || d[1] != n_ || d[2] != 2)
-      bad(f, grain_path(e) + "/value", "expected shape [" + std::to_string(frames) + " x " +
-                                             std::to_string(n_) + " x 2]");
+      bad(f, grain_path(e) + "/value",
+          "expected shape [" + std::to_string(frames) + " x " + std::to_string(n_) + " x 2]");
   }
   for (const char* e : {"orientation", "angular_velocity"}) {
     auto d = h5::shape(f, grain_path(e) + "/value");
     if (d.size() != 2 || d[0] != frames || d[1] != n_)
-      bad(f, grain_path(e) + "/value", "expected shape [" + std::to_string(frames) + " x " + std::to_string(n_) + "]");
+      bad(f, grain_path(e) + "/value",
+          "expected shape [" + std::to_string(frames) + " x " + std::to_string(n_) + "]");
   }
   const std::string cg = kContacts;
   frame_tilt_ = h5::read<double>(f, cg + "/tilt_angle", {frames});
@@ -533,7 +580,8 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
     expect += count_[q];
   }
   if (expect != k)
-    bad(f, cg + "/i", "holds " + std::to_string(k) + " contacts, the frames count " + std::to_string(expect));
+    bad(f, cg + "/i",
+        "holds " + std::to_string(k) + " contacts, the frames count " + std::to_string(expect));
   for (const char* e : {"j", "fn", "ft", "gap", "status"})
     if (h5::shape(f, cg + "/" + e) != std::vector<hsize_t>{static_cast<hsize_t>(k)})
       bad(f, cg + "/" + e, "expected " + std::to_string(k) + " rows");
@@ -546,7 +594,8 @@ namespace {
 /// A contact of two grains is the same whichever is i; a wall contact is (grain, wall).
 std::uint64_t unordered_pair(std::int32_t i, std::int32_t j) {
   const auto a = j < 0 ? i : std::max(i, j), b = j < 0 ? j : std::min(i, j);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
 }
 }  // namespace
 
@@ -555,7 +604,8 @@ double RunReader::length_scale() const { return std::max(header_.box.width, head
 double RunReader::speed_bound() const {
   double g = 9.81;
   if (auto it = header_.parameters.find("gravity_m_s2"); it != header_.parameters.end())
-    if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v)) g = *v;
+    if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v))
+      g = *v;
   return 1e3 * std::sqrt(g * length_scale());
 }
 
@@ -578,11 +628,14 @@ Contacts RunReader::contacts(std::size_t k) const {
   const auto grains = static_cast<std::int64_t>(n_);
   for (std::size_t q = 0; q < n; ++q) {
     const std::string row = "row " + std::to_string(first + q);
-    if (c.i[q] < 0 || c.i[q] >= grains) bad(f, cg + "/i", row + ": grain id " + std::to_string(c.i[q]) + " out of range");
+    if (c.i[q] < 0 || c.i[q] >= grains)
+      bad(f, cg + "/i", row + ": grain id " + std::to_string(c.i[q]) + " out of range");
     if (c.j[q] < wall_right || c.j[q] >= grains || c.j[q] == c.i[q])
-      bad(f, cg + "/j", row + ": id " + std::to_string(c.j[q]) + " is neither another grain nor a wall");
+      bad(f, cg + "/j",
+          row + ": id " + std::to_string(c.j[q]) + " is neither another grain nor a wall");
     if (c.fn[q] < 0) bad(f, cg + "/fn", row + ": negative normal force");
-    if (st[q] < 0 || st[q] > 2) bad(f, cg + "/status", row + ": unknown status " + std::to_string(st[q]));
+    if (st[q] < 0 || st[q] > 2)
+      bad(f, cg + "/status", row + ": unknown status " + std::to_string(st[q]));
     c.status[q] = static_cast<ContactStatus>(st[q]);
   }
   // One contact per pair: a pair listed twice would be counted twice by critical and
@@ -593,9 +646,10 @@ Contacts RunReader::contacts(std::size_t k) const {
   for (std::size_t q = 1; q < n; ++q)
     if (keys[q].first == keys[q - 1].first) {
       const std::size_t a = keys[q - 1].second, b = keys[q].second;
-      bad(f, cg + "/i", "rows " + std::to_string(first + a) + " and " + std::to_string(first + b) +
-                            ": the contact of " + std::to_string(c.i[a]) + " and " + std::to_string(c.j[a]) +
-                            " is listed twice in frame " + std::to_string(k));
+      bad(f, cg + "/i",
+          "rows " + std::to_string(first + a) + " and " + std::to_string(first + b) +
+              ": the contact of " + std::to_string(c.i[a]) + " and " + std::to_string(c.j[a]) +
+              " is listed twice in frame " + std::to_string(k));
     }
   return c;
 }
@@ -611,23 +665,28 @@ Frame RunReader::frame(std::size_t k) const {
   fr.grains.position = to_vec2(h5::read_rows<double>(f, grain_path("position") + "/value", k, 1));
   fr.grains.velocity = to_vec2(h5::read_rows<double>(f, grain_path("velocity") + "/value", k, 1));
   fr.grains.orientation = h5::read_rows<double>(f, grain_path("orientation") + "/value", k, 1);
-  fr.grains.angular_velocity = h5::read_rows<double>(f, grain_path("angular_velocity") + "/value", k, 1);
+  fr.grains.angular_velocity =
+      h5::read_rows<double>(f, grain_path("angular_velocity") + "/value", k, 1);
   // Magnitudes a pile can have (docs/cli.md, "What is refused"): every centre inside the
   // box enlarged by L = max(width, height) on every side, and no grain faster than
   // 1000 sqrt(g L) (1000 times the speed of a fall through the box), its rim included.
   // Beyond them the engine's cell grid would need more cells than memory holds.
-  const double w = header_.box.width, h = header_.box.height, L = length_scale(), vmax = speed_bound();
+  const double w = header_.box.width, h = header_.box.height, L = length_scale(),
+               vmax = speed_bound();
   for (std::size_t q = 0; q < n_; ++q) {
     const Vec2& x = fr.grains.position[q];
     if (x.x() < -L || x.x() > w + L || x.y() < -L || x.y() > h + L)
       bad(f, grain_path("position") + "/value",
-          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " at (" + number_text(x.x()) + ", " +
-              number_text(x.y()) + ") m is outside the box [0, " + number_text(w) + "] x [0, " + number_text(h) +
-              "] m enlarged by " + number_text(L) + " m");
-    const double v = fr.grains.velocity[q].norm() + std::fabs(fr.grains.angular_velocity[q]) * grains_.radius[q];
+          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " at (" +
+              number_text(x.x()) + ", " + number_text(x.y()) + ") m is outside the box [0, " +
+              number_text(w) + "] x [0, " + number_text(h) + "] m enlarged by " + number_text(L) +
+              " m");
+    const double v =
+        fr.grains.velocity[q].norm() + std::fabs(fr.grains.angular_velocity[q]) * grains_.radius[q];
     if (!(v <= vmax))
       bad(f, grain_path("velocity") + "/value",
-          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " moves at " + number_text(v) +
+          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " moves at " +
+              number_text(v) +
               " m/s (its rim included), more than 1000 sqrt(g L) = " + number_text(vmax) + " m/s");
   }
   fr.contacts = contacts(k);
@@ -639,8 +698,10 @@ void RunReader::check_observables() const {
   // run being written (OUTPUT.partial) has none before its first checkpoint, which is why
   // the constructor does not check this.
   if (header_.kind != "run") return;
-  if (!h5::exists(*f_, kObservables)) bad(*f_, kObservables, "missing group (a run records its per-step observables)");
-  if (h5::members(*f_, kObservables).empty()) bad(*f_, kObservables, "no observable (a run records its per-step observables)");
+  if (!h5::exists(*f_, kObservables))
+    bad(*f_, kObservables, "missing group (a run records its per-step observables)");
+  if (h5::members(*f_, kObservables).empty())
+    bad(*f_, kObservables, "no observable (a run records its per-step observables)");
 }
 
 Series RunReader::series() const {

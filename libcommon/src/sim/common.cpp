@@ -56,7 +56,8 @@ cd::Settings settings_from_parameters(const io::Values& given, const std::string
   auto text = [&](const char* key) {
     const auto c = v.find(key);
     const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
-    if (!name) throw Error(file, "/parameters", std::string("missing text parameter '") + key + "'");
+    if (!name)
+      throw Error(file, "/parameters", std::string("missing text parameter '") + key + "'");
     return *name;
   };
   const std::string criterion = text("criterion"), solver = text("solver");
@@ -88,18 +89,30 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
 
 io::Series observables_series() {
   io::Series s;
-  for (const char* n : {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
-                        "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
+  for (const char* n :
+       {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
+        "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
     s.real[n] = {};
   for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
                         "critical_grain", "grains_without_contact"})
     s.integer[n] = {};
-  s.unit = {{"tilt_angle", "degree"}, {"kinetic_energy", "J m-1"}, {"rotational_energy", "J m-1"},
-            {"residual", ""},     {"residual_rms", ""},         {"max_overlap", "m"},
-            {"law_residual", ""}, {"law_residual_rms", ""},         {"contacts", ""},
-            {"contacts_grain", ""}, {"sliding", ""},            {"sweeps", ""},
-            {"converged", ""},    {"critical", ""},             {"critical_grain", ""},
-            {"max_speed", "m s-1"}, {"grains_without_contact", ""}};
+  s.unit = {{"tilt_angle", "degree"},
+            {"kinetic_energy", "J m-1"},
+            {"rotational_energy", "J m-1"},
+            {"residual", ""},
+            {"residual_rms", ""},
+            {"max_overlap", "m"},
+            {"law_residual", ""},
+            {"law_residual_rms", ""},
+            {"contacts", ""},
+            {"contacts_grain", ""},
+            {"sliding", ""},
+            {"sweeps", ""},
+            {"converged", ""},
+            {"critical", ""},
+            {"critical_grain", ""},
+            {"max_speed", "m s-1"},
+            {"grains_without_contact", ""}};
   return s;
 }
 

@@ -103,7 +103,8 @@ Placement place_grains(const DepositOptions& o) {
     y += tallest + gmin;
     i = j;
   }
-  for (std::size_t k = 0; k < n; ++k) p.grains.add_disk(0.5 * d[k], o.density, centre[k], Species::free);
+  for (std::size_t k = 0; k < n; ++k)
+    p.grains.add_disk(0.5 * d[k], o.density, centre[k], Species::free);
   for (std::size_t k = 0; k < floor_x.size(); ++k)
     p.grains.add_disk(floor_r[k], o.density, Vec2(floor_x[k], floor_r[k]), Species::floor);
   p.column_top = y;
@@ -146,8 +147,8 @@ Tiling tile_side_by_side(const Box& box, const Grains& g, const Contacts& c, int
       if (c.j[q] == wall_left && k > 0) continue;
       if (c.j[q] == wall_right && k < copies - 1) continue;
       const std::int32_t j = c.j[q] < 0 ? c.j[q] : c.j[q] + k * n;
-      t.contacts.push_back(c.i[q] + k * n, j, c.point[q] + shift, c.normal[q], c.fn[q], c.ft[q], c.gap[q],
-                           c.status[q]);
+      t.contacts.push_back(c.i[q] + k * n, j, c.point[q] + shift, c.normal[q], c.fn[q], c.ft[q],
+                           c.gap[q], c.status[q]);
     }
   }
   return t;
@@ -165,13 +166,17 @@ PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c) {
   for (std::size_t i = 0; i < g.size(); ++i) {
     dmax = std::max(dmax, 2.0 * g.radius[i]);
     if (g.species[i] != Species::free) continue;
-    const auto col = std::min(ncol - 1, static_cast<std::size_t>(std::max(0.0, g.position[i].x() / colw)));
+    const auto col =
+        std::min(ncol - 1, static_cast<std::size_t>(std::max(0.0, g.position[i].x() / colw)));
     top[col] = std::max(top[col], g.position[i].y() + g.radius[i]);
   }
   double sum = 0.0;
   std::size_t filled = 0;
   for (double t : top)
-    if (std::isfinite(t)) { sum += t; ++filled; }
+    if (std::isfinite(t)) {
+      sum += t;
+      ++filled;
+    }
   m.bed_height = filled ? sum / static_cast<double>(filled) : 0.0;
   // Packing fraction in the bulk: leave out two Dmax at the bottom (the floor layer and
   // the first grains on it) and two Dmax below the rough free surface; a pile too thin
@@ -185,15 +190,17 @@ PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c) {
   double area = 0.0;
   for (std::size_t i = 0; i < g.size(); ++i)
     area += disk_area_in_slab(g.position[i].y(), g.radius[i], m.slab_bottom, m.slab_top);
-  if (m.slab_top > m.slab_bottom) m.packing_fraction = area / (box.width * (m.slab_top - m.slab_bottom));
+  if (m.slab_top > m.slab_bottom)
+    m.packing_fraction = area / (box.width * (m.slab_top - m.slab_bottom));
   // Coordination: active contacts between free grains (analysis/critical.hpp). z counts
   // contacts and does not classify them, so friction does not enter: the selection is
   // given mu = 1 only because it also marks critical contacts, which need mu > 0, and a
   // pile may settle without friction (deposit --mu 0).
   const analysis::Friction any_mu{1.0, 1.0};
-  const analysis::ContactSet set = analysis::select_contacts(c, g.species, any_mu, analysis::CriticalRule{});
-  const analysis::PileState st = analysis::pile_state(set, g.species, analysis::free_grain_count(g), D,
-                                                      analysis::RattlerRule::exclude);
+  const analysis::ContactSet set =
+      analysis::select_contacts(c, g.species, any_mu, analysis::CriticalRule{});
+  const analysis::PileState st = analysis::pile_state(set, g.species, analysis::free_grain_count(g),
+                                                      D, analysis::RattlerRule::exclude);
   m.z = st.z.value_or(0.0);
   m.z_all = st.z_all.value_or(0.0);
   return m;

@@ -25,7 +25,8 @@ std::string partial_path(const std::string& output) {
   // room for a hash of the whole name (FNV-1a, 64 bits), so that --resume finds the same
   // partial again and two long names sharing a beginning get different partials.
   const std::filesystem::path p(output);
-  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path dir =
+      p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
   const long name_max = ::pathconf(dir.c_str(), _PC_NAME_MAX);
   const std::size_t limit = static_cast<std::size_t>(name_max > 0 ? name_max : 255);
   std::string name = p.filename().string();
@@ -139,8 +140,8 @@ void FileRecorder::start(const io::RunHeader& h, const Grains& g, Pending& p, co
   seal(f, w, tmp, p, e, s);
 }
 
-void FileRecorder::seal(h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p, const cd::Engine& e,
-                        const LoopState& s) {
+void FileRecorder::seal(h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p,
+                        const cd::Engine& e, const LoopState& s) {
   append_pending(w, p);
   write_checkpoint(f, e, s);
   f.close();
@@ -164,7 +165,8 @@ void FileRecorder::commit(Pending& p, const cd::Engine& e, const LoopState& s) {
   seal(f, w, tmp, p, e, s);
 }
 
-void FileRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) {
+void FileRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s,
+                          const io::Values& results) {
   commit(p, e, s);  // a kill from here on resumes at the last step and redoes only this
   h5::File src = h5::open_read(partial_, partial_);
   io::RunHeader h = io::read_header(src);
@@ -193,7 +195,8 @@ void StreamRecorder::commit(Pending& p, const cd::Engine&, const LoopState&) {
   p.clear();
 }
 
-void StreamRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) {
+void StreamRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s,
+                            const io::Values& results) {
   commit(p, e, s);
   for (const auto& [k, v] : results) writer_->set_result(k, v);
   out_.commit();

@@ -24,15 +24,16 @@ double angle_deg(const TiltOptions& o, std::int64_t step) {
   return o.from_deg + static_cast<double>(step) * o.rate_deg;
 }
 
-TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopState st, Pending& pending,
-                  const TiltHooks& hooks) {
+TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopState st,
+                  Pending& pending, const TiltHooks& hooks) {
   const Agitation agitation(engine.grains(), o.settings.gravity);
   const std::vector<Species> species = engine.grains().species;
   const std::int64_t margin = steps_for(o.margin_deg, o.rate_deg);
   const std::int64_t cap = o.to_deg ? steps_for(*o.to_deg - o.from_deg, o.rate_deg)
                                     : steps_for(o.max_deg - o.from_deg, o.rate_deg);
   auto last_step = [&] {
-    if (!o.to_deg && st.detector.detected) return std::min(cap, st.detector.confirmed_step + margin);
+    if (!o.to_deg && st.detector.detected)
+      return std::min(cap, st.detector.confirmed_step + margin);
     return cap;
   };
   TiltOutcome out;
@@ -68,7 +69,8 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
     }
     step = r.step;
     Contacts c = engine.contacts();
-    append_observables(pending.rows, r, count_critical(c, species, o.settings.mu_grain, o.settings.mu_wall, o.eps));
+    append_observables(pending.rows, r,
+                       count_critical(c, species, o.settings.mu_grain, o.settings.mu_wall, o.eps));
     if (!r.converged) ++st.unconverged;
     st.max_overlap = std::max(st.max_overlap, r.max_overlap);
     const double a = agitation(r.kinetic_energy);
@@ -111,8 +113,9 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   out.avalanche_deg = st.detector.angle_deg;
   out.unconverged_steps = st.unconverged;
   out.stop_reason = o.to_deg ? "to"
-                   : (st.detector.detected && step == st.detector.confirmed_step + margin) ? "avalanche"
-                                                                                           : "max_angle";
+                    : (st.detector.detected && step == st.detector.confirmed_step + margin)
+                        ? "avalanche"
+                        : "max_angle";
   io::Values results{
       {"steps", step},
       {"final_angle_deg", out.final_angle_deg},
@@ -167,12 +170,12 @@ void check_output(const std::string& output, bool force) {
   io::Output check(output, force, true);  // an existing output, a missing folder, a terminal
   if (output != "-" && !force && has_partial(output))
     throw Error(partial_path(output), "",
-                "an interrupted run exists; use " + field("resume") + " to continue it or " + field("force") +
-                    " to start over");
+                "an interrupted run exists; use " + field("resume") + " to continue it or " +
+                    field("force") + " to start over");
 }
 
-TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output, bool force,
-                     const io::Provenance& prov, const TiltHooks& hooks) {
+TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output,
+                     bool force, const io::Provenance& prov, const TiltHooks& hooks) {
   validate(o);
   const bool to_stdout = output == "-";
   check_output(output, force);
@@ -226,10 +229,12 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
   }
 }
 
-TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force, const TiltHooks& hooks) {
+TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool force,
+                        const TiltHooks& hooks) {
   validate(o);
   if (output == "-")
-    throw UsageError(field("resume") + " needs an output file (" + field("output") + " FILE), not standard output");
+    throw UsageError(field("resume") + " needs an output file (" + field("output") +
+                     " FILE), not standard output");
   const std::string partial = partial_path(output);
   if (!has_partial(output)) throw Error(partial, "", "no partial run to resume");
   remove_stale_temporaries(output);
@@ -244,8 +249,9 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
       auto it = stored.find(k);
       if (it == stored.end()) throw Error(partial, "/parameters", "missing parameter '" + k + "'");
       if (!same_value(it->second, v))
-        throw Error(partial, "/parameters", k + " is " + value_text(v) + " here but " + value_text(it->second) +
-                                                " in the interrupted run; resume with the same options");
+        throw Error(partial, "/parameters",
+                    k + " is " + value_text(v) + " here but " + value_text(it->second) +
+                        " in the interrupted run; resume with the same options");
     }
     rs = read_checkpoint(f, r.grain_properties());
     box = r.header().box;

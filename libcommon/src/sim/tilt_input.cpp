@@ -47,8 +47,10 @@ PileInput start_from_frame(const io::h5::File& f, const io::RunReader& r, std::s
 }
 
 void check_grains(const io::h5::File& f, const io::RunReader& r, const std::string& what) {
-  if (r.frame_count() == 0) throw Error(f.name(), "/particles/grains/position", "the " + what + " has no frame");
-  if (r.grain_count() == 0) throw Error(f.name(), "/particles/grains", "the " + what + " has no grain");
+  if (r.frame_count() == 0)
+    throw Error(f.name(), "/particles/grains/position", "the " + what + " has no frame");
+  if (r.grain_count() == 0)
+    throw Error(f.name(), "/particles/grains", "the " + what + " has no grain");
 }
 
 }  // namespace
@@ -56,7 +58,8 @@ void check_grains(const io::h5::File& f, const io::RunReader& r, const std::stri
 PileInput read_pile(const io::h5::File& f) {
   io::RunReader r(f);
   if (r.header().kind != "pile")
-    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file, expected a pile (made by deposit)");
+    throw Error(f.name(), "/",
+                "is a '" + r.header().kind + "' file, expected a pile (made by deposit)");
   check_grains(f, r, "pile");
   return start_from_frame(f, r, r.frame_count() - 1);
 }
@@ -65,18 +68,22 @@ cd::EngineState warm_start_state(const Contacts& contacts, double time_step) {
   cd::EngineState es;
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     if (contacts.fn[k] == 0.0 && contacts.ft[k] == 0.0) continue;
-    es.impulses.push_back({contacts.i[k], contacts.j[k], contacts.fn[k] * time_step, contacts.ft[k] * time_step});
+    es.impulses.push_back(
+        {contacts.i[k], contacts.j[k], contacts.fn[k] * time_step, contacts.ft[k] * time_step});
   }
-  std::sort(es.impulses.begin(), es.impulses.end(), [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
-    return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
-  });
+  std::sort(es.impulses.begin(), es.impulses.end(),
+            [](const cd::StoredImpulse& a, const cd::StoredImpulse& b) {
+              return cd::pair_key(a.i, a.j) < cd::pair_key(b.i, b.j);
+            });
   return es;
 }
 
 PileInput read_branch(const io::h5::File& f, double at_deg) {
   io::RunReader r(f);
   if (r.header().kind != "run")
-    throw Error(f.name(), "/", "is a '" + r.header().kind + "' file; a branch starts from a run (made by tilt-cd)");
+    throw Error(
+        f.name(), "/",
+        "is a '" + r.header().kind + "' file; a branch starts from a run (made by tilt-cd)");
   check_grains(f, r, "run");
   // The last frame at or below the requested tilt (frames are in step order, and the
   // tilt grows with the step). Angles are compared in degrees to 1e-9 so that a frame
@@ -86,8 +93,8 @@ PileInput read_branch(const io::h5::File& f, double at_deg) {
     if (r.frame_tilt_angle(k) / kDeg <= at_deg + 1e-9) pick = k;
   if (!pick) {
     char what[160];
-    std::snprintf(what, sizeof what, "has no frame at or below %g deg (the first is at %g deg)", at_deg,
-                  r.frame_tilt_angle(0) / kDeg);
+    std::snprintf(what, sizeof what, "has no frame at or below %g deg (the first is at %g deg)",
+                  at_deg, r.frame_tilt_angle(0) / kDeg);
     throw Error(f.name(), "/particles/grains/position", what);
   }
   PileInput p = start_from_frame(f, r, *pick);

@@ -21,7 +21,8 @@ void validate(const TiltOptions& o) {
   // The start is from_deg, or with a branch the tilt of the frame branched from.
   if (o.to_deg && !(*o.to_deg >= o.from_deg))
     bad(field("to_deg") + " " + io::format_number(*o.to_deg) + " is below the starting tilt " +
-        io::format_number(o.from_deg) + " deg (" + field("from_deg") + ", or the frame of " + field("branch_at") + ")");
+        io::format_number(o.from_deg) + " deg (" + field("from_deg") + ", or the frame of " +
+        field("branch_at") + ")");
   if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= " + field("from_deg"));
   if (!(o.margin_deg >= 0.0)) bad(field("margin_deg") + " must be >= 0");
   if (!(o.avalanche_energy > 0.0)) bad(field("avalanche_energy") + " must be > 0");
@@ -102,7 +103,8 @@ std::string message_text(const std::string& key, const io::Value& v) {
 }
 }  // namespace
 
-InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked, const std::set<std::string>& given,
+InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked,
+                                 const std::set<std::string>& given,
                                  std::optional<double> start_deg, const std::string& file) {
   const TiltOptions from_run = tilt_options_from_parameters(with_pre_seam_settings(run), file);
   const io::Values before = tilt_parameters(from_run), want = tilt_parameters(asked);
@@ -124,11 +126,12 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   out.options = tilt_options_from_parameters(merged, file);
   out.options.checkpoint_every = asked.checkpoint_every;
   for (const auto& [option, key] : tilt_option_parameters()) {
-    if (option == "frame-every-deg" || (start_deg && key == "tilt_from_deg")) continue;  // one entry per parameter
+    if (option == "frame-every-deg" || (start_deg && key == "tilt_from_deg"))
+      continue;  // one entry per parameter
     if (merged.at(key) == before.at(key)) continue;
     const auto by = option_of.find(key);
-    out.changes.push_back({by == option_of.end() ? "" : by->second, key, message_text(key, before.at(key)),
-                           message_text(key, merged.at(key))});
+    out.changes.push_back({by == option_of.end() ? "" : by->second, key,
+                           message_text(key, before.at(key)), message_text(key, merged.at(key))});
   }
   return out;
 }

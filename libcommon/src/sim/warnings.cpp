@@ -8,8 +8,9 @@
 
 namespace cdpile::sim {
 
-std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged, double max_overlap_m,
-                                      double diameter_m, double contact_stiffness) {
+std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged,
+                                      double max_overlap_m, double diameter_m,
+                                      double contact_stiffness) {
   std::vector<std::string> w;
   char line[300];
   // 1 %: a few isolated cap hits during impacts are expected and harmless; beyond that the
@@ -20,7 +21,8 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
                   "%lld of %lld steps (%.1f %%) hit the sweep cap; their forces are not converged "
                   "(raise %s; docs/performance.md)",
                   static_cast<long long>(unconverged), static_cast<long long>(steps),
-                  100.0 * static_cast<double>(unconverged) / static_cast<double>(steps), field("max_sweeps").c_str());
+                  100.0 * static_cast<double>(unconverged) / static_cast<double>(steps),
+                  field("max_sweeps").c_str());
     w.emplace_back(line);
   }
   // 1e-3 D: the documented bound of the overlaps (docs/method.md); larger ones mean grains
@@ -34,10 +36,11 @@ std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverg
                     "stiffness (overlap = force / k; a stiffer k makes it smaller)",
                     max_overlap_m / diameter_m);
     else
-      std::snprintf(line, sizeof line,
-                    "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
-                    "speeds (lower %s)",
-                    max_overlap_m / diameter_m, field("time_step").c_str());
+      std::snprintf(
+          line, sizeof line,
+          "the largest overlap, %.2g D, exceeds 1e-3 D; the time step is too large for these "
+          "speeds (lower %s)",
+          max_overlap_m / diameter_m, field("time_step").c_str());
     w.emplace_back(line);
   }
   return w;
@@ -51,20 +54,22 @@ std::vector<std::string> settings_warnings(const cd::Settings& s, double diamete
   // 0.02 is the geometric middle of the last sound point and the first failing one.
   const double h_hat = diameter_m > 0.0 ? s.time_step * std::sqrt(s.gravity / diameter_m) : 0.0;
   if (h_hat > 0.02) {
-    std::snprintf(line, sizeof line,
-                  "h sqrt(g/D) = %.3g is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
-                  "from 0.04 on (lower %s; docs/performance.md)",
-                  h_hat, field("time_step").c_str());
+    std::snprintf(
+        line, sizeof line,
+        "h sqrt(g/D) = %.3g is above 0.02; runs of the stability map overlapped beyond 1e-3 D "
+        "from 0.04 on (lower %s; docs/performance.md)",
+        h_hat, field("time_step").c_str());
     w.emplace_back(line);
   }
   // At 1e-2 and 1e-1 every run of the map at h >= 1e-4 s overlapped, or avalanched more
   // than 2 degrees from the reference (the artificial stiffness of a truncated solver).
   // The map measured the sweep criteria; 'law' is in units of g h, another scale.
   if (s.tolerance >= 1e-2 && s.criterion != cd::Criterion::law) {
-    std::snprintf(line, sizeof line,
-                  "the tolerance %.3g is 1e-2 or looser; runs of the stability map overlapped or moved "
-                  "the avalanche there (lower %s; docs/performance.md)",
-                  s.tolerance, field("tolerance").c_str());
+    std::snprintf(
+        line, sizeof line,
+        "the tolerance %.3g is 1e-2 or looser; runs of the stability map overlapped or moved "
+        "the avalanche there (lower %s; docs/performance.md)",
+        s.tolerance, field("tolerance").c_str());
     w.emplace_back(line);
   }
   return w;

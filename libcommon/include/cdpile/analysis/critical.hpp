@@ -3,7 +3,8 @@
 /// A contact is *active* when f_n > 0. It is *critical* when the friction is fully
 /// mobilised to a tolerance eps:
 ///
-///     f_n > 0  and  |f_t| >= (1 - eps) mu f_n                                   (Coulomb threshold)
+///     f_n > 0  and  |f_t| >= (1 - eps) mu f_n                                   (Coulomb
+///     threshold)
 ///
 /// nu = Nc / N over the contacts that count (eq 1 with V the whole pile),
 /// z = 2 N / Np (coordination number, with a stated rattler convention) and
@@ -34,9 +35,9 @@ inline constexpr double default_eps = 1e-3;
 
 /// The choices that say which contacts count and which are critical.
 struct CriticalRule {
-  double eps = default_eps;             ///< tolerance of the Coulomb test, in [0, 1)
-  bool include_walls = false;           ///< count contacts with walls (and glued floor grains)
-  bool floor_grains_are_walls = true;   ///< a contact with a glued floor grain is a wall contact
+  double eps = default_eps;            ///< tolerance of the Coulomb test, in [0, 1)
+  bool include_walls = false;          ///< count contacts with walls (and glued floor grains)
+  bool floor_grains_are_walls = true;  ///< a contact with a glued floor grain is a wall contact
 };
 
 /// Friction coefficients: grain-grain (also used with glued floor grains) and grain-wall.
@@ -57,12 +58,12 @@ void validate(const CriticalRule& rule, const Friction& mu);
 
 /// The contacts of one instant that count, in the order of the source table.
 struct ContactSet {
-  std::vector<std::size_t> row;         ///< row in the source Contacts table
-  std::vector<std::int32_t> i, j;       ///< bodies (j < 0: wall)
-  std::vector<Vec2> point;              ///< contact points [m]
-  std::vector<std::uint8_t> critical;   ///< 1 if critical by the rule
-  std::vector<std::uint8_t> sliding;    ///< 1 if the solver's status is `slide`
-  std::vector<double> mobilisation;     ///< |f_t| / (mu f_n), in [0, 1] up to round-off
+  std::vector<std::size_t> row;        ///< row in the source Contacts table
+  std::vector<std::int32_t> i, j;      ///< bodies (j < 0: wall)
+  std::vector<Vec2> point;             ///< contact points [m]
+  std::vector<std::uint8_t> critical;  ///< 1 if critical by the rule
+  std::vector<std::uint8_t> sliding;   ///< 1 if the solver's status is `slide`
+  std::vector<double> mobilisation;    ///< |f_t| / (mu f_n), in [0, 1] up to round-off
   /// The source gave a solver status (a run, or a contact table with a `status` column);
   /// without one, `sliding` is all 0 and means "unknown", not "none slides".
   bool has_status = true;
@@ -87,16 +88,16 @@ enum class RattlerRule {
 /// The state of the whole pile at one instant. Undefined quantities are empty optionals
 /// (nu when N = 0; lambda when Nc = 0, where it is infinite; z when Np = 0).
 struct PileState {
-  std::int64_t contacts = 0;           ///< N, counted active contacts
-  std::int64_t critical = 0;           ///< Nc
-  std::int64_t sliding = 0;            ///< solver status `slide` among the counted contacts
-  std::int64_t grains = 0;             ///< Np, free grains
-  std::int64_t loaded_grains = 0;      ///< free grains with >= 2 counted contacts
-  std::optional<double> nu;            ///< Nc / N (eq 1)
-  std::optional<double> nu_sliding;    ///< sliding / N, the solver's own view
-  std::optional<double> z;             ///< by the chosen rattler rule
-  std::optional<double> z_all;         ///< 2 N / Np, rattlers included
-  std::optional<double> lambda;        ///< sqrt(2 / (z nu)) D [m] (eq 2), z by the rule
+  std::int64_t contacts = 0;         ///< N, counted active contacts
+  std::int64_t critical = 0;         ///< Nc
+  std::int64_t sliding = 0;          ///< solver status `slide` among the counted contacts
+  std::int64_t grains = 0;           ///< Np, free grains
+  std::int64_t loaded_grains = 0;    ///< free grains with >= 2 counted contacts
+  std::optional<double> nu;          ///< Nc / N (eq 1)
+  std::optional<double> nu_sliding;  ///< sliding / N, the solver's own view
+  std::optional<double> z;           ///< by the chosen rattler rule
+  std::optional<double> z_all;       ///< 2 N / Np, rattlers included
+  std::optional<double> lambda;      ///< sqrt(2 / (z nu)) D [m] (eq 2), z by the rule
 };
 
 /// Computes the pile state of a selected contact set. `free_grains` is the number of
@@ -163,8 +164,8 @@ std::vector<double> slip_speeds(const Contacts& c, const ContactSet& set, const 
 struct RestCount {
   std::int64_t contacts = 0, critical = 0;
 };
-RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g, const std::vector<double>& u_t,
-                           double rest_speed, double slip_speed);
+RestCount contacts_at_rest(const Contacts& c, const ContactSet& set, const Grains& g,
+                           const std::vector<double>& u_t, double rest_speed, double slip_speed);
 
 /// Counts of the contacts of `set` per bin of the mobilisation |f_t| / (mu f_n) on [0, 1]
 /// in `bins` equal bins (a value at or above 1, a critical sliding contact, goes in the last).

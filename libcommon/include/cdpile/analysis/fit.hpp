@@ -23,14 +23,14 @@
 namespace cdpile::analysis {
 
 struct FitResult {
-  Eigen::VectorXd p;              ///< best parameters
-  Eigen::MatrixXd cov;            ///< covariance (empty when dof = 0)
-  double chi2 = 0.0;              ///< weighted sum of squared residuals (RSS if unweighted)
+  Eigen::VectorXd p;    ///< best parameters
+  Eigen::MatrixXd cov;  ///< covariance (empty when dof = 0)
+  double chi2 = 0.0;    ///< weighted sum of squared residuals (RSS if unweighted)
   int points = 0, dof = 0;
   bool weighted = false;
   bool converged = false;
-  double cov_scale = 1.0;         ///< factor applied to (J^T W J)^-1
-  std::string status;             ///< the solver's stopping reason
+  double cov_scale = 1.0;  ///< factor applied to (J^T W J)^-1
+  std::string status;      ///< the solver's stopping reason
   /// Standard error of parameter k, empty when no covariance.
   std::optional<double> se(int k) const;
 };
@@ -100,7 +100,7 @@ std::optional<ClusterSize> cluster_size(double nu_c, double nu_inf, double a, do
 /// se(r_c)/r_c (unweighted without errors). theta_c is fitted (kept above the largest
 /// theta by fitting ln(theta_c - max theta)) unless given. p = (ln C, beta, theta_c).
 struct DivergenceFit {
-  FitResult fit;            ///< parameters (ln C, beta[, s = ln(theta_c - theta_max)])
+  FitResult fit;  ///< parameters (ln C, beta[, s = ln(theta_c - theta_max)])
   double beta = 0.0, theta_c = 0.0, log_c = 0.0;
   std::optional<double> se_beta, se_theta_c, se_log_c;
   bool theta_c_fitted = false;

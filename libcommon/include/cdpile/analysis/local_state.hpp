@@ -36,9 +36,10 @@ enum class EdgeRule {
 };
 
 struct LocalStateOptions {
-  bool exclude_self = false;   ///< leave contact i out of its own neighbourhood
+  bool exclude_self = false;  ///< leave contact i out of its own neighbourhood
   EdgeRule edge = EdgeRule::keep;
-  double outline_bin = 0.0;    ///< [m] column width of the pile outline; > 0 with EdgeRule::exclude (tools use 1 D)
+  double outline_bin =
+      0.0;  ///< [m] column width of the pile outline; > 0 with EdgeRule::exclude (tools use 1 D)
 };
 
 /// The outline of a pile seen from its contact points: the bounding box's left, right
@@ -160,8 +161,8 @@ void add_to_pdfs(const LocalStates& s, std::span<const std::uint8_t> critical, s
 struct Field {
   double x0 = 0, y0 = 0, dx = 1;
   std::size_t nx = 0, ny = 0;
-  double radius = 0;                 ///< [m]
-  std::vector<std::int32_t> total;   ///< contacts within radius of the node, [b * nx + a]
+  double radius = 0;                ///< [m]
+  std::vector<std::int32_t> total;  ///< contacts within radius of the node, [b * nx + a]
   std::vector<std::int32_t> critical;
   std::optional<double> nu(std::size_t a, std::size_t b) const {
     const std::int32_t t = total[b * nx + a];

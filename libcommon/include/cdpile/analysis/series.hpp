@@ -30,11 +30,11 @@ struct EventRule {
 };
 
 struct Event {
-  std::size_t peak = 0;      ///< index of the last sample at the maximum (the state "just before")
-  std::size_t trough = 0;    ///< index of the first sample at the following minimum
+  std::size_t peak = 0;    ///< index of the last sample at the maximum (the state "just before")
+  std::size_t trough = 0;  ///< index of the first sample at the following minimum
   std::int64_t n_peak = 0, n_trough = 0;
-  double loss = 0.0;         ///< Delta N / N = (n_peak - n_trough) / n_peak
-  bool open = false;         ///< the series ended while N was still falling
+  double loss = 0.0;  ///< Delta N / N = (n_peak - n_trough) / n_peak
+  bool open = false;  ///< the series ended while N was still falling
 };
 
 /// Events of a contact-count series. Throws cdpile::Error on a bad rule.
@@ -84,6 +84,7 @@ struct AvalancheRule {
 
 /// Index of the sample at theta_c, or empty if the run never avalanches by the rule.
 std::optional<std::size_t> avalanche_index(std::span<const double> theta,
-                                           std::span<const double> energy, const AvalancheRule& rule);
+                                           std::span<const double> energy,
+                                           const AvalancheRule& rule);
 
 }  // namespace cdpile::analysis

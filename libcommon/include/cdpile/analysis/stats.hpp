@@ -27,8 +27,16 @@ Summary summarize(std::span<const double> samples);
 struct Sums {
   std::int64_t n = 0;
   double sum = 0.0, sum2 = 0.0;
-  void add(double x) { ++n; sum += x; sum2 += x * x; }
-  void add(const Sums& o) { n += o.n; sum += o.sum; sum2 += o.sum2; }
+  void add(double x) {
+    ++n;
+    sum += x;
+    sum2 += x * x;
+  }
+  void add(const Sums& o) {
+    n += o.n;
+    sum += o.sum;
+    sum2 += o.sum2;
+  }
   /// Mean and the naive standard error sd/sqrt(n), treating the samples as independent.
   Summary summary() const;
 };
@@ -44,8 +52,8 @@ const char* se_over_name(SeOver s);
 /// over the C clusters with N_c > 0. With one cluster the naive per-sample error of the
 /// pooled sums is used instead and `over` says so.
 struct Pooled {
-  std::int64_t n = 0;          ///< samples
-  std::int64_t clusters = 0;   ///< clusters with samples
+  std::int64_t n = 0;         ///< samples
+  std::int64_t clusters = 0;  ///< clusters with samples
   std::optional<double> mean, se;
   SeOver over = SeOver::none;
 };

@@ -24,7 +24,10 @@ struct ThetaRange {
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
   bool contains(double t) const { return t >= lo && t <= hi; }
-  bool bounded() const { return lo > -std::numeric_limits<double>::infinity() || hi < std::numeric_limits<double>::infinity(); }
+  bool bounded() const {
+    return lo > -std::numeric_limits<double>::infinity() ||
+           hi < std::numeric_limits<double>::infinity();
+  }
 };
 
 /// Records the ends of a range as the parameters `<prefix>_lo_deg` and `<prefix>_hi_deg`,
@@ -75,12 +78,12 @@ struct CriticalOptions {
   RattlerRule rattlers = RattlerRule::exclude;
   EventRule events;
   AvalancheRule avalanche;
-  bool cut_at_avalanche = true;       ///< ensemble and envelope use each run up to its theta_c
-  double grid_step = 0.1;             ///< [deg] bins of the ensemble mean
-  double envelope_window = 0.5;       ///< [deg] windows of the envelope of maxima
+  bool cut_at_avalanche = true;            ///< ensemble and envelope use each run up to its theta_c
+  double grid_step = 0.1;                  ///< [deg] bins of the ensemble mean
+  double envelope_window = 0.5;            ///< [deg] windows of the envelope of maxima
   std::optional<ThetaRange> envelope_fit;  ///< default: windows where every run contributes
   SeriesSource source = SeriesSource::automatic;
-  bool step_table = true;             ///< include the per-step table
+  bool step_table = true;  ///< include the per-step table
 };
 
 /// The rule behind a run's recorded per-step critical count (observable critical_grain,
@@ -101,8 +104,8 @@ struct StepRuleMismatch {
 /// two free grains at the Coulomb threshold with (critical_eps, mu_grain); its critical
 /// (read with walls) all contacts, mu_wall against a wall plane. So without walls,
 /// --floor-grains grain departs from it too.
-std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec, const CriticalRule& rule,
-                                                   const Friction& mu);
+std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec,
+                                                   const CriticalRule& rule, const Friction& mu);
 
 /// For an explicit --series steps, before the run is read: a UsageError when run `name`
 /// recorded its per-step count with another rule. (A run that records a count but not its
@@ -113,14 +116,14 @@ void require_step_rule(const std::string& name, const RecordedRule& rec, const C
 /// Per-step observables of one run, as recorded. Optional series are empty when absent.
 struct RunSteps {
   std::vector<std::int64_t> step;
-  std::vector<double> theta;               ///< [deg]
-  std::vector<std::int64_t> contacts;      ///< N, counted as the rule says
-  std::vector<std::int64_t> critical;      ///< Nc per step, if the run records it
-  std::vector<std::int64_t> sliding;       ///< contacts with solver status slide, if recorded
-  std::vector<double> kinetic_energy;      ///< translational, summed over grains [J/m]
-  std::vector<double> rotational_energy;   ///< summed over grains [J/m], if recorded
-  std::vector<std::int64_t> converged;     ///< 1 if the step met its criterion, if recorded
-  std::vector<double> max_speed;           ///< largest grain speed [m/s], if recorded
+  std::vector<double> theta;              ///< [deg]
+  std::vector<std::int64_t> contacts;     ///< N, counted as the rule says
+  std::vector<std::int64_t> critical;     ///< Nc per step, if the run records it
+  std::vector<std::int64_t> sliding;      ///< contacts with solver status slide, if recorded
+  std::vector<double> kinetic_energy;     ///< translational, summed over grains [J/m]
+  std::vector<double> rotational_energy;  ///< summed over grains [J/m], if recorded
+  std::vector<std::int64_t> converged;    ///< 1 if the step met its criterion, if recorded
+  std::vector<double> max_speed;          ///< largest grain speed [m/s], if recorded
   std::vector<std::int64_t> grains_without_contact;  ///< free grains in flight, if recorded
 };
 
@@ -134,7 +137,7 @@ struct FrameRecord {
   /// velocities (a contact table)
   std::optional<double> agitation{}, max_speed{};
   std::int64_t grains_without_contact{};  ///< free grains with no active contact, walls included
-  std::optional<double> z_paper{};      ///< contacts per free grain, walls included (FrameMotion)
+  std::optional<double> z_paper{};        ///< contacts per free grain, walls included (FrameMotion)
   /// counted contacts with |u_t| above the slip speed, and the critical ones among them;
   /// empty without velocities or without g and D
   std::optional<std::int64_t> slipping{}, critical_slipping{};
@@ -149,12 +152,12 @@ struct FrameRecord {
 struct RunRecord {
   std::string name;
   std::int64_t free_grains = 0;
-  double diameter = 0.0;    ///< mean diameter D [m]
-  double mean_mass = 0.0;   ///< [kg/m]
-  double gravity = 0.0;     ///< [m/s^2]; 0 if unknown (then no avalanche angle)
+  double diameter = 0.0;                     ///< mean diameter D [m]
+  double mean_mass = 0.0;                    ///< [kg/m]
+  double gravity = 0.0;                      ///< [m/s^2]; 0 if unknown (then no avalanche angle)
   std::optional<double> recorded_avalanche;  ///< [deg] the simulator's own detection
-  Friction mu;                ///< the friction the frames were classified with
-  RecordedRule recorded_rule; ///< the rule of steps.critical; used only when it is the asked one
+  Friction mu;                               ///< the friction the frames were classified with
+  RecordedRule recorded_rule;  ///< the rule of steps.critical; used only when it is the asked one
   RunSteps steps;
   std::vector<FrameRecord> frames;
 };
@@ -179,16 +182,16 @@ std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& r
 // localnu: nu_i(r) around every contact, pdfs P_c, P_nc, the nu field (Figs 3, 5)
 
 struct LocalNuOptions {
-  std::vector<double> radii;          ///< [D], ascending; default 1..20
+  std::vector<double> radii;  ///< [D], ascending; default 1..20
   bool exclude_self = false;
   EdgeRule edge = EdgeRule::keep;
-  double pdf_radius = 6.0;            ///< [D]
+  double pdf_radius = 6.0;  ///< [D]
   std::size_t pdf_bins = 50;
   std::optional<ThetaRange> pdf_theta;  ///< default: the loading phase of each run
-  double map_radius = 6.0;            ///< [D]
-  double map_spacing = 1.0;           ///< [D]
-  double nu_c = 0.08;                 ///< threshold of the map (Fig 5)
-  bool per_contact = false;           ///< table of nu_i(r) of every contact of the map frame
+  double map_radius = 6.0;              ///< [D]
+  double map_spacing = 1.0;             ///< [D]
+  double nu_c = 0.08;                   ///< threshold of the map (Fig 5)
+  bool per_contact = false;             ///< table of nu_i(r) of every contact of the map frame
 };
 
 LocalNuOptions default_localnu_options();
@@ -217,8 +220,8 @@ class LocalNuStudy {
   LocalNuOptions opt_;
   std::string length_unit_ = "m";
   std::vector<std::string> extra_notes_;
-  std::vector<double> query_;      // radii of the query [D]: radii + pdf radius, sorted
-  std::vector<std::size_t> out_k_; // index in query_ of each output radius
+  std::vector<double> query_;       // radii of the query [D]: radii + pdf radius, sorted
+  std::vector<std::size_t> out_k_;  // index in query_ of each output radius
   std::size_t pdf_k_ = 0;
   std::size_t frames_ = 0;
   Table frames_t_, states_t_, contacts_t_, map_t_;
@@ -255,17 +258,17 @@ const char* nu_inf_name(NuInfSource s);
 enum class RcFrom { window, affine };
 
 struct ClusterFitOptions {
-  double r_min = 1.0;          ///< [D]
-  double r_max = 10.0;         ///< L [D]
+  double r_min = 1.0;   ///< [D]
+  double r_max = 10.0;  ///< L [D]
   NuInfSource nu_inf = NuInfSource::automatic;
-  std::optional<double> nu_c;  ///< overrides the critical product's nu_c
-  double nu_c_se = 0.0;        ///< its standard error, with nu_c given
-  ThetaRange theta;            ///< windows fitted
+  std::optional<double> nu_c;        ///< overrides the critical product's nu_c
+  double nu_c_se = 0.0;              ///< its standard error, with nu_c given
+  ThetaRange theta;                  ///< windows fitted
   std::optional<ThetaRange> affine;  ///< default: every fitted window
   ThetaRange power{15.0, std::numeric_limits<double>::infinity()};  ///< windows of the power law
-  std::optional<double> theta_c;     ///< given: not fitted
+  std::optional<double> theta_c;                                    ///< given: not fitted
   RcFrom rc_from = RcFrom::window;
-  int min_points = 4;          ///< radii needed to fit a window
+  int min_points = 4;  ///< radii needed to fit a window
 };
 
 Product clusterfit(const Product& correlate, const Product* critical, const ClusterFitOptions& opt);

@@ -46,7 +46,7 @@ struct Column {
 
 struct Table {
   std::string name;
-  std::string title;  ///< one line: what a row is
+  std::string title;           ///< one line: what a row is
   std::deque<Column> columns;  ///< a deque: references to columns stay valid as columns are added
 
   Column& add_column(const std::string& name, const std::string& unit,
@@ -61,9 +61,9 @@ struct Table {
 };
 
 struct Product {
-  std::string kind;                ///< the tool that made it: critical, localnu, correlate, clusterfit
-  Values parameters;               ///< the options and definitions used
-  Values results;                  ///< scalar results (nu_c, beta, ...)
+  std::string kind;   ///< the tool that made it: critical, localnu, correlate, clusterfit
+  Values parameters;  ///< the options and definitions used
+  Values results;     ///< scalar results (nu_c, beta, ...)
   std::vector<std::string> notes;  ///< definitions, one line each
   /// The results this product lacks, each with the reason (also among the notes): the
   /// tool says each on stderr (docs/cli.md, "Messages and exit codes").
@@ -73,8 +73,8 @@ struct Product {
     notes.push_back(why);
     not_computed.push_back(why);
   }
-  std::deque<Table> tables;        ///< a deque: references to tables stay valid as tables are added
-  std::string source;              ///< file it was read from, for messages
+  std::deque<Table> tables;  ///< a deque: references to tables stay valid as tables are added
+  std::string source;        ///< file it was read from, for messages
 
   Table& add_table(const std::string& name, const std::string& title);
   const Table* find(const std::string& name) const;
@@ -86,7 +86,6 @@ struct Product {
 
 // ---------------------------------------------------------------------------------
 // Inline so that the io layer can use tables without linking the analysis library.
-
 
 inline void Column::add(std::optional<double> v) {
   num.push_back(v && std::isfinite(*v) ? *v : std::numeric_limits<double>::quiet_NaN());
@@ -161,8 +160,9 @@ inline const Table& Product::table(const std::string& name) const {
   if (const Table* t = find(name)) return *t;
   std::string have;
   for (const Table& t : tables) have += (have.empty() ? "" : ", ") + t.name;
-  throw Error(source, "", "no table '" + name + "' (this " + (kind.empty() ? "" : kind + " ") +
-                              "product has: " + (have.empty() ? "none" : have) + ")");
+  throw Error(source, "",
+              "no table '" + name + "' (this " + (kind.empty() ? "" : kind + " ") +
+                  "product has: " + (have.empty() ? "none" : have) + ")");
 }
 
 namespace detail {
@@ -175,7 +175,9 @@ inline std::optional<double> number(const Values& v, const std::string& name) {
 }
 }  // namespace detail
 
-inline std::optional<double> Product::result(const std::string& name) const { return detail::number(results, name); }
+inline std::optional<double> Product::result(const std::string& name) const {
+  return detail::number(results, name);
+}
 inline std::optional<double> Product::parameter(const std::string& name) const {
   return detail::number(parameters, name);
 }

@@ -26,7 +26,7 @@ namespace cdpile::cd {
 
 /// One rigid body: a disk, or the static body standing for the walls.
 struct Body {
-  double vx, vy, w;  ///< velocity being solved for (v_free + M^-1 H^T R) [m/s, rad/s]
+  double vx, vy, w;     ///< velocity being solved for (v_free + M^-1 H^T R) [m/s, rad/s]
   double inv_m, inv_i;  ///< zero for a glued grain and for the walls
 };
 

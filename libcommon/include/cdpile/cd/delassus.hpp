@@ -55,7 +55,7 @@ struct NsgsReport {
   int sweeps = 0;
   double residual = 0.0;  ///< natural_map_residual at the end
   bool converged = false;
-  double seconds = 0.0;   ///< wall-clock time of the solve
+  double seconds = 0.0;  ///< wall-clock time of the solve
 };
 
 /// Non-smooth Gauss-Seidel on a Delassus problem, from the initial guess in `r` (resized

@@ -58,10 +58,10 @@ void validate(const Settings& s);
 
 /// What one step did. Energies per unit thickness [J/m].
 struct StepReport {
-  std::int64_t step = 0;      ///< index of the step just done (1 = first)
-  double time = 0.0;          ///< time at the end of the step [s]
-  double tilt_angle = 0.0;    ///< [rad]
-  int sweeps = 0;             ///< NSGS sweeps done
+  std::int64_t step = 0;    ///< index of the step just done (1 = first)
+  double time = 0.0;        ///< time at the end of the step [s]
+  double tilt_angle = 0.0;  ///< [rad]
+  int sweeps = 0;           ///< NSGS sweeps done
   /// Convergence residual after the last sweep: the largest velocity correction
   /// max_a |W_aa dR_a| (max-norm over contacts and components) made by the last sweep,
   /// divided by max(g h, mean W_nn R_n over active contacts). Zero when no contact.
@@ -69,19 +69,19 @@ struct StepReport {
   /// The same corrections' root mean square over the active contacts (the larger
   /// component of each), divided by the same scale: the 'quad' measure.
   double residual_rms = 0.0;
-  bool converged = true;      ///< the criterion was met before the sweep cap
+  bool converged = true;  ///< the criterion was met before the sweep cap
   /// The contact law's residual at the step's end (LawResidual, relative to g h):
   /// solver-independent, so steps of any solver and stopping rule compare.
   double law_residual = 0.0;
   double law_residual_rms = 0.0;
-  int candidates = 0;         ///< contacts detected (within the alert distance)
-  int contacts = 0;           ///< active contacts (R_n > 0), walls included
-  int contacts_grain = 0;     ///< active contacts between two free grains
-  int sliding = 0;            ///< active contacts whose local solve ended on the cone
+  int candidates = 0;              ///< contacts detected (within the alert distance)
+  int contacts = 0;                ///< active contacts (R_n > 0), walls included
+  int contacts_grain = 0;          ///< active contacts between two free grains
+  int sliding = 0;                 ///< active contacts whose local solve ended on the cone
   double kinetic_energy = 0.0;     ///< translational, sum over free grains
   double rotational_energy = 0.0;  ///< sum over free grains
-  double max_overlap = 0.0;   ///< largest overlap (-gap) at the predicted configuration [m]
-  double max_speed = 0.0;     ///< largest grain speed |v| at the end of the step [m/s]
+  double max_overlap = 0.0;        ///< largest overlap (-gap) at the predicted configuration [m]
+  double max_speed = 0.0;          ///< largest grain speed |v| at the end of the step [m/s]
   /// Free grains with no active contact at the end of the step: under gravity such a grain
   /// is in flight, so a step with any is not a static state (docs/analysis.md).
   int grains_without_contact = 0;
@@ -89,12 +89,12 @@ struct StepReport {
 
 /// Cumulated wall-clock time per stage [s], for benchmarks.
 struct StepProfile {
-  double detect = 0, frames = 0, delassus = 0, warm_start = 0, solve = 0,
-         update_velocities = 0, update_positions = 0, store = 0;
+  double detect = 0, frames = 0, delassus = 0, warm_start = 0, solve = 0, update_velocities = 0,
+         update_positions = 0, store = 0;
   std::int64_t steps = 0, sweeps = 0, contact_updates = 0;
   double total() const {
-    return detect + frames + delassus + warm_start + solve + update_velocities +
-           update_positions + store;
+    return detect + frames + delassus + warm_start + solve + update_velocities + update_positions +
+           store;
   }
 };
 
@@ -170,7 +170,7 @@ class Engine {
   Grains grains_;
   Settings settings_;
   std::vector<double> inv_mass_, inv_inertia_;
-  ContactSystem system_;  // bodies and rows: what the solver works on
+  ContactSystem system_;                         // bodies and rows: what the solver works on
   std::shared_ptr<const ContactSolver> solver_;  // stateless: copies of an engine share it
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;

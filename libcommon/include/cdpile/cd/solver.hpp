@@ -41,11 +41,11 @@ inline constexpr double qm16_max_factor = 16.66;
 /// How a step's contact system is solved; none of these changes the law being solved.
 struct SolverSettings {
   SolverKind solver = SolverKind::nsgs;
-  double tolerance = 1e-4;       ///< threshold of the criterion (see Criterion)
-  int max_sweeps = 2000;         ///< sweep cap per step; hitting it is reported
-  bool symmetric_sweeps = true;  ///< alternate forward and backward sweeps
+  double tolerance = 1e-4;                ///< threshold of the criterion (see Criterion)
+  int max_sweeps = 2000;                  ///< sweep cap per step; hitting it is reported
+  bool symmetric_sweeps = true;           ///< alternate forward and backward sweeps
   Criterion criterion = Criterion::maxm;  ///< when the sweeps stop
-  int check_every = 1;           ///< sweeps between two tests of the criterion (LMGC90: 50)
+  int check_every = 1;  ///< sweeps between two tests of the criterion (LMGC90: 50)
   /// 0: sweeps visit the rows in pair order. Otherwise the seed of a random order of the
   /// rows, drawn anew every step from (seed, step) (LMGC90's "quick scramble"): a solver
   /// path, for measuring how the forces of an indeterminate step depend on it.

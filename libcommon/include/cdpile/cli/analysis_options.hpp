@@ -22,10 +22,12 @@ void declare_product_output(Usage& u, const std::vector<std::string>& tables);
 
 /// Refuses `--table NAME` when the tool's other options leave that table out (`left_out`):
 /// a usage error "--table NAME WHY" (WHY e.g. "with --no-steps"), before any input is read.
-void refuse_table_if(const Args& a, const std::string& table, bool left_out, const std::string& why);
+void refuse_table_if(const Args& a, const std::string& table, bool left_out,
+                     const std::string& why);
 
 /// Writes the product where the options of declare_product_output say (io::emit).
-void emit_product(const Args& a, const analysis::Product& p, const std::vector<io::Provenance>& history);
+void emit_product(const Args& a, const analysis::Product& p,
+                  const std::vector<io::Provenance>& history);
 /// Refuses (UsageError) an ensemble that names one input twice: '-' more than once, or
 /// two paths of the same file (statistics over runs would count it twice).
 void refuse_repeated_inputs(const std::vector<std::string>& paths);

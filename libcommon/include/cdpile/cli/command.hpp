@@ -28,8 +28,8 @@ namespace cdpile::cli {
 enum class Kind { flag, integer, real, text, real_list, text_list, path_in, path_out };
 
 struct OptionSpec {
-  std::string name;          ///< long name without dashes, e.g. "grains"
-  char short_name = 0;       ///< e.g. 'o', or 0
+  std::string name;     ///< long name without dashes, e.g. "grains"
+  char short_name = 0;  ///< e.g. 'o', or 0
   Kind kind = Kind::text;
   std::string help;          ///< one sentence
   std::string unit;          ///< e.g. "m", "deg", "D" (mean diameters); empty if none
@@ -51,7 +51,7 @@ class Usage {
   std::string synopsis;                  ///< one line
   std::vector<std::string> description;  ///< paragraphs: definitions, choices, units
   std::vector<Example> examples;
-  std::vector<OptionSpec> positionals;   ///< in order; the last may repeat
+  std::vector<OptionSpec> positionals;  ///< in order; the last may repeat
   bool last_positional_repeats = false;
   /// The tool can write HDF5 (a pile, a run or a product): it gets the standard option
   /// --author, the name recorded in /h5md/author. Text-only tools set it false.
@@ -69,9 +69,8 @@ class Usage {
                  std::int64_t min = INT64_MIN, std::int64_t max = INT64_MAX,
                  const std::string& unit = "");
   /// An integer option with no default: absent means "not given".
-  Usage& integer_opt(const std::string& name, const std::string& help,
-                     std::int64_t min = INT64_MIN, std::int64_t max = INT64_MAX,
-                     const std::string& unit = "");
+  Usage& integer_opt(const std::string& name, const std::string& help, std::int64_t min = INT64_MIN,
+                     std::int64_t max = INT64_MAX, const std::string& unit = "");
   Usage& real(const std::string& name, double def, const std::string& help,
               const std::string& unit = "", double min = -1e308, double max = 1e308);
   /// A real option with no default: absent means "not given".
@@ -109,7 +108,7 @@ class Usage {
 /// The parsed command line, typed by the declaration.
 class Args {
  public:
-  bool has(const std::string& name) const;  ///< given on the command line or defaulted
+  bool has(const std::string& name) const;    ///< given on the command line or defaulted
   bool given(const std::string& name) const;  ///< given on the command line
   bool flag(const std::string& name) const;
   std::int64_t integer(const std::string& name) const;
@@ -169,7 +168,8 @@ using Body = std::function<int(const Args&)>;
 /// --quiet, and --author to a tool that writes HDF5) to every tool.
 int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, const Body& body);
 /// The same for a body that returns nothing: 0 once it returns.
-template <class Run, std::enable_if_t<std::is_void_v<std::invoke_result_t<Run&, const Args&>>, int> = 0>
+template <class Run,
+          std::enable_if_t<std::is_void_v<std::invoke_result_t<Run&, const Args&>>, int> = 0>
 int run_tool(int argc, char** argv, const std::function<void(Usage&)>& declare, Run run) {
   return run_tool(argc, argv, declare, Body([run](const Args& a) mutable {
                     run(a);
@@ -199,5 +199,7 @@ int interrupt_exit_code();
 
 }  // namespace cdpile::cli
 
-#define CDPILE_TOOL(declare_fn, run_fn) \
-  int main(int argc, char** argv) { return ::cdpile::cli::run_tool(argc, argv, declare_fn, run_fn); }
+#define CDPILE_TOOL(declare_fn, run_fn)                             \
+  int main(int argc, char** argv) {                                 \
+    return ::cdpile::cli::run_tool(argc, argv, declare_fn, run_fn); \
+  }

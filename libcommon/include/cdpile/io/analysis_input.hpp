@@ -33,12 +33,14 @@ analysis::RecordedRule recorded_rule(const RunHeader& header, const std::string&
 
 /// The contacts that count in frame k of a run, classified by the rule (select_contacts).
 /// The frame's grain state is read and checked too.
-analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k, const analysis::Friction& mu,
+analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k,
+                                       const analysis::Friction& mu,
                                        const analysis::CriticalRule& rule, const std::string& file);
 
 /// A run without its frames: per-step observables (steps_from_series; error if a run has
 /// none), the mean diameter, mean mass, gravity and the simulator's own avalanche angle.
-analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file, const analysis::CriticalRule& rule);
+analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
+                                   const analysis::CriticalRule& rule);
 
 /// A run as `critical` reads it: read_run_steps and, for every frame, the pile state (eqs
 /// 1-2), the static bound, how the grains move, the contacts slipping faster than
@@ -46,7 +48,8 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 /// and the histogram of the mobilisation (docs/analysis.md).
 /// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
-                                    const analysis::Friction& mu, const analysis::CriticalRule& rule,
+                                    const analysis::Friction& mu,
+                                    const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers,
                                     double slip_speed = analysis::default_slip_speed,
                                     double rest_speed = analysis::RestRule{}.speed);
@@ -77,12 +80,12 @@ struct LocalNuReading {
 struct LocalNuInputInfo {
   std::size_t frames = 0;
   std::size_t loading_frames = 0;
-  std::optional<double> theta_c;   ///< [deg] the end of the loading phase used
-  std::string theta_c_from;        ///< "option", "rule", "recorded" or "none"
+  std::optional<double> theta_c;  ///< [deg] the end of the loading phase used
+  std::string theta_c_from;       ///< "option", "rule", "recorded" or "none"
   std::optional<std::int64_t> mapped_frame;
-  bool table = false;              ///< a contact table (not a run)
-  std::string length_unit;         ///< "m" for a run; a table's declared unit, or "" (unknown)
-  std::size_t merged = 0;          ///< rows of a table merged as repeats
+  bool table = false;       ///< a contact table (not a run)
+  std::string length_unit;  ///< "m" for a run; a table's declared unit, or "" (unknown)
+  std::size_t merged = 0;   ///< rows of a table merged as repeats
 };
 
 /// Adds every frame of input `in` (a run file or a contact table) as run number `run`.

@@ -25,21 +25,21 @@ inline constexpr const char* missing_marker = "NA";
 
 /// One parsed table: named columns, each numbers or (for declared text columns) text.
 struct TextTable {
-  std::string name;                          ///< from `# table: NAME`, else empty
-  std::vector<std::string> comments;         ///< comment lines before the header, without '#'
+  std::string name;                   ///< from `# table: NAME`, else empty
+  std::vector<std::string> comments;  ///< comment lines before the header, without '#'
   std::vector<std::string> columns;
-  std::vector<std::vector<double>> values;   ///< [column][row]; a missing value is NaN
+  std::vector<std::vector<double>> values;     ///< [column][row]; a missing value is NaN
   std::vector<std::vector<std::string>> text;  ///< [column][row] for text columns, else empty
-  std::vector<std::size_t> line;             ///< 1-based line of each row in the source
-  std::size_t first_line = 0;                ///< line of the header
+  std::vector<std::size_t> line;               ///< 1-based line of each row in the source
+  std::size_t first_line = 0;                  ///< line of the header
 
   std::size_t rows() const { return line.size(); }
   std::optional<std::size_t> find(const std::string& column) const;
 };
 
 struct TextTableOptions {
-  bool allow_missing = false;              ///< accept "NA" (read as NaN, for the caller to check)
-  std::vector<std::string> text_columns;   ///< columns kept as text, not parsed as numbers
+  bool allow_missing = false;             ///< accept "NA" (read as NaN, for the caller to check)
+  std::vector<std::string> text_columns;  ///< columns kept as text, not parsed as numbers
   /// When not empty: only these columns are parsed as numbers, every other column is kept
   /// as text (a reader that ignores unknown columns, whatever they hold).
   std::vector<std::string> numeric_columns;
@@ -58,11 +58,11 @@ std::optional<double> parse_number(const std::string& cell);
 
 /// One frame of a contact table.
 struct ContactTableFrame {
-  std::int64_t frame = 0;          ///< the `frame` column's value (0 without the column)
-  std::optional<double> theta;     ///< tilt angle [deg] from the `theta` column, if any
-  std::size_t first_line = 0;      ///< source line of the frame's first row
-  Contacts contacts;               ///< points, forces, ids; normal, gap unset; status stick
-                                   ///< unless a `status` column gives it
+  std::int64_t frame = 0;       ///< the `frame` column's value (0 without the column)
+  std::optional<double> theta;  ///< tilt angle [deg] from the `theta` column, if any
+  std::size_t first_line = 0;   ///< source line of the frame's first row
+  Contacts contacts;            ///< points, forces, ids; normal, gap unset; status stick
+                                ///< unless a `status` column gives it
 };
 
 /// What to do with a contact given twice in one frame (the same pair of ids, or without
@@ -92,9 +92,9 @@ struct ContactTable {
   std::string file;
   std::vector<std::string> columns;
   bool has_ids = false, has_walls = false, has_theta = false, has_status = false;
-  std::string length_unit;                 ///< from `# length_unit:`; empty = not declared
-  std::size_t merged = 0;                  ///< rows dropped as repeats (Duplicates::merge)
-  std::vector<ContactTableFrame> frames;   ///< in increasing frame id
+  std::string length_unit;                ///< from `# length_unit:`; empty = not declared
+  std::size_t merged = 0;                 ///< rows dropped as repeats (Duplicates::merge)
+  std::vector<ContactTableFrame> frames;  ///< in increasing frame id
 };
 
 /// Reads a contact table. Errors: a missing required column, a cell that is not a finite

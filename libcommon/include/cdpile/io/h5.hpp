@@ -28,7 +28,11 @@ class Handle {
   ~Handle() { reset(); }
   Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = H5I_INVALID_HID; }
   Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) { reset(); id_ = o.id_; o.id_ = H5I_INVALID_HID; }
+    if (this != &o) {
+      reset();
+      id_ = o.id_;
+      o.id_ = H5I_INVALID_HID;
+    }
     return *this;
   }
   Handle(const Handle&) = delete;
@@ -37,7 +41,12 @@ class Handle {
   bool valid() const { return id_ >= 0; }
   void reset() noexcept;
   /// Gives up ownership without closing.
-  hid_t release() noexcept { hid_t x = id_; id_ = H5I_INVALID_HID; return x; }
+  hid_t release() noexcept {
+    hid_t x = id_;
+    id_ = H5I_INVALID_HID;
+    return x;
+  }
+
  private:
   hid_t id_ = H5I_INVALID_HID;
 };
@@ -109,15 +118,17 @@ struct Checked {
 /// discarded, and brings back its bytes through a pipe: `passed`, `failed` (it threw an
 /// Error, or ran out of memory within the bound), `crashed` (it died by a signal or a
 /// sanitizer's report) or `looped` (it ran out of CPU time).
-Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds, double memory_bytes);
+Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_seconds,
+                    double memory_bytes);
 /// A file of HDF5's earlier format (superblock `superblock` 0 or 1, `bytes` long, opened
 /// by `open`) rewritten by rewrite_in_current_format in a child process (run_checked,
 /// 5 s of CPU time plus 1 s per 8 MB, 1 GB of memory plus 3 times the file), opened from
 /// the rewritten image. If the child crashes or loops, an Error naming the file that says
 /// so and how to rewrite an intact copy; if rewriting failed, its Error.
-File open_earlier_format(int superblock, double bytes, const std::function<File()>& open, const std::string& name);
+File open_earlier_format(int superblock, double bytes, const std::function<File()>& open,
+                         const std::string& name);
 
-bool exists(const File& f, const std::string& path);  ///< a link at this absolute path
+bool exists(const File& f, const std::string& path);        ///< a link at this absolute path
 void create_group(const File& f, const std::string& path);  ///< creates parents too
 void hard_link(const File& f, const std::string& target, const std::string& link);
 /// Removes the link at `path` (a group or dataset; its space is not reclaimed).
@@ -133,16 +144,17 @@ std::vector<hsize_t> shape(const File& f, const std::string& path);
 
 /// Compression and chunking of a dataset. `chunk_rows` 0 = contiguous, fixed size.
 struct Layout {
-  hsize_t chunk_rows = 0;   ///< rows (first dimension) per chunk; extendible if > 0
-  int deflate = 0;          ///< 0 = none, 1..9 gzip level (with the shuffle filter)
+  hsize_t chunk_rows = 0;  ///< rows (first dimension) per chunk; extendible if > 0
+  int deflate = 0;         ///< 0 = none, 1..9 gzip level (with the shuffle filter)
 };
 
-template <class T> hid_t native_type();
+template <class T>
+hid_t native_type();
 
 /// Writes a dataset of shape rows x cols... (`dims`), creating it.
 template <class T>
-void write(const File& f, const std::string& path, const T* data,
-           const std::vector<hsize_t>& dims, Layout layout = {});
+void write(const File& f, const std::string& path, const T* data, const std::vector<hsize_t>& dims,
+           Layout layout = {});
 template <class T>
 void write(const File& f, const std::string& path, const std::vector<T>& v, Layout layout = {}) {
   write(f, path, v.data(), {static_cast<hsize_t>(v.size())}, layout);
@@ -150,8 +162,8 @@ void write(const File& f, const std::string& path, const std::vector<T>& v, Layo
 /// Appends rows to an extendible dataset (first dimension); creates it if absent with
 /// the given layout and the trailing dimensions of `dims` (dims[0] = rows appended).
 template <class T>
-void append(const File& f, const std::string& path, const T* data,
-            const std::vector<hsize_t>& dims, Layout layout);
+void append(const File& f, const std::string& path, const T* data, const std::vector<hsize_t>& dims,
+            Layout layout);
 /// Shrinks an extendible dataset to `rows` along its first dimension.
 void truncate_rows(const File& f, const std::string& path, hsize_t rows);
 
@@ -165,7 +177,8 @@ template <class T>
 std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, hsize_t count);
 
 // Attributes on an object (group or dataset) at `path`.
-void set_attr(const File& f, const std::string& path, const std::string& name, const std::string& v);
+void set_attr(const File& f, const std::string& path, const std::string& name,
+              const std::string& v);
 void set_attr(const File& f, const std::string& path, const std::string& name, double v);
 void set_attr(const File& f, const std::string& path, const std::string& name, std::int64_t v);
 void set_attr(const File& f, const std::string& path, const std::string& name,
@@ -176,19 +189,23 @@ void set_attr(const File& f, const std::string& path, const std::string& name,
               const std::vector<std::string>& v);
 /// Fixed-length string attributes (UTF-8, null-terminated, sized to the longest text):
 /// H5MD 1.1 asks for them in /h5md/author, /h5md/creator and box/boundary.
-void set_attr_fixed(const File& f, const std::string& path, const std::string& name, const std::string& v);
+void set_attr_fixed(const File& f, const std::string& path, const std::string& name,
+                    const std::string& v);
 void set_attr_fixed(const File& f, const std::string& path, const std::string& name,
                     const std::vector<std::string>& v);
 /// A variable-length ASCII string attribute: the H5MD units module's `unit` and `system`.
-void set_attr_ascii(const File& f, const std::string& path, const std::string& name, const std::string& v);
+void set_attr_ascii(const File& f, const std::string& path, const std::string& name,
+                    const std::string& v);
 bool has_attr(const File& f, const std::string& path, const std::string& name);
 /// Class of an attribute: H5T_INTEGER, H5T_FLOAT or H5T_STRING.
 H5T_class_t attr_class(const File& f, const std::string& path, const std::string& name);
 std::string attr_string(const File& f, const std::string& path, const std::string& name);
 double attr_double(const File& f, const std::string& path, const std::string& name);
 std::int64_t attr_int(const File& f, const std::string& path, const std::string& name);
-std::vector<std::int64_t> attr_ints(const File& f, const std::string& path, const std::string& name);
-std::vector<std::string> attr_strings(const File& f, const std::string& path, const std::string& name);
+std::vector<std::int64_t> attr_ints(const File& f, const std::string& path,
+                                    const std::string& name);
+std::vector<std::string> attr_strings(const File& f, const std::string& path,
+                                      const std::string& name);
 std::vector<std::string> attr_names(const File& f, const std::string& path);
 
 }  // namespace cdpile::io::h5

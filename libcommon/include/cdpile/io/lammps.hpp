@@ -39,15 +39,15 @@ struct Snapshot {
   enum class Kind { atoms, entries };
   Kind kind = Kind::atoms;
   std::int64_t step = 0;
-  std::optional<double> time;              ///< ITEM: TIME, when the dump has it
-  std::string units;                       ///< ITEM: UNITS, when the dump has it
-  std::array<double, 6> box{};             ///< xlo xhi ylo yhi zlo zhi
-  std::array<std::string, 3> boundary;     ///< "pp", "ff", "fm", ... per dimension
+  std::optional<double> time;           ///< ITEM: TIME, when the dump has it
+  std::string units;                    ///< ITEM: UNITS, when the dump has it
+  std::array<double, 6> box{};          ///< xlo xhi ylo yhi zlo zhi
+  std::array<std::string, 3> boundary;  ///< "pp", "ff", "fm", ... per dimension
   std::vector<std::string> columns;
-  std::vector<std::vector<double>> values; ///< [column][row]; a cell that is not a number is NaN
-  std::vector<std::size_t> line;           ///< source line of each row (1-based)
+  std::vector<std::vector<double>> values;  ///< [column][row]; a cell that is not a number is NaN
+  std::vector<std::size_t> line;            ///< source line of each row (1-based)
   std::string file;
-  std::size_t first_line = 0;              ///< line of ITEM: TIMESTEP
+  std::size_t first_line = 0;  ///< line of ITEM: TIMESTEP
   std::size_t rows() const { return line.size(); }
   std::optional<std::size_t> find(const std::string& column) const;
 };
@@ -59,19 +59,19 @@ std::vector<Snapshot> parse_dump(const std::string& text, const std::string& fil
 /// the wall fixes behind per-atom columns, the pair style (its pN), the units.
 struct Script {
   struct Compute {
-    std::string style;                 ///< pair/local, property/local, pair/gran/local, ...
-    std::vector<std::string> args;     ///< the words after the style
-    std::string where;                 ///< FILE: line L, for messages
+    std::string style;              ///< pair/local, property/local, pair/gran/local, ...
+    std::vector<std::string> args;  ///< the words after the style
+    std::string where;              ///< FILE: line L, for messages
   };
   struct WallFix {
-    char axis = 0;                     ///< 'x', 'y', 'z' for a plane; 0 for another shape
-    bool contacts = false;             ///< has the `contacts` keyword (per-atom output)
+    char axis = 0;          ///< 'x', 'y', 'z' for a plane; 0 for another shape
+    bool contacts = false;  ///< has the `contacts` keyword (per-atom output)
   };
   std::map<std::string, Compute> computes;
   std::map<std::string, WallFix> walls;
   std::string pair_style;
-  std::string units;                   ///< the `units` command's style (si, cgs, lj, ...)
-  std::optional<double> timestep;      ///< a numeric `timestep`, if any
+  std::string units;               ///< the `units` command's style (si, cgs, lj, ...)
+  std::optional<double> timestep;  ///< a numeric `timestep`, if any
 };
 
 /// Reads an input script (`&` continuations, `#` comments), following `include FILE`
@@ -79,7 +79,8 @@ struct Script {
 /// no variable.
 void read_script(const std::string& path, Script& into);
 /// The same from text (includes resolved against `folder`).
-void parse_script(const std::string& text, const std::string& file, const std::string& folder, Script& into);
+void parse_script(const std::string& text, const std::string& file, const std::string& folder,
+                  Script& into);
 
 /// The length unit of a LAMMPS units style (si: m, cgs: cm, micro: um, nano: nm, real and
 /// metal: Ang); empty for lj and unknown styles.
@@ -100,9 +101,9 @@ const std::vector<std::string>& entry_roles();
 
 /// The roles of the columns of one header, from explicit names, the script's computes and
 /// the role names themselves. Columns with no known meaning map to "".
-std::vector<std::string> entry_column_roles(const std::vector<std::string>& columns, const Script& script,
-                                            const std::map<std::string, std::string>& explicit_roles,
-                                            const std::string& where);
+std::vector<std::string> entry_column_roles(
+    const std::vector<std::string>& columns, const Script& script,
+    const std::map<std::string, std::string>& explicit_roles, const std::string& where);
 
 struct ConvertOptions {
   Script script;
@@ -112,32 +113,32 @@ struct ConvertOptions {
   std::optional<double> dt;                    ///< time step [time unit] (else the script's)
   std::string theta_column;                    ///< an atoms column holding the tilt [deg]
   Duplicates duplicates = Duplicates::error;
-  bool check = false;                          ///< rebuild each grain's force (needs mass, fx, fy)
-  double gravity = 9.81;                       ///< g for the check, in the dump's units
-  double check_tolerance = 1e-3;               ///< largest |difference| / (m g) accepted
+  bool check = false;             ///< rebuild each grain's force (needs mass, fx, fy)
+  double gravity = 9.81;          ///< g for the check, in the dump's units
+  double check_tolerance = 1e-3;  ///< largest |difference| / (m g) accepted
 };
 
 /// One contact row of the table.
 struct Row {
   std::int64_t frame = 0;
   std::optional<double> theta;
-  std::int64_t i = 0, j = 0;   ///< atom ids; j < 0 a wall (-1 floor, -2 left, -3 right, -4 top)
+  std::int64_t i = 0, j = 0;  ///< atom ids; j < 0 a wall (-1 floor, -2 left, -3 right, -4 top)
   double x = 0, y = 0, fn = 0, ft = 0;
   bool wall = false;
-  std::string where;           ///< FILE: line L of the source row
+  std::string where;  ///< FILE: line L of the source row
 };
 
 struct FrameCheck {
   std::int64_t step = 0;
-  double worst_free = 0, worst_all = 0;   ///< |table + m g - f| / (m g), off the walls / all
-  std::int64_t worst_id = 0;              ///< the grain of worst_all
+  double worst_free = 0, worst_all = 0;  ///< |table + m g - f| / (m g), off the walls / all
+  std::int64_t worst_id = 0;             ///< the grain of worst_all
   std::size_t grains = 0, grains_free = 0;
 };
 
 struct Conversion {
   std::vector<Row> rows;
   std::size_t frames = 0, pair_rows = 0, wall_rows = 0, merged = 0;
-  bool ft_signed = true;           ///< false: ft is |f_t| (the dumps have no tangential vector)
+  bool ft_signed = true;  ///< false: ft is |f_t| (the dumps have no tangential vector)
   bool has_theta = false;
   std::string length_unit;         ///< from the script's or the dump's units; empty if unknown
   std::vector<std::string> notes;  ///< what the table is and is not, one line each
@@ -155,14 +156,15 @@ struct TextFile {
 Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt);
 
 /// The contact table (`# ` header lines with the notes and length unit, then a TSV table).
-void write_table(std::ostream& os, const Conversion& c, const std::vector<std::string>& header_comments);
+void write_table(std::ostream& os, const Conversion& c,
+                 const std::vector<std::string>& header_comments);
 
 /// to-lammps: every frame of a pile or run as a `dump custom` snapshot with columns
 /// id type x y z radius vx vy vz omegaz mass (id = grain index + 1, type = species + 1,
 /// z = vz = 0). The box is the cdpile box (0 to its width) in x, and in y the extent of
 /// the floor and the grains of the frame; z is one largest diameter thick, centred on 0.
 struct ExportOptions {
-  std::optional<std::size_t> first, last;   ///< frame range (inclusive), default all
+  std::optional<std::size_t> first, last;  ///< frame range (inclusive), default all
   std::size_t every = 1;
 };
 std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt = {});

@@ -57,7 +57,8 @@ void write_tsv(std::ostream& os, const analysis::Product& p, const std::vector<P
                const std::vector<std::string>& only = {}, bool header = true);
 
 /// Writes a product into a new HDF5 file.
-void write_hdf5(const h5::File& f, const analysis::Product& p, const std::vector<Provenance>& history);
+void write_hdf5(const h5::File& f, const analysis::Product& p,
+                const std::vector<Provenance>& history);
 
 /// Reads a product from an input (HDF5 by signature, else TSV). `expected_kind` non-empty
 /// refuses another kind: "FILE: is a 'localnu' product, expected 'correlate'".

@@ -18,10 +18,10 @@
 ///   localnu product with a map: the nu field of the mapped frame on its grid (nu, above,
 ///   contacts, critical at each node).
 /// What the run file does not hold, computed once, goes into a small HDF5 file beside the
-/// XDMF (NAME.xdmf.hdf5: not .h5, so that globs of runs like run*.h5 do not take it): per contact `critical` and `mobilisation`; per grain and frame `nu`,
-/// the local state at the grain's centre, critical / contacts within `nu_radius` (in mean
-/// diameters; 6 D as localnu's map), NaN where no contact is within reach; for a product,
-/// nu and above with NaN where the map has no value.
+/// XDMF (NAME.xdmf.hdf5: not .h5, so that globs of runs like run*.h5 do not take it): per contact
+/// `critical` and `mobilisation`; per grain and frame `nu`, the local state at the grain's centre,
+/// critical / contacts within `nu_radius` (in mean diameters; 6 D as localnu's map), NaN where no
+/// contact is within reach; for a product, nu and above with NaN where the map has no value.
 #pragma once
 
 #include "cdpile/analysis/critical.hpp"
@@ -34,23 +34,24 @@
 namespace cdpile::io::xdmf {
 
 struct Options {
-  double nu_radius = 6.0;             ///< [D] radius of the grains' local state nu
-  std::optional<double> eps;          ///< critical tolerance (default: the run's critical_eps, else 1e-3)
+  double nu_radius = 6.0;     ///< [D] radius of the grains' local state nu
+  std::optional<double> eps;  ///< critical tolerance (default: the run's critical_eps, else 1e-3)
   std::optional<double> mu, mu_wall;  ///< friction (default: the run's mu_grain, mu_wall)
   bool walls = false;                 ///< nu counts wall contacts too (critical's --walls)
 };
 
 struct Summary {
-  std::string kind;                   ///< pile, run or localnu
+  std::string kind;  ///< pile, run or localnu
   std::size_t frames = 0, grains = 0, contacts = 0;
-  std::size_t nx = 0, ny = 0;         ///< the map's nodes (localnu)
+  std::size_t nx = 0, ny = 0;  ///< the map's nodes (localnu)
 };
 
 /// Writes the XDMF text of a pile or run into `xml` and the derived arrays into `sidecar`
 /// (a new, empty HDF5 file). `data_ref` and `sidecar_ref` are the two files' names as the
 /// XDMF refers to them (relative to the XDMF's folder).
-Summary write_run(std::ostream& xml, const h5::File& sidecar, const RunReader& run, const std::string& data_ref,
-                  const std::string& sidecar_ref, const Options& opt = {});
+Summary write_run(std::ostream& xml, const h5::File& sidecar, const RunReader& run,
+                  const std::string& data_ref, const std::string& sidecar_ref,
+                  const Options& opt = {});
 
 /// The same for a localnu product (HDF5) with a map. Error if it has no map.
 Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File& product,
@@ -61,7 +62,8 @@ Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File
 /// their radius coloured by nu, the walls, the contacts (hidden, ready to show); or the nu
 /// field of a product. File > Load State in ParaView, `paraview --state=FILE`, or
 /// `pvpython FILE`.
-std::string paraview_state(const Summary& summary, const std::string& xdmf_name, const std::string& xdmf_path);
+std::string paraview_state(const Summary& summary, const std::string& xdmf_name,
+                           const std::string& xdmf_path);
 
 /// Text escaped for an XML attribute or element.
 std::string xml_escape(const std::string& s);

@@ -19,10 +19,10 @@ inline std::int64_t steps_for(double deg, double rate) {
 struct AvalancheDetector {
   double threshold = 0.0;
   std::int64_t hold = 1;
-  std::int64_t since = -1;     ///< first step of the current run above the threshold
+  std::int64_t since = -1;  ///< first step of the current run above the threshold
   double since_deg = 0.0;
   bool detected = false;
-  double angle_deg = 0.0;      ///< tilt at `since` when confirmed
+  double angle_deg = 0.0;  ///< tilt at `since` when confirmed
   std::int64_t start_step = -1, confirmed_step = -1;
 
   /// Step `step` at tilt `angle` [deg] had agitation `a`.

@@ -13,14 +13,14 @@
 namespace cdpile::sim {
 
 struct DepositOptions {
-  std::int64_t grains = 4000;   ///< free grains (the glued floor layer comes on top)
-  double diameter = 1e-3;       ///< mean diameter D [m]
-  double ratio = 1.5;           ///< Dmax / Dmin, diameters uniform in [Dmin, Dmax]
-  double width = 120.0;         ///< box width [D]
-  double density = 2600.0;      ///< [kg/m^3]
-  bool rough_floor = true;      ///< one layer of glued grains on the floor
+  std::int64_t grains = 4000;  ///< free grains (the glued floor layer comes on top)
+  double diameter = 1e-3;      ///< mean diameter D [m]
+  double ratio = 1.5;          ///< Dmax / Dmin, diameters uniform in [Dmin, Dmax]
+  double width = 120.0;        ///< box width [D]
+  double density = 2600.0;     ///< [kg/m^3]
+  bool rough_floor = true;     ///< one layer of glued grains on the floor
   std::uint64_t seed = 1;
-  cd::Settings settings;        ///< engine settings (alert distance already in m)
+  cd::Settings settings;  ///< engine settings (alert distance already in m)
   /// Rest criterion: (Ek + Erot) per free grain / (m g D) below `rest_energy` and the
   /// largest grain speed below `rest_speed` sqrt(g D), both for `rest_steps` steps.
   double rest_energy = 1e-6;
@@ -48,8 +48,8 @@ Placement place_grains(const DepositOptions& o);
 struct Pile {
   Box box;
   Grains grains;
-  Contacts contacts;     ///< of the last step (forces = impulses / h)
-  io::Series series;     ///< the observables of every settling step
+  Contacts contacts;  ///< of the last step (forces = impulses / h)
+  io::Series series;  ///< the observables of every settling step
   std::int64_t steps = 0;
   double time = 0.0;
   bool settled = false;
@@ -66,7 +66,8 @@ struct DepositProgress {
 /// Places and settles the grains (docs/method.md gives the rest criterion).
 /// `progress` (may be empty) is called after every step; `stop` (may be empty) is
 /// polled after every step and ends the settling early (the pile is then not settled).
-Pile deposit(const DepositOptions& o, const std::function<void(const DepositProgress&)>& progress = {},
+Pile deposit(const DepositOptions& o,
+             const std::function<void(const DepositProgress&)>& progress = {},
              const std::function<bool()>& stop = {});
 
 /// K copies of a pile side by side, for piles too large to deposit (benchmarks/tile_pile.cpp,
@@ -87,8 +88,8 @@ struct PileMeasures {
   double bed_height = 0.0;        ///< mean over columns of width D of the highest grain top [m]
   double packing_fraction = 0.0;  ///< disk area / slab area in the bulk slab
   double slab_bottom = 0.0, slab_top = 0.0;  ///< the slab used [m]
-  double z = 0.0;                 ///< coordination, grain-grain, rattlers excluded
-  double z_all = 0.0;             ///< 2 N / Np over all free grains
+  double z = 0.0;                            ///< coordination, grain-grain, rattlers excluded
+  double z_all = 0.0;                        ///< 2 N / Np over all free grains
 };
 PileMeasures measure_pile(const Box& box, const Grains& g, const Contacts& c);
 

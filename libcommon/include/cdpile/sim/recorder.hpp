@@ -69,7 +69,8 @@ class Recorder {
   /// A checkpoint: everything pending becomes durable, with the state to resume.
   virtual void commit(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
   /// The run is complete: write the final output with these results.
-  virtual void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) = 0;
+  virtual void finish(Pending& p, const cd::Engine& e, const LoopState& s,
+                      const io::Values& results) = 0;
   /// Ctrl-C: leave a valid file up to the last completed step.
   virtual void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) = 0;
   /// Whether commit() makes the run durable (a checkpoint file) rather than only
@@ -83,21 +84,23 @@ class FileRecorder : public Recorder {
   FileRecorder(std::string output, bool force);
 
   /// Starts the partial: header, grains, frame 0 and the checkpoint of step 0.
-  void start(const io::RunHeader& h, const Grains& g, Pending& p, const cd::Engine& e, const LoopState& s);
+  void start(const io::RunHeader& h, const Grains& g, Pending& p, const cd::Engine& e,
+             const LoopState& s);
   /// The partial already holds everything up to `step` (a resumed run's checkpoint).
   void mark_committed(std::int64_t step) { committed_step_ = step; }
 
   bool checkpoints() const override { return true; }
   void commit(Pending& p, const cd::Engine& e, const LoopState& s) override;
-  void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) override;
+  void finish(Pending& p, const cd::Engine& e, const LoopState& s,
+              const io::Values& results) override;
   void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override { commit(p, e, s); }
 
  private:
   /// The end of every write of the partial: the pending data and the checkpoint go into
   /// the temporary `f`, which is closed and renamed over the partial, so that the partial
   /// on disk is always a complete, closed HDF5 file (tilt.hpp).
-  void seal(io::h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p, const cd::Engine& e,
-            const LoopState& s);
+  void seal(io::h5::File& f, io::RunWriter& w, const std::string& tmp, Pending& p,
+            const cd::Engine& e, const LoopState& s);
 
   std::string output_, partial_;
   bool force_;
@@ -109,7 +112,8 @@ class StreamRecorder : public Recorder {
  public:
   StreamRecorder(const io::RunHeader& h, const Grains& g);
   void commit(Pending& p, const cd::Engine& e, const LoopState& s) override;
-  void finish(Pending& p, const cd::Engine& e, const LoopState& s, const io::Values& results) override;
+  void finish(Pending& p, const cd::Engine& e, const LoopState& s,
+              const io::Values& results) override;
   void interrupt(Pending& p, const cd::Engine& e, const LoopState& s) override;
   bool checkpoints() const override { return false; }
 

@@ -28,11 +28,11 @@ namespace cdpile::sim {
 struct TiltProgress {
   std::int64_t step = 0;
   double angle_deg = 0.0;
-  double agitation = 0.0;        ///< Ek per grain / (m g D)
-  bool avalanche = false;        ///< confirmed
+  double agitation = 0.0;  ///< Ek per grain / (m g D)
+  bool avalanche = false;  ///< confirmed
   double avalanche_deg = 0.0;
-  std::int64_t last_step = -1;   ///< the step the run will end at, -1 if not known yet
-  std::int64_t cap_step = 0;     ///< the latest it can end at
+  std::int64_t last_step = -1;  ///< the step the run will end at, -1 if not known yet
+  std::int64_t cap_step = 0;    ///< the latest it can end at
 };
 
 struct TiltHooks {
@@ -53,13 +53,13 @@ struct TiltHooks {
 };
 
 struct TiltOutcome {
-  std::int64_t first_step = 0;   ///< step the run started (or resumed) from
-  std::int64_t steps = 0;        ///< last step done
+  std::int64_t first_step = 0;  ///< step the run started (or resumed) from
+  std::int64_t steps = 0;       ///< last step done
   double final_angle_deg = 0.0;
   bool avalanche = false;
   double avalanche_deg = 0.0;
   bool interrupted = false;
-  std::string stop_reason;       ///< "avalanche", "to", "max_angle" or "interrupted"
+  std::string stop_reason;  ///< "avalanche", "to", "max_angle" or "interrupted"
   std::int64_t unconverged_steps = 0;
   /// settings_warnings, then run_warnings, of the finished run (also in /results)
   std::vector<std::string> warnings;
@@ -71,8 +71,8 @@ void check_output(const std::string& output, bool force);
 
 /// Tilts `pile` and writes the run to `output` (a path, or "-" for standard output,
 /// which has no checkpoints). Refuses an existing output or partial unless `force`.
-TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output, bool force,
-                     const io::Provenance& prov, const TiltHooks& hooks = {});
+TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::string& output,
+                     bool force, const io::Provenance& prov, const TiltHooks& hooks = {});
 
 /// Continues the run of OUTPUT.partial. The options must give the same parameters as
 /// the partial run (an Error names the first that differs).
@@ -80,4 +80,3 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
                         const TiltHooks& hooks = {});
 
 }  // namespace cdpile::sim
-

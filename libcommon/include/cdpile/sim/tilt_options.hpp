@@ -16,15 +16,15 @@
 namespace cdpile::sim {
 
 struct TiltOptions {
-  cd::Settings settings;          ///< engine settings (alert distance in m)
-  double rate_deg = 0.001;        ///< tilt per step [deg]
-  double from_deg = 0.0;          ///< tilt of step 0 [deg]
-  std::optional<double> to_deg;   ///< run to this tilt whatever happens [deg]
-  double max_deg = 90.0;          ///< without to_deg: stop here if no avalanche [deg]
-  double margin_deg = 1.0;        ///< keep tilting this much after the avalanche is confirmed [deg]
-  double avalanche_energy = 1e-3; ///< threshold of Ek per grain / (m g D)
-  double avalanche_hold_deg = 0.2;///< the agitation must stay above it this long [deg]
-  std::int64_t frame_every = 500; ///< a full frame every this many steps (and the last step)
+  cd::Settings settings;         ///< engine settings (alert distance in m)
+  double rate_deg = 0.001;       ///< tilt per step [deg]
+  double from_deg = 0.0;         ///< tilt of step 0 [deg]
+  std::optional<double> to_deg;  ///< run to this tilt whatever happens [deg]
+  double max_deg = 90.0;         ///< without to_deg: stop here if no avalanche [deg]
+  double margin_deg = 1.0;       ///< keep tilting this much after the avalanche is confirmed [deg]
+  double avalanche_energy = 1e-3;        ///< threshold of Ek per grain / (m g D)
+  double avalanche_hold_deg = 0.2;       ///< the agitation must stay above it this long [deg]
+  std::int64_t frame_every = 500;        ///< a full frame every this many steps (and the last step)
   std::int64_t checkpoint_every = 2000;  ///< steps between checkpoints (file output)
   double eps = analysis::default_eps;    ///< tolerance of the critical-contact test
 };
@@ -47,8 +47,8 @@ TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string&
 
 /// One option of a branch or resume whose value differs from the run's.
 struct OptionChange {
-  std::string option;     ///< the option given (without dashes); empty for a derived value
-  std::string parameter;  ///< the run parameter it sets
+  std::string option;            ///< the option given (without dashes); empty for a derived value
+  std::string parameter;         ///< the run parameter it sets
   std::string run_value, value;  ///< as text
 };
 struct InheritedOptions {
@@ -60,7 +60,8 @@ struct InheritedOptions {
 /// options). A frame interval not given keeps the run's interval in degrees when the
 /// rate changes. `start_deg`: a branch starts at its frame's tilt, not at the run's
 /// --from (not counted as a change). checkpoint_every is always `asked`'s (not a parameter).
-InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked, const std::set<std::string>& given,
+InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked,
+                                 const std::set<std::string>& given,
                                  std::optional<double> start_deg, const std::string& file);
 
 }  // namespace cdpile::sim
