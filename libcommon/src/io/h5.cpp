@@ -249,7 +249,9 @@ File open_read(const std::string& path, const std::string& name) {
   if (superblock == 0 || superblock == 1)
     return open_earlier_format(
         superblock, ec ? 0.0 : bytes, [&] { return open_read_unchecked(path, name); }, name);
-  return open_read_unchecked(path, name);
+  File f = open_read_unchecked(path, name);
+  read_string_attributes(f);
+  return f;
 }
 
 File open_write(const std::string& path, const std::string& name) {
@@ -266,7 +268,9 @@ File open_image(const std::vector<char>& bytes, const std::string& name) {
     return open_earlier_format(
         superblock, static_cast<double>(bytes.size()),
         [&] { return open_image_unchecked(bytes, name); }, name);
-  return open_image_unchecked(bytes, name);
+  File f = open_image_unchecked(bytes, name);
+  read_string_attributes(f);
+  return f;
 }
 
 File open_image_unchecked(const std::vector<char>& bytes, const std::string& name) {
@@ -731,7 +735,21 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path,
   if (n < 0) fail(f, path, "cannot read attribute " + name);
   if (n == 0) return out;  // an empty list: H5Aread refuses a null buffer
   check_claim(f, path, static_cast<double>(n), static_cast<double>(H5Tget_size(t.id())), false);
-  if (H5Tis_variable_str(t.id()) > 0) {
+  if (H5Tis_variable_str(t.id()) > 0 && f.string_attributes()) {
+    // Read by a child when the file was opened (read_string_attributes): their global
+    // heap is not checksummed, and a damaged one makes HDF5 loop for ever.
+    Handle obj = open_object(f, path);
+    H5O_info_t info;
+    check(H5Oget_info2(obj.id(), &info, H5O_INFO_BASIC), f, path,
+          [&] { return "cannot read attribute " + name; });
+    const auto it = f.string_attributes()->find({info.addr, name});
+    if (it == f.string_attributes()->end())
+      fail(f, path,
+           "damaged HDF5 file: attribute '" + name +
+               "' was not found when the file was opened (global heap of its string attributes)");
+    return it->second;
+  }
+  if (H5Tis_variable_str(t.id()) > 0) {  // a file this process writes, or opened unchecked
     Handle mt = string_type();
     H5Tset_cset(mt.id(), H5Tget_cset(t.id()));  // HDF5 does not convert between ASCII and UTF-8
     std::vector<char*> p(static_cast<std::size_t>(n), nullptr);

@@ -313,3 +313,150 @@ File open_earlier_format(int superblock, double bytes, const std::function<File(
 }
 
 }  // namespace cdpile::io::h5
+
+// The variable-length string attributes of a file of this version's format. Their
+// headers are checksummed, but their strings sit in a global heap that is not, and
+// libhdf5 1.10.8 loops for ever in H5HG__protect on some damaged heaps (fuzz_run,
+// docs/fuzzing.md); they stay variable-length, as the H5MD units module wants. So the
+// tool's process never reads them: a child lists and reads all of them once, when the
+// file is opened, and sends their values back; attr_strings answers from those. The
+// listing is done in the child too: on a damaged file, H5Ovisit's error path loses an
+// object header inside libhdf5 (424 bytes, reported by LeakSanitizer), and the tool's
+// process should not walk a file it has not yet found sound.
+namespace cdpile::io::h5 {
+
+namespace {
+
+struct StringAttribute {
+  haddr_t address;
+  std::string path, name;
+};
+
+/// The variable-length string attributes of every object of `f`, found from the
+/// (checksummed) object headers alone. Objects that cannot be read are skipped: the
+/// reader meets the damage itself, with its own message, if it needs them.
+std::vector<StringAttribute> string_attributes_of(const File& f) {
+  std::vector<StringAttribute> out;
+  auto visit = [](hid_t root, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+    auto& found = *static_cast<std::vector<StringAttribute>*>(data);
+    const std::string path =
+        std::strcmp(name, ".") == 0 ? std::string("/") : "/" + std::string(name);
+    Handle obj(H5Oopen_by_addr(root, info->addr));
+    for (hsize_t k = 0; obj.valid() && k < info->num_attrs; ++k) {
+      Handle a(
+          H5Aopen_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_INC, k, H5P_DEFAULT, H5P_DEFAULT));
+      Handle t(a.valid() ? H5Aget_type(a.id()) : H5I_INVALID_HID);
+      if (!t.valid() || H5Tget_class(t.id()) != H5T_STRING || H5Tis_variable_str(t.id()) <= 0)
+        continue;
+      const ssize_t len = H5Aget_name(a.id(), 0, nullptr);
+      if (len < 0) continue;
+      std::string attr(static_cast<std::size_t>(len), '\0');
+      H5Aget_name(a.id(), attr.size() + 1, attr.data());
+      found.push_back({info->addr, path, attr});
+    }
+    return 0;
+  };
+  H5Ovisit2(f.id(), H5_INDEX_NAME, H5_ITER_INC, visit, &out, H5O_INFO_BASIC | H5O_INFO_NUM_ATTRS);
+  return out;
+}
+
+void put_u64(std::vector<char>& out, std::uint64_t x) {
+  for (int b = 0; b < 8; ++b) out.push_back(static_cast<char>((x >> (8 * b)) & 0xff));
+}
+void put_text(std::vector<char>& out, const std::string& s) {
+  put_u64(out, s.size());
+  out.insert(out.end(), s.begin(), s.end());
+}
+
+/// In the child: every variable-length string attribute of `f` with its values, as
+/// address, name, count and texts.
+std::vector<char> read_in_child(const File& f) {
+  std::vector<char> out;
+  for (const StringAttribute& s : string_attributes_of(f)) {
+    auto fail = [&] {
+      throw Error(f.name(), s.path,
+                  "damaged HDF5 file: cannot read attribute '" + s.name +
+                      "' (global heap of its string attributes)");
+    };
+    Handle obj(H5Oopen_by_addr(f.id(), s.address));
+    Handle a(obj.valid() ? H5Aopen(obj.id(), s.name.c_str(), H5P_DEFAULT) : H5I_INVALID_HID);
+    Handle space(a.valid() ? H5Aget_space(a.id()) : H5I_INVALID_HID),
+        ftype(a.valid() ? H5Aget_type(a.id()) : H5I_INVALID_HID);
+    const hssize_t n = space.valid() ? H5Sget_simple_extent_npoints(space.id()) : -1;
+    if (n < 0 || !ftype.valid() || n > (1 << 24)) fail();
+    Handle mt(H5Tcopy(H5T_C_S1));
+    H5Tset_size(mt.id(), H5T_VARIABLE);
+    H5Tset_cset(mt.id(), H5Tget_cset(ftype.id()));  // HDF5 does not convert between ASCII and UTF-8
+    std::vector<char*> p(static_cast<std::size_t>(n), nullptr);
+    if (n > 0 && H5Aread(a.id(), mt.id(), p.data()) < 0) fail();
+    put_u64(out, s.address);
+    put_text(out, s.name);
+    put_u64(out, static_cast<std::uint64_t>(n));
+    for (const char* v : p) put_text(out, v ? v : "");
+    // no H5Dvlen_reclaim: the child ends now
+  }
+  return out;
+}
+
+}  // namespace
+
+void read_string_attributes(File& f) {
+  // The headers and strings are a few bytes each: a small part of a second even on a
+  // busy machine.
+  const double cpu_seconds = 5.0;
+  Checked c;
+  try {
+    c = run_checked([&] { return read_in_child(f); }, cpu_seconds, 1e9);
+  } catch (const Error& e) {
+    throw Error(f.name(), "", e.what());
+  }
+  if (c.verdict == Check::failed)
+    throw Error(c.error.empty() ? Error::join(f.name(), "",
+                                              "damaged HDF5 file: out of memory reading its string "
+                                              "attributes (global heap of its string attributes)")
+                                : c.error);
+  if (c.verdict != Check::passed)
+    throw Error(
+        f.name(), "",
+        "damaged HDF5 file: libhdf5 " + library_version() + " " +
+            (c.verdict == Check::crashed
+                 ? std::string("crashed reading it")
+                 : "did not finish reading it in " + std::to_string(static_cast<int>(cpu_seconds)) +
+                       " s of CPU time (a loop)") +
+            " in a separate process (global heap of its string attributes)");
+  auto values = std::make_shared<File::StringAttributes>();
+  const std::vector<char>& b = c.bytes;
+  std::size_t at = 0;
+  auto short_reply = [&] {
+    throw Error(f.name(), "",
+                "damaged HDF5 file: a short reply from the process reading it (global heap of its "
+                "string attributes)");
+  };
+  auto u64 = [&] {
+    if (b.size() - at < 8) short_reply();
+    std::uint64_t x = 0;
+    for (int k = 0; k < 8; ++k)
+      x |= std::uint64_t{static_cast<unsigned char>(b[at + static_cast<std::size_t>(k)])}
+           << (8 * k);
+    at += 8;
+    return x;
+  };
+  auto text = [&] {
+    const std::uint64_t n = u64();
+    if (b.size() - at < n) short_reply();
+    std::string s(b.data() + at, static_cast<std::size_t>(n));
+    at += static_cast<std::size_t>(n);
+    return s;
+  };
+  while (at < b.size()) {
+    const auto address = static_cast<haddr_t>(u64());
+    std::string name = text();
+    const std::uint64_t n = u64();
+    std::vector<std::string> v;
+    for (std::uint64_t k = 0; k < n; ++k) v.push_back(text());
+    (*values)[{address, std::move(name)}] = std::move(v);
+  }
+  f.set_string_attributes(std::move(values));
+}
+
+}  // namespace cdpile::io::h5

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -68,10 +69,19 @@ class File {
   bool valid() const { return h_.valid(); }
   const std::string& name() const { return name_; }
   void close();  ///< closes now and reports a failure (a plain destruction does not)
+  /// The values of the file's variable-length string attributes, by the address of their
+  /// object's header and their name, as a child process read them (open_read, open_image:
+  /// read_string_attributes); null for a file whose attributes are read in process (one
+  /// this process creates or writes, or opened unchecked).
+  using StringAttributes = std::map<std::pair<haddr_t, std::string>, std::vector<std::string>>;
+  const StringAttributes* string_attributes() const { return strings_.get(); }
+  void set_string_attributes(std::shared_ptr<const StringAttributes> s) { strings_ = std::move(s); }
+
  private:
   Handle h_;
   std::string name_;
   std::shared_ptr<const std::vector<char>> image_;
+  std::shared_ptr<const StringAttributes> strings_;
 };
 
 File create(const std::string& path, const std::string& name);  ///< truncate
@@ -127,6 +137,13 @@ Checked run_checked(const std::function<std::vector<char>()>& work, double cpu_s
 /// so and how to rewrite an intact copy; if rewriting failed, its Error.
 File open_earlier_format(int superblock, double bytes, const std::function<File()>& open,
                          const std::string& name);
+/// Lists and reads every variable-length string attribute of `f` (a file of this
+/// version's format) in a child process (run_checked, 5 s of CPU time) and keeps their
+/// values in `f`, where attr_strings finds them: HDF5 1.10 keeps those strings in a global
+/// heap, which carries no checksum, and loops for ever on some damaged ones
+/// (docs/fuzzing.md). If the child crashes, loops or fails, an Error naming the file
+/// ("damaged HDF5 file: ... (global heap of its string attributes)").
+void read_string_attributes(File& f);
 
 bool exists(const File& f, const std::string& path);        ///< a link at this absolute path
 void create_group(const File& f, const std::string& path);  ///< creates parents too
