@@ -44,10 +44,14 @@ def note(notes, start):
     return None
 
 
+# How critical's notes start when a reading of the envelope gives no nu_c.
+ENVELOPE_REASONS = ("envelope does not saturate", "envelope fit not done", "envelope fit did not converge",
+                    "envelope fit failed", "no state in the loading phase")
+
+
 def envelope_reason(notes, label, study_size):
     """Why a reading of the envelope gives no nu_c, from critical's notes."""
-    for what in ("envelope does not saturate", "envelope fit not done", "envelope fit did not converge",
-                 "envelope fit failed", "no state in the loading phase"):
+    for what in ENVELOPE_REASONS:
         n = note(notes, label + what)
         if n is not None:
             return f"none: {what}{n} ({study_size}); {MORE}"

@@ -425,7 +425,17 @@ Product describe_study(const CriticalOptions& opt, SeriesSource src) {
       {"cut_at_avalanche", std::int64_t{opt.cut_at_avalanche}},
       {"grid_step_deg", opt.grid_step},
       {"envelope_window_deg", opt.envelope_window},
+      {"rest_energy_mgD", opt.rest.energy},
+      {"rest_speed_sqrt_gD", opt.rest.speed},
+      {"slip_speed_sqrt_gD", opt.slip_speed},
+      {"mobilisation_window_deg", opt.mobilisation_window},
       {"series", std::string(source_name(src))}};
+  // The envelope's fitted range decides nu_c where the envelope keeps rising
+  // (docs/reproduction.md, "Sensitivity"): a range asked for is part of the product.
+  if (opt.envelope_fit && std::isfinite(opt.envelope_fit->lo))
+    p.parameters["envelope_fit_from_deg"] = opt.envelope_fit->lo;
+  if (opt.envelope_fit && std::isfinite(opt.envelope_fit->hi))
+    p.parameters["envelope_fit_to_deg"] = opt.envelope_fit->hi;
   p.notes = {
       "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; N counts active contacts (f_n > 0), "
       "grain-grain unless include_walls",

@@ -55,3 +55,13 @@ grep -q '^| quantity | paper | tiny (2 runs of 80 grains) | systematic | verdict
 grep -Eq '^\| theta_c \(deg\) \| about 20 \(19.96\) \| [0-9.]+ ± [0-9.]+ \| not measured: `make -C pipelines indeterminacy` \(its avalanche target\) \| (reproduced|not reproduced) \|$' repro.md \
   || { cat repro.md >&2; exit 1; }
 grep -Eq '^\| nu_c, every state \| about 0.08 \| .* \| (reproduced|within the systematic error|not reproduced|not determined) \|$' repro.md
+# nu_c against the end of the envelope's fit: one critical product per end, recorded in it, and one table row each.
+mk envelope-ends ENVELOPE_ENDS="4 8" > make4.log 2>&1 || { cat make4.log >&2; exit 1; }
+for e in 4 8; do
+  "$PY" -c 'import h5py, sys; p = h5py.File(sys.argv[1], "r")["parameters"].attrs; assert p["envelope_fit_to_deg"] == float(sys.argv[2]), dict(p)' \
+    "$study/envelope-ends/critical-to$e.h5" "$e"
+done
+grep -q '^| fit up to (deg) | every state | static states | contacts at rest |$' "$study/envelope-ends/ends.md"
+expect_eq "windows every run reaches|4|8" "$(awk -F' [|] ' '/^[|] [^f-]/ { sub(/^[|] /, "", $1); printf "%s%s", n++ ? "|" : "", $1 }' "$study/envelope-ends/ends.md")"
+# every cell is a number or a reason
+if grep -E '\| none \|' "$study/envelope-ends/ends.md"; then echo "a none without its reason" >&2; exit 1; fi

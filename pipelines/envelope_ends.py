@@ -1,0 +1,54 @@
+#!/usr/bin/python3
+"""nu_c against the end of the envelope's fitted range (docs/reproduction.md, "Sensitivity"):
+
+    envelope_ends.py CRITICAL.h5... > ends.md
+
+Each CRITICAL.h5 is `critical` over the same runs, the study's own (fitted over the windows
+where every run contributes) and others with `--envelope-to T`. For each, one row: the
+range actually fitted, tau and the limit of the envelope over every state, over static
+states and over contacts at rest, or why there is none. Where an envelope keeps rising up
+to the avalanche, its limit follows the end of the range; this table shows by how much.
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figures import Product  # noqa: E402
+from report import ENVELOPE_REASONS  # noqa: E402
+
+READINGS = (("nu_c", "", ""), ("nu_c_static", "_static", "static states: "),
+            ("nu_c_rest", "_rest", "contacts at rest: "))
+
+
+def reading(c, name, suffix, label):
+    """One envelope's limit, 'nu_c ± se (tau, fitted range)', or critical's reason for none."""
+    r, e = c.results, "envelope" + suffix
+    if name in r:
+        return (f"{r[name]:.3f} ± {r[name + '_se']:.3f} (tau {r[e + '_tau_deg']:.1f} deg, "
+                f"fitted {r[e + '_theta_lo_deg']:.1f}-{r[e + '_theta_hi_deg']:.1f} deg)")
+    why = next((n[len(label):] for n in c.notes for w in ENVELOPE_REASONS if n.startswith(label + w)), None)
+    return "none: " + (why or "no envelope")
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit("usage: envelope_ends.py CRITICAL.h5...")
+    rows = []
+    for path in sys.argv[1:]:
+        c = Product(path)
+        end = c.parameters.get("envelope_fit_to_deg")
+        rows.append((-1.0 if end is None else end,
+                     "windows every run reaches" if end is None else f"{end:g}",
+                     *(reading(c, *k) for k in READINGS), int(c.results.get("runs", 0))))
+    rows.sort(key=lambda row: row[0])
+    print(f"nu_c against the end of the envelope's fitted range ({rows[0][5]} runs; "
+          "critical --envelope-to, eps as the study's)")
+    print()
+    print("| fit up to (deg) | every state | static states | contacts at rest |")
+    print("|---|---|---|---|")
+    for _, end, every, static, rest, _ in rows:
+        print(f"| {end} | {every} | {static} | {rest} |")
+
+
+if __name__ == "__main__":
+    main()
