@@ -302,7 +302,17 @@ def fig6(fit, out, n_runs=None):
     if os.path.exists(stale):
         os.remove(stale)
     fig, ax = plt.subplots(figsize=(5, 4))
-    ax.errorbar(f["theta"][ok], f["r_c"][ok], yerr=np.nan_to_num(f["r_c_se"][ok]), fmt="o", ms=3, color="k")
+    # Log scale, as the paper's second panel: r_c spans decades near the avalanche. A
+    # window whose standard error exceeds its r_c (few runs left, nu_inf near nu_c) is an
+    # open circle without a bar: its bar would reach below zero and hide the others.
+    se = np.nan_to_num(f["r_c_se"])
+    sure, loose = ok & (se < f["r_c"]), ok & (se >= f["r_c"])
+    ax.errorbar(f["theta"][sure], f["r_c"][sure], yerr=se[sure], fmt="o", ms=3, color="k")
+    if loose.any():
+        ax.plot(f["theta"][loose], f["r_c"][loose], "o", ms=4, mfc="none", color="k",
+                label="standard error above r_c")
+        ax.legend(fontsize=7, loc="lower right")
+    ax.set_yscale("log")
     ax.set_xlabel(r"$\theta$ (deg)")
     ax.set_ylabel(r"$r_c$ (D)")
     of_runs = f" ({runs_label(n_runs)})" if n_runs else ""
