@@ -5,6 +5,8 @@ two preparations), each with its statistical and systematic errors and a verdict
 
     pipelines/reproduction.py STUDY_DIR[=LABEL]... > table.md
 
+A study folder without its analysis (no critical.h5) gets a column that says so.
+
 Each study's rows come from report.py (its products and, when made, its solver-path
 ensemble). The verdict of a number v with statistical error s and systematic error y
 against the paper's p, whose own precision is half a unit of its last digit (d: 0.005 for
@@ -50,21 +52,33 @@ def verdict(row):
 def main():
     if len(sys.argv) < 2:
         sys.exit("usage: reproduction.py STUDY_DIR[=LABEL]...")
-    studies = []
+    studies, missing = [], {}
     for arg in sys.argv[1:]:
         path, _, label = arg.partition("=")
+        label = label or os.path.basename(os.path.abspath(path))
+        if not os.path.exists(os.path.join(path, "critical.h5")):
+            # A study still being made (the other preparation, say): its column says so
+            # rather than the table failing for the studies that are there.
+            missing[label] = f"not analysed yet: no critical.h5 in {path}"
+            studies.append((label, "not analysed", None))
+            continue
         size, rows = rows_of(path)
-        studies.append((label or os.path.basename(os.path.abspath(path)), size, {r.quantity: r for r in rows}))
+        studies.append((label, size, {r.quantity: r for r in rows}))
     order = []
     for _, _, rows in studies:
-        order += [q for q in rows if q not in order]
+        order += [q for q in rows or {} if q not in order]
+    if not order:
+        sys.exit("reproduction.py: no study has been analysed: " + "; ".join(missing.values()))
     head = "| quantity | paper |" + "".join(f" {label} ({size}) | systematic | verdict |" for label, size, _ in studies)
     print(head)
     print("|---|---|" + "---|---|---|" * len(studies))
     for q in order:
-        paper = next(rows[q].paper for _, _, rows in studies if q in rows)
+        paper = next(rows[q].paper for _, _, rows in studies if rows and q in rows)
         cells = []
-        for _, _, rows in studies:
+        for label, _, rows in studies:
+            if rows is None:
+                cells += [missing[label], "", "not determined"]
+                continue
             r = rows.get(q)
             cells += [r.ours, r.systematic, verdict(r)] if r else ["", "", ""]
         print(f"| {q} | {paper} | " + " | ".join(cells) + " |")

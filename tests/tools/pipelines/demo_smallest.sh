@@ -65,3 +65,11 @@ grep -q '^| fit up to (deg) | every state | static states | contacts at rest |$'
 expect_eq "windows every run reaches|4|8" "$(awk -F' [|] ' '/^[|] [^f-]/ { sub(/^[|] /, "", $1); printf "%s%s", n++ ? "|" : "", $1 }' "$study/envelope-ends/ends.md")"
 # every cell is a number or a reason
 if grep -E '\| none \|' "$study/envelope-ends/ends.md"; then echo "a none without its reason" >&2; exit 1; fi
+# A study not analysed yet gets its column saying so; the table of the others is still made.
+"$PY" "$CDPILE_SOURCE/pipelines/reproduction.py" "$study=tiny" "$PWD/not-made=other" > repro2.md
+grep -q '^| quantity | paper | tiny (2 runs of 80 grains) | systematic | verdict | other (not analysed) | systematic | verdict |$' repro2.md
+grep -Eq "^\| theta_c \(deg\) \| .* \| not analysed yet: no critical.h5 in $PWD/not-made \|  \| not determined \|$" repro2.md \
+  || { cat repro2.md >&2; exit 1; }
+# none analysed: one line, non-zero exit
+if "$PY" "$CDPILE_SOURCE/pipelines/reproduction.py" "$PWD/not-made" > /dev/null 2> err.txt; then exit 1; fi
+expect_eq "reproduction.py: no study has been analysed: not analysed yet: no critical.h5 in $PWD/not-made" "$(cat err.txt)"
