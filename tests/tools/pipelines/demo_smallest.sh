@@ -73,3 +73,23 @@ grep -Eq "^\| theta_c \(deg\) \| .* \| not analysed yet: no critical.h5 in $PWD/
 # none analysed: one line, non-zero exit
 if "$PY" "$CDPILE_SOURCE/pipelines/reproduction.py" "$PWD/not-made" > /dev/null 2> err.txt; then exit 1; fi
 expect_eq "reproduction.py: no study has been analysed: not analysed yet: no critical.h5 in $PWD/not-made" "$(cat err.txt)"
+# nu_c per step at another eps: the piles tilted again to EPS_STEPS_TO with that eps (the same trajectory to the bit), read per step beside the study's runs.
+mk eps-steps EPS_STEPS="0.2" EPS_STEPS_TO=6 EPS_STEPS_FIT=5 > make5.log 2>&1 || { cat make5.log >&2; exit 1; }
+d=$study/eps-steps
+"$PY" - "$study" "$d" <<'PY'
+import h5py, numpy as np, sys
+s, d = sys.argv[1:]
+for k in (1, 2):
+    a, b = h5py.File(f"{d}/eps0.2/run-{k}.h5", "r"), h5py.File(f"{s}/run-{k}.h5", "r")
+    assert a["parameters"].attrs["critical_eps"] == 0.2, dict(a["parameters"].attrs)
+    pa, pb = a["particles/grains/position"], b["particles/grains/position"]
+    last = int(pa["step"][-1]); j = list(pb["step"][()]).index(last)
+    assert np.array_equal(pa["value"][-1], pb["value"][j]), "the trajectory moved with eps"
+    # a looser test counts at least as many critical contacts, step by step
+    ca, cb = a["observables/critical/value"][()], b["observables/critical/value"][()]
+    n = min(len(ca), len(cb)); assert np.all(ca[:n] >= cb[:n]) and np.any(ca[:n] > cb[:n])
+for e, series in (("0.2", b"steps"), ("1e-3", b"steps")):
+    p = h5py.File(f"{d}/critical-eps{e}.h5", "r")["parameters"].attrs
+    assert (p["eps"], p["series"], p["envelope_fit_to_deg"]) == (float(e), series, 5.0), dict(p)
+PY
+expect_eq "0.001 (steps)|0.2 (steps)" "$(awk -F' [|] ' '/^[|] [0-9]/ { sub(/^[|] /, "", $1); printf "%s%s", n++ ? "|" : "", $1 }' "$d/eps.md")"
