@@ -31,7 +31,8 @@ static void usage(cli::Usage& u) {
       "to that angle whatever happens. The first step is warm-started from the pile's contact "
       "forces.",
       "Every step records the observables of docs/schema.md: tilt_angle, kinetic_energy, "
-      "rotational_energy, contacts, contacts_grain, sliding, sweeps, residual, residual_rms, "
+      "rotational_energy, contacts, contacts_grain, sliding, sweeps, substeps, residual, "
+      "residual_rms, "
       "law_residual, "
       "law_residual_rms, converged, max_overlap, "
       "and the critical-contact counts critical (all active contacts) and critical_grain (between "
@@ -78,7 +79,8 @@ static void usage(cli::Usage& u) {
       "frame_every_steps, "
       "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
       "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, solver, check_every, "
-      "contact_stiffness_N_m2). Results: steps, final_angle_deg, "
+      "contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after). Results: steps, "
+      "final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
       "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle), warnings and "
       "warning_messages.",

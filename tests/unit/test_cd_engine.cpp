@@ -478,3 +478,145 @@ TEST(DelassusExport, AColumnIsSolvedAgainToTheSameImpulses) {
     EXPECT_NEAR(r[2 * a + 1], 0.0, 1e-12 * mgh) << "contact " << a;
   }
 }
+
+// --- adaptive sub-steps (docs/method.md, "Sub-steps") --------------------------------
+
+namespace {
+
+/// A column of `k` disks on the floor with the contact stiffness `stiffness` m g / D and
+/// sub-steps down to h / max_substeps after `after` sweeps.
+cd::Engine stiff_column(int k, double stiffness, int max_substeps, int after, int cap) {
+  Grains g;
+  for (int n = 0; n < k; ++n) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+  cd::Settings s = settings();
+  s.tolerance = 1e-8;
+  s.contact_stiffness = stiffness * g.mass[0] * 9.81 / (2 * kR);
+  s.max_substeps = max_substeps;
+  s.substep_after = after;
+  s.max_sweeps = cap;
+  return cd::Engine(Box{0.02, 0.1}, g, s);
+}
+
+}  // namespace
+
+// Steps that converge within the budget are never split: with sub-steps allowed the run is
+// the unsplit one, bit for bit.
+TEST(Substeps, StepsWithinTheBudgetAreNotSplit) {
+  cd::Engine a = stiff_column(10, 1e5, 1, 200, 100000),
+             b = stiff_column(10, 1e5, 64, 100000, 100000);
+  for (int step = 0; step < 200; ++step) {
+    const cd::StepReport ra = a.step(0.0), rb = b.step(0.0);
+    EXPECT_EQ(rb.substeps, 1);
+    EXPECT_EQ(ra.sweeps, rb.sweeps);
+  }
+  EXPECT_EQ(a.grains().position, b.grains().position);
+  EXPECT_EQ(a.grains().velocity, b.grains().velocity);
+  EXPECT_EQ(a.state().substep_level, 0);
+}
+
+// A column of 30 disks at k = 1e8 m g / D (k h^2 / m = 1e4: Gauss-Seidel's error decays by
+// about 1 - 1e-4 per sweep) settles from rest. Capped at 300 sweeps, the unsplit steps
+// stop short of the tolerance; split after 30 sweeps, down to h / 256, every step
+// converges, in sub-steps (the sub-step's compliance 1/(k h_s^2) is 4 times larger per
+// halving), and the contacts carry the column's weight, n m g under the n-th disk from
+// the top: the forces are the impulses of the last sub-step over its own h_s.
+TEST(Substeps, AStiffColumnSplitsConvergesAndCarriesItsWeight) {
+  const int k = 30;
+  cd::Engine unsplit = stiff_column(k, 1e8, 1, 30, 300), split = stiff_column(k, 1e8, 256, 30, 300);
+  int capped = 0, split_steps = 0;
+  for (int step = 0; step < 400; ++step) {
+    capped += unsplit.step(0.0).converged ? 0 : 1;
+    const cd::StepReport r = split.step(0.0);
+    EXPECT_TRUE(r.converged) << "step " << step;
+    EXPECT_GE(r.substeps, 1);
+    EXPECT_LE(r.substeps, 256);
+    split_steps += r.substeps > 1 ? 1 : 0;
+  }
+  EXPECT_GT(capped, 0);
+  EXPECT_GT(split_steps, 0);
+  EXPECT_GE(split.profile().substeps, split.profile().steps);
+  const double mg = split.grains().mass[0] * 9.81;
+  const auto c = split.contacts();
+  ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+  for (std::size_t q = 0; q < c.size(); ++q) {
+    const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+    EXPECT_NEAR(c.fn[q], carried * mg, 1e-3 * k * mg) << "contact " << q;
+  }
+}
+
+// The sub-step level is part of the state: an engine rebuilt from the grains and state of
+// a split run continues it bit for bit; a level beyond the settings' max_substeps is
+// refused; and a split step cancelled half way leaves the last completed step's grains
+// and impulses.
+TEST(Substeps, StateAndCancelKeepTheLastCompletedStep) {
+  cd::Engine a = stiff_column(30, 1e8, 256, 30, 300);
+  for (int step = 0; step < 20; ++step) a.step(0.0);
+  ASSERT_GT(a.state().substep_level, 0);
+  cd::Engine b = stiff_column(30, 1e8, 256, 30, 300);
+  b = cd::Engine(b.box(), a.grains(), b.settings());
+  b.set_state(a.state());
+  cd::Engine c = b;
+  for (int step = 0; step < 20; ++step) {
+    const cd::StepReport ra = a.step(0.0), rb = b.step(0.0);
+    EXPECT_EQ(ra.substeps, rb.substeps);
+    EXPECT_EQ(ra.sweeps, rb.sweeps);
+  }
+  EXPECT_EQ(a.grains().position, b.grains().position);
+  EXPECT_EQ(a.grains().velocity, b.grains().velocity);
+
+  cd::EngineState deep = a.state();
+  deep.substep_level = 9;  // 512 > 256
+  EXPECT_THROW(b.set_state(deep), cdpile::Error);
+
+  const Grains before = c.grains();
+  const cd::EngineState state = c.state();
+  int polls = 0;
+  c.set_cancel([&] { return ++polls > 200; });  // past the first sub-step's sweeps
+  EXPECT_THROW(c.step(10 * kDeg), cd::StepCancelled);
+  EXPECT_EQ(c.grains().position, before.position);
+  EXPECT_EQ(c.grains().velocity, before.velocity);
+  ASSERT_EQ(c.state().impulses.size(), state.impulses.size());
+  for (std::size_t q = 0; q < state.impulses.size(); ++q)
+    EXPECT_EQ(c.state().impulses[q].rn, state.impulses[q].rn);
+  EXPECT_EQ(c.state().substep_level, state.substep_level);
+}
+
+TEST(Substeps, SettingsAreChecked) {
+  cd::Settings s = settings();
+  s.max_substeps = 3;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.max_substeps = 2 * cd::max_substeps_limit;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.max_substeps = 16;
+  s.substep_after = 0;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.substep_after = 1;
+  EXPECT_NO_THROW(cd::validate(s));
+}
+
+// A locked disk resting on a 20-degree incline with a budget of one sweep: every step
+// needs two (the second confirms the first) and is split, down to h / 4. The impulses of
+// a sub-step are its force times h / 4, the warm start of the next step rescales them to
+// h, and the reported forces are the last sub-step's impulses over h / 4:
+// f = m g (cos, sin) as without sub-steps.
+TEST(Substeps, ForcesAreTheLastSubstepsImpulsesOverItsStep) {
+  Grains g = one_disk();
+  const double m = g.mass[0];
+  cd::Settings s = settings();
+  s.contact_stiffness = 1e6 * m * 9.81 / (2 * kR);
+  s.max_substeps = 4;
+  s.substep_after = 1;
+  cd::Engine e(Box{0.1, 0.05}, g, s);
+  e.lock_rotation(0);
+  cd::StepReport r;
+  for (int n = 0; n < 300; ++n) r = e.step(20 * kDeg);
+  EXPECT_EQ(r.substeps, 4);
+  EXPECT_TRUE(r.converged);
+  const auto c = e.contacts();
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_NEAR(c.fn[0], m * 9.81 * std::cos(20 * kDeg), 1e-8 * m * 9.81);
+  EXPECT_NEAR(std::abs(c.ft[0]), m * 9.81 * std::sin(20 * kDeg), 1e-8 * m * 9.81);
+  ASSERT_EQ(e.state().impulses.size(), 1u);  // stored over h, as the state keeps them
+  EXPECT_NEAR(e.state().impulses[0].rn, m * 9.81 * std::cos(20 * kDeg) * s.time_step,
+              1e-8 * m * 9.81 * s.time_step);
+}

@@ -40,6 +40,11 @@ void validate(const TimeStepping& s) {
   if (!(s.alert_distance >= 0.0)) bad("alert distance must be >= 0");
   if (!(s.contact_stiffness >= 0.0) || !std::isfinite(s.contact_stiffness))
     bad("contact stiffness must be >= 0 and finite (0: rigid contacts)");
+  if (s.max_substeps < 1 || s.max_substeps > max_substeps_limit ||
+      (s.max_substeps & (s.max_substeps - 1)) != 0)
+    bad("the largest number of sub-steps must be a power of two from 1 to " +
+        std::to_string(max_substeps_limit));
+  if (s.substep_after < 1) bad("the sweeps before a step is split must be >= 1");
 }
 
 void validate(const Settings& s) {
@@ -72,14 +77,23 @@ Engine::Engine(Box box, Grains grains, Settings settings)
   }
   system_.bodies.resize(n + 1);
   system_.bodies[n] = {0.0, 0.0, 0.0, 0.0, 0.0};  // the walls: one static body
-  // The compliance of the force-selection rule (docs/method.md, "Force selection"): an
-  // implicit spring of stiffness k on the step's displacement h u, R - R0 = -k h^2 u.
+  set_substep(settings_.time_step);
+  stored_h_ = settings_.time_step;
+  solver_ = make_solver(settings_);
+  SolverSettings budget = settings_;
+  budget.max_sweeps = std::min(settings_.max_sweeps, settings_.substep_after);
+  budget_solver_ = make_solver(budget);
+}
+
+// The (sub)step size of the stages, and the compliance of the force-selection rule
+// (docs/method.md, "Force selection"): an implicit spring of stiffness k on the step's
+// displacement h u, R - R0 = -k h^2 u.
+void Engine::set_substep(double h) {
+  h_ = h;
   if (settings_.contact_stiffness > 0.0) {
-    const double h = settings_.time_step;
     system_.compliance_n = 1.0 / (settings_.contact_stiffness * h * h);
     system_.compliance_t = system_.compliance_n;
   }
-  solver_ = make_solver(settings_);
 }
 
 void Engine::lock_rotation(std::size_t grain, bool locked) {
@@ -92,6 +106,64 @@ StepReport Engine::step(double tilt_angle) {
   last_tilt_angle_ = tilt_angle;
   const Vec2 g = tilted_gravity(settings_.gravity, tilt_angle);
   StepReport report;
+  report.substeps = 0;
+  if (settings_.max_substeps > 1) {
+    // A split step changes the grains after its first sub-step: keep what a cancelled step
+    // must leave as it was (engine.hpp, step).
+    const Grains grains = grains_;
+    const std::vector<std::uint64_t> keys = stored_keys_;
+    const std::vector<double> rn = stored_rn_, rt = stored_rt_;
+    try {
+      // Start at the level the last step ended at (a rearrangement lasts many steps, and
+      // each failed attempt costs substep_after sweeps), one level coarser when every
+      // sub-step of the last step converged in under a quarter of that.
+      const int parts = 1 << substep_level_;
+      SubstepTally tally;
+      tally.finest = parts;
+      for (int k = 0; k < parts; ++k) advance(settings_.time_step / parts, parts, g, report, tally);
+      int level = 0;
+      while ((1 << level) < tally.finest) ++level;
+      if (level > 0 && 4 * tally.hardest_sweeps < settings_.substep_after) --level;
+      substep_level_ = level;
+    } catch (const StepCancelled&) {
+      grains_ = grains;
+      stored_keys_ = keys;
+      stored_rn_ = rn;
+      stored_rt_ = rt;
+      stored_h_ = settings_.time_step;
+      throw;
+    }
+    // The stored impulses are the last sub-step's; the state keeps impulses over h.
+    if (stored_h_ != settings_.time_step) {
+      const double scale = settings_.time_step / stored_h_;
+      for (double& v : stored_rn_) v *= scale;
+      for (double& v : stored_rt_) v *= scale;
+      stored_h_ = settings_.time_step;
+    }
+  } else {
+    SubstepTally tally;
+    advance(settings_.time_step, 1, g, report, tally);
+  }
+
+  ++step_;
+  time_ = static_cast<double>(step_) * settings_.time_step;  // no drift from summing h
+  report.step = step_;
+  report.time = time_;
+  report.tilt_angle = tilt_angle;
+  measure(report);
+  profile_.steps += 1;
+  profile_.substeps += report.substeps;
+  return report;
+}
+
+// Advances the grains by hs = h / parts, in stages 1-9 (engine.hpp). When sub-steps are
+// allowed and the solve has not converged within settings.substep_after sweeps, the
+// attempt is dropped (stages 1-6 change neither the grains nor the stored impulses) and
+// the interval is done as two halves, each of which may split again, down to
+// h / max_substeps, where the sweep cap of the settings applies (docs/method.md,
+// "Sub-steps").
+void Engine::advance(double hs, int parts, const Vec2& g, StepReport& report, SubstepTally& tally) {
+  set_substep(hs);
   auto t = Clock::now();
   detect(g);
   lap(t, profile_.detect);
@@ -102,8 +174,27 @@ StepReport Engine::step(double tilt_angle) {
   debug_check_rows(system_);  // debug builds: what the warm start's merge relies on
   warm_start();
   lap(t, profile_.warm_start);
-  solve(report);
+  const bool may_split = parts < settings_.max_substeps;
+  const SolveReport s = solve(may_split ? *budget_solver_ : *solver_);
   lap(t, profile_.solve);
+  report.sweeps += s.sweeps;
+  profile_.sweeps += s.sweeps;
+  profile_.contact_updates +=
+      static_cast<std::int64_t>(s.sweeps) * static_cast<std::int64_t>(system_.rows.size());
+  if (!s.converged && may_split) {
+    tally.finest = std::max(tally.finest, 2 * parts);
+    advance(0.5 * hs, 2 * parts, g, report, tally);
+    advance(0.5 * hs, 2 * parts, g, report, tally);
+    return;
+  }
+  tally.hardest_sweeps = std::max(tally.hardest_sweeps, s.sweeps);
+  const LawResidual law = law_residual(system_, settings_.gravity * hs);
+  report.residual = std::max(report.residual, s.residual);
+  report.residual_rms = std::max(report.residual_rms, s.residual_rms);
+  report.converged = report.converged && s.converged;
+  report.law_residual = std::max(report.law_residual, law.max);
+  report.law_residual_rms = std::max(report.law_residual_rms, law.rms);
+  report.substeps += 1;
   check_solution();
   update_velocities();
   lap(t, profile_.update_velocities);
@@ -111,18 +202,6 @@ StepReport Engine::step(double tilt_angle) {
   lap(t, profile_.update_positions);
   store_impulses();
   lap(t, profile_.store);
-
-  ++step_;
-  time_ = static_cast<double>(step_) * settings_.time_step;  // no drift from summing h
-  report.step = step_;
-  report.time = time_;
-  report.tilt_angle = tilt_angle;
-  measure(report);
-  profile_.steps += 1;
-  profile_.sweeps += report.sweeps;
-  profile_.contact_updates +=
-      static_cast<std::int64_t>(report.sweeps) * static_cast<std::int64_t>(system_.rows.size());
-  return report;
 }
 
 // Stage 1 and 2. Free velocities go into the bodies; candidates are found in the
@@ -132,7 +211,7 @@ StepReport Engine::step(double tilt_angle) {
 // missed whatever the speed (the margin is zero for grains at rest).
 void Engine::detect(const Vec2& g) {
   const std::size_t n = grains_.size();
-  const double h = settings_.time_step;
+  const double h = h_;
   const double lead = (1.0 - settings_.theta) * h;
   predicted_.resize(n);
   margin_.resize(n);
@@ -250,7 +329,7 @@ void Engine::detect(const Vec2& g) {
 //   u_n = (v_i - v_j).n,   u_t = (v_i - v_j).t - w_i r_i - w_j r_j
 // (the contact point is at -r_i n from i and +r_j n from j).
 void Engine::compute_frames() {
-  const double inv_h = 1.0 / settings_.time_step;
+  const double inv_h = 1.0 / h_;
   for (ContactRow& r : system_.rows) {
     r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
     r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
@@ -288,13 +367,16 @@ void Engine::warm_start() {
     CDPILE_DEBUG_CHECK(stored_keys_[k - 1] < stored_keys_[k],
                        "stored impulse " + std::to_string(k) + " is out of pair order");
 #endif
+  // Impulses are forces times the step: stored over another (sub)step, they are rescaled
+  // to this one (the same forces; docs/method.md, "Sub-steps").
+  const double scale = h_ / stored_h_;
   std::size_t k = 0;
   for (ContactRow& r : system_.rows) {
     const std::uint64_t key = pair_key(r.i, r.j);
     while (k < stored_keys_.size() && stored_keys_[k] < key) ++k;
     if (k < stored_keys_.size() && stored_keys_[k] == key) {
-      r.rn = stored_rn_[k];
-      r.rt = stored_rt_[k];
+      r.rn = scale == 1.0 ? stored_rn_[k] : stored_rn_[k] * scale;
+      r.rt = scale == 1.0 ? stored_rt_[k] : stored_rt_[k] * scale;
     } else {
       r.rn = 0.0;
       r.rt = 0.0;
@@ -307,24 +389,15 @@ void Engine::warm_start() {
   }
 }
 
-// Stage 6. The settings' solver (NSGS by default) from the warm start, then the contact
-// law's residual, measured the same way whatever the solver and its stopping rule.
-void Engine::solve(StepReport& report) {
-  const double gh = settings_.gravity * settings_.time_step;
-  SolveReport s;
+// Stage 6. The settings' solver (NSGS by default) from the warm start; the caller measures
+// the contact law's residual the same way whatever the solver and its stopping rule.
+SolveReport Engine::solve(const ContactSolver& solver) {
   system_.step = step_ + 1;
   try {
-    s = solver_->solve(system_, gh);
+    return solver.solve(system_, settings_.gravity * h_);
   } catch (const Error& e) {
     throw Error(std::string(e.what()) + " at step " + std::to_string(step_ + 1));
   }
-  report.sweeps = s.sweeps;
-  report.residual = s.residual;
-  report.residual_rms = s.residual_rms;
-  report.converged = s.converged;
-  const LawResidual law = law_residual(system_, gh);
-  report.law_residual = law.max;
-  report.law_residual_rms = law.rms;
 }
 
 // Invariants of every solver (debug builds; contact_system.hpp): the impulses are
@@ -335,7 +408,7 @@ void Engine::check_solution() const {
   debug_check_admissible(system_);
   const Vec2 g = tilted_gravity(settings_.gravity, last_tilt_angle_);
   std::vector<Body> free(system_.bodies.size(), Body{0.0, 0.0, 0.0, 0.0, 0.0});
-  const double h = settings_.time_step;
+  const double h = h_;
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     const bool fixed = inv_mass_[i] == 0.0;
     const Vec2 vf = fixed ? Vec2::Zero() : Vec2(velocity_begin_[i] + h * g);
@@ -357,7 +430,7 @@ void Engine::update_velocities() {
 
 // Stage 8. theta-method: q = q + h ((1 - theta) v_begin + theta v) = q_m + theta h v.
 void Engine::update_positions() {
-  const double h = settings_.time_step, th = settings_.theta;
+  const double h = h_, th = settings_.theta;
   for (std::size_t i = 0; i < grains_.size(); ++i) {
     if (inv_mass_[i] == 0.0) continue;
     grains_.position[i] = predicted_[i] + (th * h) * grains_.velocity[i];
@@ -367,6 +440,7 @@ void Engine::update_positions() {
 
 // Stage 9. Keep the non-zero impulses, sorted by pair, for the next warm start.
 void Engine::store_impulses() {
+  stored_h_ = h_;
   stored_keys_.clear();
   stored_rn_.clear();
   stored_rt_.clear();
@@ -406,7 +480,7 @@ void Engine::measure(StepReport& report) const {
 Contacts Engine::contacts() const {
   Contacts c;
   c.reserve(system_.rows.size());
-  const double inv_h = 1.0 / settings_.time_step;
+  const double inv_h = 1.0 / h_;  // the last sub-step's (docs/method.md, "Sub-steps")
   for (const ContactRow& r : system_.rows) {
     const Vec2 n(r.nx, r.ny);
     const Vec2& xi = predicted_[static_cast<std::size_t>(r.i)];
@@ -492,6 +566,7 @@ EngineState Engine::state() const {
   EngineState s;
   s.step = step_;
   s.time = time_;
+  s.substep_level = substep_level_;
   s.impulses.reserve(stored_keys_.size());
   for (std::size_t k = 0; k < stored_keys_.size(); ++k) {
     StoredImpulse imp;
@@ -507,6 +582,11 @@ EngineState Engine::state() const {
 void Engine::set_state(const EngineState& s) {
   step_ = s.step;
   time_ = s.time;
+  stored_h_ = settings_.time_step;
+  if (s.substep_level < 0 || (1 << std::min(s.substep_level, 30)) > settings_.max_substeps)
+    throw Error("engine: sub-step level " + std::to_string(s.substep_level) +
+                " is beyond the settings' max_substeps");
+  substep_level_ = s.substep_level;
   stored_keys_.clear();
   stored_rn_.clear();
   stored_rt_.clear();

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 
 namespace cdpile::cli {
 
@@ -37,6 +38,14 @@ void declare_solver_options(Usage& u) {
          "impulses picks the step's forces near the previous ones; 0 for rigid contacts "
          "(docs/method.md, \"Force selection\")",
          "m g/D", 0.0, 1e300);
+  u.integer("max-substeps", d.max_substeps,
+            "adaptive sub-steps: a step not converged after --substep-after sweeps is done again "
+            "as two half steps under the same gravity, recursively, down to h / this (a power of "
+            "two; 1: none) (docs/method.md, \"Sub-steps\")",
+            1, cd::max_substeps_limit);
+  u.integer("substep-after", d.substep_after,
+            "sweeps a step may take before it is split into two (with --max-substeps > 1)", 1,
+            100000000);
   u.integer("scramble", 0,
             "0: sweeps in pair order; else the seed of a random sweep order drawn anew every "
             "step (LMGC90's quick scramble): another solver path through the same steps",
@@ -57,6 +66,12 @@ cd::Settings solver_settings(const Args& a, double diameter, double mass, double
   s.solver = cd::solver_from_name(a.text("solver"));
   s.contact_stiffness = a.real("stiffness") * mass * gravity / diameter;
   s.scramble = static_cast<std::uint64_t>(a.integer("scramble"));
+  s.max_substeps = static_cast<int>(a.integer("max-substeps"));
+  if ((s.max_substeps & (s.max_substeps - 1)) != 0)
+    throw UsageError("--max-substeps: expected a power of two in [1, " +
+                     std::to_string(cd::max_substeps_limit) + "], got '" +
+                     std::to_string(s.max_substeps) + "'");
+  s.substep_after = static_cast<int>(a.integer("substep-after"));
   return s;
 }
 

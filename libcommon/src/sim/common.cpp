@@ -21,14 +21,15 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"solver", std::string(cd::solver_name(s.solver))},
           {"check_every", std::int64_t{s.check_every}},
           {"contact_stiffness_N_m2", s.contact_stiffness},
-          {"scramble_seed", static_cast<std::int64_t>(s.scramble)}};
+          {"scramble_seed", static_cast<std::int64_t>(s.scramble)},
+          {"max_substeps", std::int64_t{s.max_substeps}},
+          {"substep_after", std::int64_t{s.substep_after}}};
 }
 
 io::Values pre_seam_settings() {
-  return {{"solver", std::string("nsgs")},
-          {"check_every", std::int64_t{1}},
-          {"contact_stiffness_N_m2", 0.0},
-          {"scramble_seed", std::int64_t{0}}};
+  return {{"solver", std::string("nsgs")},   {"check_every", std::int64_t{1}},
+          {"contact_stiffness_N_m2", 0.0},   {"scramble_seed", std::int64_t{0}},
+          {"max_substeps", std::int64_t{1}}, {"substep_after", std::int64_t{100}}};
 }
 
 io::Values with_pre_seam_settings(io::Values v) {
@@ -53,6 +54,8 @@ cd::Settings settings_from_parameters(const io::Values& given, const std::string
   const std::int64_t scramble = io::as_int(v, "scramble_seed", file);
   if (scramble < 0) throw Error(file, "/parameters", "scramble_seed must be >= 0");
   s.scramble = static_cast<std::uint64_t>(scramble);
+  s.max_substeps = static_cast<int>(io::as_int(v, "max_substeps", file));
+  s.substep_after = static_cast<int>(io::as_int(v, "substep_after", file));
   auto text = [&](const char* key) {
     const auto c = v.find(key);
     const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
@@ -93,8 +96,8 @@ io::Series observables_series() {
        {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
         "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
     s.real[n] = {};
-  for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "converged", "critical",
-                        "critical_grain", "grains_without_contact"})
+  for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "substeps", "converged",
+                        "critical", "critical_grain", "grains_without_contact"})
     s.integer[n] = {};
   s.unit = {{"tilt_angle", "degree"},
             {"kinetic_energy", "J m-1"},
@@ -108,6 +111,7 @@ io::Series observables_series() {
             {"contacts_grain", ""},
             {"sliding", ""},
             {"sweeps", ""},
+            {"substeps", ""},
             {"converged", ""},
             {"critical", ""},
             {"critical_grain", ""},
@@ -132,6 +136,7 @@ void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCo
   s.integer["contacts_grain"].push_back(r.contacts_grain);
   s.integer["sliding"].push_back(r.sliding);
   s.integer["sweeps"].push_back(r.sweeps);
+  s.integer["substeps"].push_back(r.substeps);
   s.integer["converged"].push_back(r.converged ? 1 : 0);
   s.integer["critical"].push_back(c.all);
   s.integer["critical_grain"].push_back(c.grain);

@@ -79,7 +79,8 @@ void write_checkpoint(const h5::File& f, const cd::Engine& e, const LoopState& s
                 {"detector_start_step", d.start_step},
                 {"detector_confirmed_step", d.confirmed_step},
                 {"unconverged_steps", s.unconverged},
-                {"max_overlap", s.max_overlap}};
+                {"max_overlap", s.max_overlap},
+                {"substep_level", std::int64_t{st.substep_level}}};
   c.description =
       "state to resume this partial run bit for bit: grain state, warm-start impulses [N s/m] "
       "of the last step by pair (i, j), clock and avalanche detector; see docs/method.md";
@@ -94,6 +95,10 @@ Restored read_checkpoint(const h5::File& f, const Grains& properties) {
   for (const auto& imp : c.impulses) r.engine.impulses.push_back({imp.i, imp.j, imp.rn, imp.rt});
   r.engine.step = c.step;
   r.engine.time = c.time;
+  // Partials written before sub-steps existed have no level: they ran without sub-steps.
+  bool has_level = false;
+  for (const auto& [name, value] : c.counters) has_level = has_level || name == "substep_level";
+  r.engine.substep_level = has_level ? static_cast<int>(c.counter_int("substep_level", file)) : 0;
   AvalancheDetector& d = r.loop.detector;
   d.since = c.counter_int("detector_since", file);
   d.since_deg = c.counter_real("detector_since_deg", file);

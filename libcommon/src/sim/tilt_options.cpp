@@ -74,6 +74,8 @@ const std::vector<std::pair<std::string, std::string>>& tilt_option_parameters()
       {"solver", "solver"},
       {"stiffness", "contact_stiffness_N_m2"},
       {"scramble", "scramble_seed"},
+      {"max-substeps", "max_substeps"},
+      {"substep-after", "substep_after"},
       {"alert", "alert_distance_m"}};
   return table;
 }

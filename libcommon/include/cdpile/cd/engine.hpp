@@ -47,7 +47,18 @@ struct TimeStepping {
   /// (docs/method.md, "Force selection"): the compliance 1/(k h^2) on the normal and
   /// tangential diagonal of W, anchored at the previous step's impulses. 0: rigid contacts.
   double contact_stiffness = 0.0;
+  /// Adaptive sub-steps (docs/method.md, "Sub-steps"): a step whose solve has not met the
+  /// criterion after `substep_after` sweeps is done again as two steps of h / 2 under the
+  /// same gravity, each split again the same way, down to h / max_substeps, where the
+  /// sweep cap applies. The compliance 1/(k h^2) of a sub-step is 4 times larger per
+  /// halving, so its problem is better conditioned and its warm start closer. 1: no
+  /// sub-steps (a power of two).
+  int max_substeps = 1;
+  int substep_after = 100;  ///< sweeps before a step is split (when max_substeps > 1)
 };
+
+/// The largest TimeStepping::max_substeps: h / 1024 is already 1e-7 s at the default h.
+inline constexpr int max_substeps_limit = 1024;
 
 /// Engine settings: the time stepping and the solver's (solver.hpp).
 struct Settings : TimeStepping, SolverSettings {};
@@ -69,7 +80,11 @@ struct StepReport {
   /// The same corrections' root mean square over the active contacts (the larger
   /// component of each), divided by the same scale: the 'quad' measure.
   double residual_rms = 0.0;
-  bool converged = true;  ///< the criterion was met before the sweep cap
+  bool converged = true;  ///< the criterion was met before the sweep cap (every sub-step)
+  /// The (sub-)steps the step was done in: 1 unless it was split (TimeStepping::max_substeps).
+  /// sweeps counts the sweeps of every attempt, split ones included; the residuals are the
+  /// largest of the sub-steps'; the contacts and forces are those of the last sub-step.
+  int substeps = 1;
   /// The contact law's residual at the step's end (LawResidual, relative to g h):
   /// solver-independent, so steps of any solver and stopping rule compare.
   double law_residual = 0.0;
@@ -91,7 +106,7 @@ struct StepReport {
 struct StepProfile {
   double detect = 0, frames = 0, delassus = 0, warm_start = 0, solve = 0, update_velocities = 0,
          update_positions = 0, store = 0;
-  std::int64_t steps = 0, sweeps = 0, contact_updates = 0;
+  std::int64_t steps = 0, sweeps = 0, contact_updates = 0, substeps = 0;
   double total() const {
     return detect + frames + delassus + warm_start + solve + update_velocities + update_positions +
            store;
@@ -110,6 +125,9 @@ struct EngineState {
   std::int64_t step = 0;
   double time = 0.0;
   std::vector<StoredImpulse> impulses;
+  /// The next step starts as 2^substep_level sub-steps (docs/method.md, "Sub-steps"); 0
+  /// without sub-steps.
+  int substep_level = 0;
 };
 
 class Engine {
@@ -159,7 +177,13 @@ class Engine {
   void compute_frames();
   void compute_delassus();
   void warm_start();
-  void solve(StepReport& report);
+  void set_substep(double h);
+  struct SubstepTally {
+    int finest = 1;          // the most parts the step was split into
+    int hardest_sweeps = 0;  // the most sweeps a completed (sub)step took
+  };
+  void advance(double hs, int parts, const Vec2& g, StepReport& report, SubstepTally& tally);
+  SolveReport solve(const ContactSolver& solver);
   void check_solution() const;  // debug builds: the solver's invariants
   void update_velocities();
   void update_positions();
@@ -170,8 +194,12 @@ class Engine {
   Grains grains_;
   Settings settings_;
   std::vector<double> inv_mass_, inv_inertia_;
-  ContactSystem system_;                         // bodies and rows: what the solver works on
-  std::shared_ptr<const ContactSolver> solver_;  // stateless: copies of an engine share it
+  ContactSystem system_;                                // bodies and rows: what the solver works on
+  std::shared_ptr<const ContactSolver> solver_;         // stateless: copies of an engine share it
+  std::shared_ptr<const ContactSolver> budget_solver_;  // capped at substep_after sweeps
+  double h_ = 0.0;                                      // the (sub)step being done [s]
+  double stored_h_ = 0.0;                               // the (sub)step of the stored impulses [s]
+  int substep_level_ = 0;                               // EngineState::substep_level
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
   std::vector<std::int32_t> cell_start_, cell_items_, neighbours_;

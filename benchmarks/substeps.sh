@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# Adaptive sub-steps against plain NSGS (docs/performance.md, "Adaptive sub-steps").
+#
+#   benchmarks/substeps.sh windows RUN DEG TO OUTDIR [K ...]
+#       branches the run RUN (made by tilt-cd, frames at DEG) from DEG to TO, with and
+#       without sub-steps, at each stiffness K in m g / D (default: the run's own), and
+#       prints one row per branch: CPU, sweeps per step, steps at the cap, sub-steps.
+#   benchmarks/substeps.sh ensemble SEEDS OUTDIR
+#       deposits one 1000-grain pile 30 D wide per seed (the paper's depth) and tilts each
+#       at k = 1e6 m g / D to its avalanche twice, without and with sub-steps, at 0.001
+#       degree per step; prints theta_c, the mean number of critical contacts per contact
+#       over 0-10 degrees, CPU and steps at the cap per run, and the paired differences.
+#
+# SUBSTEPS (default "--max-substeps 64 --substep-after 100") are the sub-step options
+# compared. Tools from $CDPILE_BIN (default: build/bin beside this script). Heavy: run it
+# detached and niced; every product stays in OUTDIR.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+bin=${CDPILE_BIN:-$here/../build/bin}
+py=${PYTHON:-/usr/bin/python3}
+read -r -a substeps <<< "${SUBSTEPS:---max-substeps 64 --substep-after 100}"
+
+summary() {  # summary FILE LABEL CPU: one row of figures from a run's observables
+  "$py" - "$@" <<'PY'
+import sys, h5py, numpy as np
+path, label, cpu = sys.argv[1], sys.argv[2], float(sys.argv[3])
+with h5py.File(path, "r") as f:
+    o = f["observables"]
+    v = lambda k: o[k]["value"][:]
+    sweeps, conv = v("sweeps"), v("converged")
+    sub = v("substeps") if "substeps" in o else np.ones_like(sweeps)
+    theta = v("tilt_angle")
+    crit, cont = v("critical").astype(float), v("contacts").astype(float)
+    early = theta <= 10.0
+    nu = np.mean(crit[early] / np.maximum(cont[early], 1.0))
+    r = f["results"].attrs
+    ava = float(r["avalanche_angle_deg"]) if int(r["avalanche_detected"]) else float("nan")
+    print(f"{label}\t{cpu:.1f}\t{len(sweeps)}\t{sweeps.mean():.0f}\t{int((conv == 0).sum())}"
+          f"\t{sub.mean():.2f}\t{int(sub.max())}\t{ava:.3f}\t{nu:.4f}")
+PY
+}
+
+timed() {  # timed CMD...: runs CMD, leaves its CPU seconds in $cpu
+  local t
+  t=$(mktemp)
+  /usr/bin/time -f "%U" -o "$t" "$@"
+  cpu=$(tail -1 "$t")
+  rm -f "$t"
+}
+
+header="run\tcpu_s\tsteps\tsweeps_per_step\tcapped\tsubsteps_mean\tsubsteps_max\ttheta_c_deg\tnu_0_10"
+case "${1:-}" in
+  windows)
+    [[ $# -ge 5 ]] || { echo "substeps.sh windows RUN DEG TO OUTDIR [K ...]" >&2; exit 2; }
+    run=$2 deg=$3 to=$4 out=$5
+    shift 5
+    mkdir -p "$out"
+    ks=("$@")
+    [[ ${#ks[@]} -gt 0 ]] || ks=(run)
+    echo -e "$header"
+    for k in "${ks[@]}"; do
+      kopt=()
+      [[ $k == run ]] || kopt=(--stiffness "$k")
+      for mode in nsgs substeps; do
+        extra=()
+        [[ $mode == substeps ]] && extra=("${substeps[@]}")
+        file=$out/window-$deg-$to-k$k-$mode.h5
+        timed "$bin/tilt-cd" "$run" --branch-at "$deg" --to "$to" "${kopt[@]}" "${extra[@]}" \
+          -o "$file" --force --quiet
+        summary "$file" "k=$k $mode" "$cpu"
+      done
+    done
+    ;;
+  ensemble)
+    [[ $# -eq 3 ]] || { echo "substeps.sh ensemble SEEDS OUTDIR" >&2; exit 2; }
+    seeds=$2 out=$3
+    mkdir -p "$out"
+    echo -e "$header" | tee "$out/runs.tsv"
+    for seed in $(seq 1 "$seeds"); do
+      pile=$out/pile-$seed.h5
+      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --quiet -o "$pile"
+      for mode in nsgs substeps; do
+        extra=()
+        [[ $mode == substeps ]] && extra=("${substeps[@]}")
+        file=$out/run-$seed-$mode.h5
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 "${extra[@]}" -o "$file" --force --quiet
+        summary "$file" "seed=$seed $mode" "$cpu" | tee -a "$out/runs.tsv"
+      done
+    done
+    "$py" - "$out/runs.tsv" <<'PY'
+import sys, numpy as np
+rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1]) if not l.startswith("run")]
+by = {}
+for r in rows:
+    seed, mode = r[0].split()
+    by.setdefault(mode, {})[seed] = [float(x) for x in r[1:]]
+seeds = sorted(set(by["nsgs"]) & set(by["substeps"]))
+def paired(col, name):
+    a = np.array([by["nsgs"][s][col] for s in seeds])
+    b = np.array([by["substeps"][s][col] for s in seeds])
+    d = b - a
+    se = d.std(ddof=1) / np.sqrt(len(d)) if len(d) > 1 else float("nan")
+    print(f"{name}: nsgs {a.mean():.4g} +- {a.std(ddof=1) / np.sqrt(len(a)):.2g}, "
+          f"sub-steps {b.mean():.4g} +- {b.std(ddof=1) / np.sqrt(len(b)):.2g}, "
+          f"paired difference {d.mean():+.4g} +- {se:.2g} ({len(d)} piles)")
+paired(0, "CPU [s]")
+paired(3, "steps at the cap")
+paired(6, "theta_c [deg]")
+paired(7, "nu over 0-10 deg")
+PY
+    ;;
+  *)
+    echo "usage: substeps.sh windows RUN DEG TO OUTDIR [K ...] | ensemble SEEDS OUTDIR" >&2
+    exit 2
+    ;;
+esac
