@@ -446,6 +446,13 @@ TEST(Tilt, RunWarningsAtTheirThresholds) {
             "the largest overlap, 0.0025 D, exceeds 1e-3 D; the time step is too large for these "
             "speeds (lower --time-step)");
   EXPECT_EQ(sim::run_warnings(1000, 500, 1e-5, 1e-3).size(), 2u);
+  // With a contact stiffness the capped steps converge with sub-steps, and more of them.
+  EXPECT_EQ(sim::run_warnings(1000, 11, 0.0, 1e-3, 2e7)[0],
+            "11 of 1000 steps (1.1 %) hit the sweep cap; their forces are not converged "
+            "(allow sub-steps, --max-substeps 64; docs/method.md, Sub-steps)");
+  EXPECT_EQ(sim::run_warnings(1000, 11, 0.0, 1e-3, 2e7, 16)[0],
+            "11 of 1000 steps (1.1 %) hit the sweep cap; their forces are not converged "
+            "(raise --max-substeps; docs/method.md, Sub-steps)");
   // With a contact stiffness the overlap is the compliance f / k, not a time-step error.
   const auto soft = sim::run_warnings(1000, 0, 2.5e-6, 1e-3, 2e7);
   ASSERT_EQ(soft.size(), 1u);

@@ -18,6 +18,7 @@ std::string option_of_field(const std::string& field) {
       {"margin_deg", "--margin"},
       {"avalanche_energy", "--avalanche-ek"},
       {"avalanche_hold_deg", "--avalanche-hold"},
+      {"contact_stiffness", "--stiffness"},
       {"output", "-o"}};
   const auto it = table.find(field);
   return it != table.end() ? it->second : default_field_spelling(field);

@@ -127,7 +127,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   // Flagged in the file as well as on stderr: a number of warnings and their text.
   out.warnings = settings_warnings(o.settings, agitation.diameter());
   for (auto& w : run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter(),
-                              o.settings.contact_stiffness))
+                              o.settings.contact_stiffness, o.settings.max_substeps))
     out.warnings.push_back(std::move(w));
   results["warnings"] = static_cast<std::int64_t>(out.warnings.size());
   if (!out.warnings.empty()) {

@@ -10,19 +10,27 @@ namespace cdpile::sim {
 
 std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged,
                                       double max_overlap_m, double diameter_m,
-                                      double contact_stiffness) {
+                                      double contact_stiffness, int max_substeps) {
   std::vector<std::string> w;
-  char line[300];
+  char line[400];
   // 1 %: a few isolated cap hits during impacts are expected and harmless; beyond that the
   // forces of a visible part of the run are those of a truncated Gauss-Seidel, whose
-  // critical contacts differ from the converged ones (docs/performance.md).
+  // critical contacts differ from the converged ones (docs/performance.md). What converges
+  // them: with a contact stiffness, sub-steps (docs/method.md, "Sub-steps"); rigid
+  // contacts only get more sweeps.
   if (steps > 0 && unconverged * 100 > steps) {
+    const std::string cure =
+        contact_stiffness <= 0.0
+            ? "raise " + field("max_sweeps") + "; docs/performance.md"
+        : max_substeps <= 1
+            ? "allow sub-steps, " + field("max_substeps") + " 64; docs/method.md, Sub-steps"
+            : "raise " + field("max_substeps") + "; docs/method.md, Sub-steps";
     std::snprintf(line, sizeof line,
                   "%lld of %lld steps (%.1f %%) hit the sweep cap; their forces are not converged "
-                  "(raise %s; docs/performance.md)",
+                  "(%s)",
                   static_cast<long long>(unconverged), static_cast<long long>(steps),
                   100.0 * static_cast<double>(unconverged) / static_cast<double>(steps),
-                  field("max_sweeps").c_str());
+                  cure.c_str());
     w.emplace_back(line);
   }
   // 1e-3 D: the documented bound of the overlaps (docs/method.md); larger ones mean grains

@@ -17,10 +17,12 @@ namespace cdpile::sim {
 ///  - the largest overlap exceeds 1e-3 D (the step lets grains move too far: --time-step).
 /// `steps` counts every step of the run, `unconverged` those at the cap, `max_overlap_m`
 /// the largest overlap seen, `diameter_m` the mean diameter, `contact_stiffness` the
-/// settings' k [N/m^2] (0: rigid contacts; with k > 0 an overlap is the compliance f / k).
+/// settings' k [N/m^2] (0: rigid contacts; with k > 0 an overlap is the compliance f / k),
+/// `max_substeps` the settings' (the capped steps' warning names what converges them:
+/// more sweeps for rigid contacts, sub-steps with a stiffness).
 std::vector<std::string> run_warnings(std::int64_t steps, std::int64_t unconverged,
                                       double max_overlap_m, double diameter_m,
-                                      double contact_stiffness = 0.0);
+                                      double contact_stiffness = 0.0, int max_substeps = 1);
 
 /// The warnings a run's settings earn before it starts (docs/method.md, "Warnings"), from
 /// the stability map (docs/performance.md, "Where the methods fail"); one sentence each,
