@@ -9,7 +9,8 @@
 #       deposits one 1000-grain pile 30 D wide per seed (the paper's depth) and tilts each
 #       at k = 1e6 m g / D to its avalanche twice, without and with sub-steps, at 0.001
 #       degree per step; prints theta_c, the mean number of critical contacts per contact
-#       over 0-10 degrees, CPU and steps at the cap per run, and the paired differences.
+#       over 0-10 degrees (all steps, and the quiet half: kinetic energy below its median),
+#       CPU and steps at the cap per run, and the paired differences.
 #
 # SUBSTEPS (default "--max-substeps 64 --substep-after 100") are the sub-step options
 # compared. Tools from $CDPILE_BIN (default: build/bin beside this script). Heavy: run it
@@ -32,11 +33,16 @@ with h5py.File(path, "r") as f:
     theta = v("tilt_angle")
     crit, cont = v("critical").astype(float), v("contacts").astype(float)
     early = theta <= 10.0
-    nu = np.mean(crit[early] / np.maximum(cont[early], 1.0))
+    ratio = crit / np.maximum(cont, 1.0)
+    nu = np.mean(ratio[early])
+    # the quiet half: the steps of 0-10 degrees whose kinetic energy is below its median
+    ek = v("kinetic_energy")
+    quiet = early & (ek < np.median(ek[early]))
+    nu_quiet = np.mean(ratio[quiet])
     r = f["results"].attrs
     ava = float(r["avalanche_angle_deg"]) if int(r["avalanche_detected"]) else float("nan")
     print(f"{label}\t{cpu:.1f}\t{len(sweeps)}\t{sweeps.mean():.0f}\t{int((conv == 0).sum())}"
-          f"\t{sub.mean():.2f}\t{int(sub.max())}\t{ava:.3f}\t{nu:.4f}")
+          f"\t{sub.mean():.2f}\t{int(sub.max())}\t{ava:.3f}\t{nu:.4f}\t{nu_quiet:.4f}")
 PY
 }
 
@@ -48,7 +54,7 @@ timed() {  # timed CMD...: runs CMD, leaves its CPU seconds in $cpu
   rm -f "$t"
 }
 
-header="run\tcpu_s\tsteps\tsweeps_per_step\tcapped\tsubsteps_mean\tsubsteps_max\ttheta_c_deg\tnu_0_10"
+header="run\tcpu_s\tsteps\tsweeps_per_step\tcapped\tsubsteps_mean\tsubsteps_max\ttheta_c_deg\tnu_0_10\tnu_0_10_quiet"
 case "${1:-}" in
   windows)
     [[ $# -ge 5 ]] || { echo "substeps.sh windows RUN DEG TO OUTDIR [K ...]" >&2; exit 2; }
@@ -107,6 +113,7 @@ paired(0, "CPU [s]")
 paired(3, "steps at the cap")
 paired(6, "theta_c [deg]")
 paired(7, "nu over 0-10 deg")
+paired(8, "nu over the quiet half of 0-10 deg")
 PY
     ;;
   *)
