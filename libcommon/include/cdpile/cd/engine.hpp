@@ -15,7 +15,10 @@
 ///   7. update velocities   v = v_free + M^-1 H^T R (already held by the bodies, ELG style)
 ///   8. update positions    q = q_m + theta_s h v
 ///   9. store impulses      for the next warm start
-/// theta_s is the theta-method parameter (Settings::theta).
+/// theta_s is the theta-method parameter (Settings::theta). With sub-steps
+/// (TimeStepping::max_substeps > 1) stages 1-9 run once per sub-step of h / 2^level, and a
+/// step whose solve does not converge within TimeStepping::substep_after sweeps is redone
+/// in two halves (docs/method.md, "Sub-steps").
 #pragma once
 
 #include "cdpile/cd/contact_system.hpp"
