@@ -375,8 +375,8 @@ void Engine::warm_start() {
     const std::uint64_t key = pair_key(r.i, r.j);
     while (k < stored_keys_.size() && stored_keys_[k] < key) ++k;
     if (k < stored_keys_.size() && stored_keys_[k] == key) {
-      r.rn = scale == 1.0 ? stored_rn_[k] : stored_rn_[k] * scale;
-      r.rt = scale == 1.0 ? stored_rt_[k] : stored_rt_[k] * scale;
+      r.rn = stored_rn_[k] * scale;  // exact when scale is 1: x * 1.0 == x
+      r.rt = stored_rt_[k] * scale;
     } else {
       r.rn = 0.0;
       r.rt = 0.0;
