@@ -11,6 +11,10 @@
 #       degree per step; prints theta_c, the mean number of critical contacts per contact
 #       over 0-10 degrees (all steps, and the quiet half: kinetic energy below its median),
 #       CPU and steps at the cap per run, and the paired differences.
+#   benchmarks/substeps.sh timestep SEEDS OUTDIR [DIVISORS]
+#       the same piles tilted without sub-steps at h = 1e-4 s / n for each n of DIVISORS
+#       (default "1 2 4"), at the same tilt per second (--rate 0.001 / n): is nu, is
+#       theta_c converged in h? One row per run, then each h / n paired against h.
 #
 # SUBSTEPS (default "--max-substeps 64 --substep-after 100") are the sub-step options
 # compared. Tools from $CDPILE_BIN (default: build/bin beside this script). Heavy: run it
@@ -116,8 +120,46 @@ paired(7, "nu over 0-10 deg")
 paired(8, "nu over the quiet half of 0-10 deg")
 PY
     ;;
+  timestep)
+    [[ $# -ge 3 ]] || { echo "substeps.sh timestep SEEDS OUTDIR [DIVISORS]" >&2; exit 2; }
+    seeds=$2 out=$3
+    read -r -a divisors <<< "${4:-1 2 4}"
+    mkdir -p "$out"
+    [[ -e $out/runs.tsv ]] || echo -e "$header" > "$out/runs.tsv"
+    for seed in $(seq 1 "$seeds"); do
+      pile=$out/pile-$seed.h5
+      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --quiet -o "$pile"
+      for n in "${divisors[@]}"; do
+        file=$out/run-$seed-h$n.h5
+        grep -q "^seed=$seed h/$n"$'\t' "$out/runs.tsv" && continue  # made by an earlier call
+        dt=$("$py" -c "print(1e-4 / $n)") rate=$("$py" -c "print(1e-3 / $n)")
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --time-step "$dt" --rate "$rate" \
+          -o "$file" --force --quiet
+        summary "$file" "seed=$seed h/$n" "$cpu" | tee -a "$out/runs.tsv"
+      done
+    done
+    "$py" - "$out/runs.tsv" <<'PY'
+import sys, numpy as np
+rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1]) if not l.startswith("run")]
+by = {}
+for r in rows:
+    seed, mode = r[0].split()
+    by.setdefault(mode, {})[seed] = [float(x) for x in r[1:]]
+names = [(0, "CPU [s]"), (3, "steps at the cap"), (6, "theta_c [deg]"), (7, "nu over 0-10 deg"),
+         (8, "nu over the quiet half of 0-10 deg")]
+for mode in sorted(by, key=lambda m: int(m.split("/")[1])):
+    for col, name in names:
+        a = np.array([v[col] for v in by[mode].values()])
+        line = f"{mode} {name}: {a.mean():.4g} +- {a.std(ddof=1) / np.sqrt(len(a)) if len(a) > 1 else float('nan'):.2g}"
+        seeds = sorted(set(by[mode]) & set(by.get("h/1", {})))
+        if mode != "h/1" and len(seeds) > 1:
+            d = np.array([by[mode][s][col] - by["h/1"][s][col] for s in seeds])
+            line += f", paired with h/1 {d.mean():+.4g} +- {d.std(ddof=1) / np.sqrt(len(d)):.2g}"
+        print(f"{line} ({len(a)} piles)")
+PY
+    ;;
   *)
-    echo "usage: substeps.sh windows RUN DEG TO OUTDIR [K ...] | ensemble SEEDS OUTDIR" >&2
+    echo "usage: substeps.sh windows RUN DEG TO OUTDIR [K ...] | ensemble SEEDS OUTDIR | timestep SEEDS OUTDIR [DIVISORS]" >&2
     exit 2
     ;;
 esac

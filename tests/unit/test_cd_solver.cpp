@@ -26,12 +26,17 @@ constexpr double kR = 0.5e-3;    // disk radius [m]
 constexpr double kRho = 2500.0;  // [kg/m^3]
 constexpr double kG = 9.81, kH = 1e-4;
 
-const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg};
+const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg,
+                                      cd::SolverKind::pcg};
 
+// pcg's gradient rounds start after the first sweep and follow every sweep, so that the
+// small scenes here, which NSGS converges in a few sweeps, go through them too.
 cd::Settings tight(cd::SolverKind solver) {
   cd::Settings s;
   s.solver = solver;
   s.tolerance = 1e-10;
+  s.krylov_after = 1;
+  s.sweeps_between_rounds = 1;
   return s;
 }
 
@@ -96,6 +101,11 @@ TEST(Seam, SolverNamesRoundTripAndTheEngineRunsTheNamedSolver) {
   cd::SolverSettings bad;
   bad.check_every = 0;
   EXPECT_THROW(cd::make_solver(bad), cdpile::UsageError);
+  for (const bool after : {true, false}) {
+    cd::SolverSettings rounds;
+    (after ? rounds.krylov_after : rounds.sweeps_between_rounds) = 0;
+    EXPECT_THROW(cd::make_solver(rounds), cdpile::UsageError);
+  }
 }
 
 // Every solver, rigid and with the compliance: a locked disk on a 20-degree incline sticks
@@ -324,4 +334,61 @@ TEST(Scramble, RigidForcesDependOnTheSweepOrderCompliantOnesDoNot) {
   const cdpile::Contacts soft1 = forces(1e4, 1), soft2 = forces(1e4, 2), soft0 = forces(1e4, 0);
   EXPECT_LT(largest_difference(soft1, soft2), 1e-6 * mg);
   EXPECT_LT(largest_difference(soft1, soft0), 1e-6 * mg);
+}
+
+namespace {
+
+/// A triangular stack of disks between the side walls, `base` disks on the floor and one
+/// fewer on each row above: every disk touches its neighbours, a hyperstatic network.
+Grains triangular_stack(int base) {
+  Grains g;
+  const double r3 = std::sqrt(3.0) * kR;
+  for (int row = 0; row < base; ++row)
+    for (int k = 0; k < base - row; ++k)
+      g.add_disk(kR, kRho, Vec2((1 + row + 2 * k) * kR, kR + row * r3));
+  return g;
+}
+
+}  // namespace
+
+// pcg solves the same step problem as NSGS: on a stiff hyperstatic stack (k = 1e7 m g / D,
+// where Gauss-Seidel's error decays by about 1 - 1e-3 per sweep) tilted by 10 degrees,
+// both converge every step to the forces of the unique compliant solution, which carry
+// the stack's weight to the floor and walls, and pcg needs a fraction of NSGS's sweeps.
+TEST(Pcg, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
+  const int base = 8;
+  const Grains g = triangular_stack(base);
+  const double mg = g.mass[0] * kG, tilt = 10.0 * kDeg;
+  auto run = [&](cd::SolverKind kind, long& work) {
+    cd::Settings s;
+    s.solver = kind;
+    s.tolerance = 1e-8;
+    s.max_sweeps = 1000000;
+    s.contact_stiffness = 1e7 * mg / (2 * kR);
+    cd::Engine e(Box{2 * base * kR, 0.03}, g, s);
+    work = 0;
+    for (int n = 0; n < 40; ++n) {
+      const cd::StepReport rep = e.step(tilt);
+      EXPECT_TRUE(rep.converged) << cd::solver_name(kind) << " step " << n;
+      EXPECT_LT(rep.law_residual, 1e-4) << cd::solver_name(kind) << " step " << n;
+      work += rep.sweeps;
+    }
+    return e.contacts();
+  };
+  long nsgs_work = 0, pcg_work = 0;
+  const cdpile::Contacts a = run(cd::SolverKind::nsgs, nsgs_work);
+  const cdpile::Contacts b = run(cd::SolverKind::pcg, pcg_work);
+  ASSERT_EQ(a.size(), b.size());
+  Vec2 walls(0.0, 0.0);  // the force of the floor and walls on the stack
+  for (std::size_t q = 0; q < b.size(); ++q) {
+    EXPECT_NEAR(b.fn[q], a.fn[q], 1e-4 * mg) << "contact " << q;
+    EXPECT_NEAR(b.ft[q], a.ft[q], 1e-4 * mg) << "contact " << q;
+    const Vec2 n = b.normal[q], t(-n.y(), n.x());
+    if (b.j[q] < 0) walls += b.fn[q] * n + b.ft[q] * t;
+  }
+  // At rest they balance the weight m g (sin theta, -cos theta) in the box frame.
+  const double weight = static_cast<double>(g.size()) * mg;
+  EXPECT_NEAR(walls.x(), -weight * std::sin(tilt), 1e-6 * weight);
+  EXPECT_NEAR(walls.y(), weight * std::cos(tilt), 1e-6 * weight);
+  EXPECT_LT(pcg_work, nsgs_work / 3) << "pcg " << pcg_work << " NSGS " << nsgs_work;
 }

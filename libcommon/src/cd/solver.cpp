@@ -4,6 +4,7 @@
 
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/nsgs.hpp"
+#include "cdpile/cd/pcg.hpp"
 #include "cdpile/error.hpp"
 
 #include <algorithm>
@@ -15,14 +16,15 @@ const char* solver_name(SolverKind k) {
   switch (k) {
     case SolverKind::nsgs: return "nsgs";
     case SolverKind::nncg: return "nncg";
+    case SolverKind::pcg: return "pcg";
   }
   return "?";
 }
 
 SolverKind solver_from_name(const std::string& name) {
-  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg})
+  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg})
     if (name == solver_name(k)) return k;
-  throw UsageError("unknown contact solver '" + name + "' (nsgs or nncg)");
+  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg or pcg)");
 }
 
 const char* criterion_name(Criterion c) {
@@ -46,6 +48,8 @@ void validate(const SolverSettings& s) {
   if (!(s.tolerance > 0.0)) bad("tolerance must be > 0");
   if (s.max_sweeps < 1) bad("the sweep cap must be >= 1");
   if (s.check_every < 1) bad("the sweeps between convergence checks must be >= 1");
+  if (s.krylov_after < 1 || s.sweeps_between_rounds < 1)
+    bad("the sweeps before and between gradient rounds must be >= 1");
 }
 
 std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
@@ -53,6 +57,7 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
   switch (s.solver) {
     case SolverKind::nsgs: return std::make_shared<const NsgsSolver>(s);
     case SolverKind::nncg: return std::make_shared<const NncgSolver>(s);
+    case SolverKind::pcg: return std::make_shared<const PcgSolver>(s);
   }
   throw UsageError("unknown contact solver");
 }

@@ -30,8 +30,9 @@ void declare_solver_options(Usage& u) {
             "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
   u.text("solver", cd::solver_name(d.solver),
          "contact solver: 'nsgs', non-smooth Gauss-Seidel; 'nncg', NSGS with a nonlinear "
-         "conjugate-gradient step after each sweep (docs/method.md)",
-         {"nsgs", "nncg"});
+         "conjugate-gradient step after each sweep; 'pcg', NSGS alternating with conjugate "
+         "gradients on the contacts' active set, for compliant contacts (docs/method.md)",
+         {"nsgs", "nncg", "pcg"});
   u.real("stiffness", 0.0,
          "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "

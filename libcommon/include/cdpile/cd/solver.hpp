@@ -15,6 +15,7 @@ namespace cdpile::cd {
 enum class SolverKind {
   nsgs,  ///< non-smooth Gauss-Seidel with the exact 2D local solve (nsgs.hpp)
   nncg,  ///< NSGS with a nonlinear conjugate-gradient step after each sweep (nsgs.hpp)
+  pcg,   ///< NSGS alternating with preconditioned conjugate gradients on the active set (pcg.hpp)
 };
 const char* solver_name(SolverKind k);
 /// The solver of a name; throws cdpile::UsageError on another name.
@@ -50,6 +51,12 @@ struct SolverSettings {
   /// rows, drawn anew every step from (seed, step) (LMGC90's "quick scramble"): a solver
   /// path, for measuring how the forces of an indeterminate step depend on it.
   std::uint64_t scramble = 0;
+  /// pcg only (pcg.hpp): the sweeps a step takes before the first gradient round, and the
+  /// sweeps between two rounds. Neither changes the solution, only the path to it; the
+  /// defaults are the fastest of those measured on the paper pile's rearrangement
+  /// (docs/performance.md, "The pcg solver").
+  int krylov_after = 20;
+  int sweeps_between_rounds = 6;
 };
 
 /// Checks a settings value range; throws cdpile::UsageError naming the bad field.

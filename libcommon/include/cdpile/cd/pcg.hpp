@@ -1,0 +1,45 @@
+/// NSGS sweeps that settle the active set, alternating with preconditioned gradient
+/// rounds on it (docs/method.md, "The pcg solver").
+///
+/// Between status changes the step's problem is linear: with the open contacts at R = 0
+/// and the sliding ones at their tangential impulse, the rest solves
+/// (W + C)_FF R_F = -q_F on the free components F (both of a sticking contact, the
+/// normal one of a sliding contact). Gauss-Seidel damps that system's smooth modes in a
+/// number of sweeps of the order of its condition number, about W_aa / c with the
+/// compliance c = 1/(k h^2) (1e3 at k = 1e6 on the paper's scales); conjugate gradients
+/// need its square root. So the solver sweeps as NSGS does and, once a step has taken
+/// SolverSettings::krylov_after sweeps without converging, every
+/// SolverSettings::sweeps_between_rounds sweeps runs a round of conjugate gradients on the
+/// face the last sweep left, preconditioned by one symmetric Gauss-Seidel pass over it.
+/// A round ends at the first iterate that leaves the Coulomb cone: that iterate is
+/// projected onto the cone (R_n >= 0, |R_t| <= mu R_n) and the sweeps take over, which
+/// settle the statuses it changed. In a rearrangement that is mostly after one
+/// iteration, an exactly line-searched step along the preconditioned gradient of the
+/// face.
+///
+/// The local solves are NSGS's and the criterion is tested after sweeps only: the solver
+/// returns the impulses of a sweep (admissible, the law measured as for NSGS), and a step
+/// whose sweeps converge before krylov_after is NSGS's to the bit.
+#pragma once
+
+#include "cdpile/cd/solver.hpp"
+
+namespace cdpile::cd {
+
+class PcgSolver final : public ContactSolver {
+ public:
+  /// Conjugate-gradient iterations per round at most; a round also ends when the face's
+  /// residual is below a tenth of the tolerance.
+  static constexpr int iterations_per_round = 100;
+
+  explicit PcgSolver(const SolverSettings& settings) : settings_(settings) {}
+  SolverKind kind() const override { return SolverKind::pcg; }
+  /// SolveReport::sweeps counts the NSGS sweeps and the conjugate-gradient iterations
+  /// (each about two sweeps' work), and the sweep cap bounds their sum.
+  SolveReport solve(ContactSystem& system, double gravity_velocity) const override;
+
+ private:
+  SolverSettings settings_;
+};
+
+}  // namespace cdpile::cd
