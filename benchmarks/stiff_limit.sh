@@ -6,9 +6,9 @@
 #       deposits one 1000-grain pile 30 D wide per seed (the paper's depth; PREP "loose",
 #       the default, settles with mu = 0.5, "dense" with mu = 0.1 and tilts with 0.5) and
 #       tilts it to its avalanche at each stiffness of KS (in m g / D) with SOLVER
-#       (default "--solver pcg --max-substeps 64 --substep-after 1000": every step
-#       converges, and sub-steps only rescue the rare step that does not within 1000
-#       sweeps). Appends one row per run to OUTDIR/runs.tsv and the run's nu per degree
+#       (default "--solver pcg --tolerance 1e-6 --max-substeps 64 --substep-after 1000",
+#       the tools' defaults: every step converges, and sub-steps only rescue the rare step
+#       that does not within 1000 sweeps). Appends one row per run to OUTDIR/runs.tsv and the run's nu per degree
 #       of tilt to OUTDIR/nu_theta.tsv; a run already in runs.tsv is not made again, so
 #       an interrupted call resumes and two calls over other seeds can share OUTDIR.
 #   benchmarks/stiff_limit.sh report OUTDIR
@@ -21,7 +21,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 bin=${CDPILE_BIN:-$here/../build/bin}
 py=${PYTHON:-/usr/bin/python3}
-read -r -a solver <<< "${SOLVER:---solver pcg --max-substeps 64 --substep-after 1000}"
+read -r -a solver <<< "${SOLVER:---solver pcg --tolerance 1e-6 --max-substeps 64 --substep-after 1000}"
 
 case "${1:-}" in
   runs)
@@ -38,6 +38,7 @@ case "${1:-}" in
     for seed in "${seeds[@]}"; do
       pile=$out/pile-$prep-$seed.h5
       [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" "${settle[@]}" \
+        --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
         --quiet -o "$pile"
       for k in "${ks[@]}"; do
         label="$prep seed=$seed k=$k"

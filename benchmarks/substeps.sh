@@ -88,12 +88,14 @@ case "${1:-}" in
     echo -e "$header" | tee "$out/runs.tsv"
     for seed in $(seq 1 "$seeds"); do
       pile=$out/pile-$seed.h5
-      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --quiet -o "$pile"
+      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --stiffness 0 --solver nsgs --max-substeps 1 \
+        --tolerance 1e-4 --quiet -o "$pile"
       for mode in nsgs substeps; do
         extra=()
         [[ $mode == substeps ]] && extra=("${substeps[@]}")
         file=$out/run-$seed-$mode.h5
-        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 "${extra[@]}" -o "$file" --force --quiet
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --solver nsgs --max-substeps 1 --tolerance 1e-4 "${extra[@]}" \
+          -o "$file" --force --quiet
         summary "$file" "seed=$seed $mode" "$cpu" | tee -a "$out/runs.tsv"
       done
     done
@@ -128,12 +130,14 @@ PY
     [[ -e $out/runs.tsv ]] || echo -e "$header" > "$out/runs.tsv"
     for seed in $(seq 1 "$seeds"); do
       pile=$out/pile-$seed.h5
-      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --quiet -o "$pile"
+      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --stiffness 0 --solver nsgs --max-substeps 1 \
+        --tolerance 1e-4 --quiet -o "$pile"
       for n in "${divisors[@]}"; do
         file=$out/run-$seed-h$n.h5
         grep -q "^seed=$seed h/$n"$'\t' "$out/runs.tsv" && continue  # made by an earlier call
         dt=$("$py" -c "print(1e-4 / $n)") rate=$("$py" -c "print(1e-3 / $n)")
-        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --time-step "$dt" --rate "$rate" \
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
+          --time-step "$dt" --rate "$rate" \
           -o "$file" --force --quiet
         summary "$file" "seed=$seed h/$n" "$cpu" | tee -a "$out/runs.tsv"
       done

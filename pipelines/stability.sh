@@ -58,6 +58,7 @@ for setting in "${settings[@]}"; do
   status=0
   /usr/bin/time -f '%U %S' -o "$out/.time" \
     "$bin/tilt-cd" "$pile" --time-step "$h" --rate "$rate" --tolerance "$tol" --max-sweeps "$c" \
+    --stiffness 0 --solver nsgs --max-substeps 1 \
     --max-angle "$max_deg" --frame-every-deg 5 --quiet --force -o "$out/$name" 2> "$out/.stderr" || status=$?
   if [[ $status != 0 ]]; then
     # An interrupted map (Ctrl-C, kill) is not an outcome: stop, record nothing.

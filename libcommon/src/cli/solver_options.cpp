@@ -7,8 +7,17 @@
 
 namespace cdpile::cli {
 
+cd::Settings tool_defaults() {
+  cd::Settings d;
+  d.solver = cd::SolverKind::pcg;
+  d.tolerance = 1e-6;
+  d.max_substeps = 64;
+  d.substep_after = 1000;
+  return d;
+}
+
 void declare_solver_options(Usage& u) {
-  const cd::Settings d;
+  const cd::Settings d = tool_defaults();
   u.group("Solver");
   u.real("time-step", d.time_step, "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12,
          1.0);
@@ -33,11 +42,12 @@ void declare_solver_options(Usage& u) {
          "conjugate-gradient step after each sweep; 'pcg', NSGS alternating with conjugate "
          "gradients on the contacts' active set, for compliant contacts (docs/method.md)",
          {"nsgs", "nncg", "pcg"});
-  u.real("stiffness", 0.0,
+  u.real("stiffness", default_stiffness_mg_D,
          "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "
-         "impulses picks the step's forces near the previous ones; 0 for rigid contacts "
-         "(docs/method.md, \"Force selection\")",
+         "impulses picks the step's forces near the previous ones; 0 for rigid contacts, "
+         "with --tolerance 1e-4 --solver nsgs as the rigid studies (docs/method.md, "
+         "\"Force selection\")",
          "m g/D", 0.0, 1e300);
   u.integer("max-substeps", d.max_substeps,
             "adaptive sub-steps: a step not converged after --substep-after sweeps is done again "

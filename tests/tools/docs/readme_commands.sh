@@ -15,9 +15,9 @@ test -s run.h5 && test -s critical.tsv
 expect_eq "# table: runs" "$(head -n 1 session.out)"
 inline() { grep -o "\`$1[^\`]*\`" "$readme" | head -n 1 | tr -d '`'; }
 cmd=$(inline 'tilt-cd run.h5 --branch-at')
-expect_eq "tilt-cd run.h5 --branch-at 6 --to 6.5 --tolerance 1e-6 -o branch.h5" "$cmd"
+expect_eq "tilt-cd run.h5 --branch-at 6 --to 6.5 --tolerance 1e-8 -o branch.h5" "$cmd"
 eval "$cmd" 2> branch.err
-grep -q "^tilt-cd: run.h5: branch: --tolerance 1e-6: tolerance 1e-06 instead of the run's" branch.err
+grep -q "^tilt-cd: run.h5: branch: --tolerance 1e-8: tolerance 1e-08 instead of the run's" branch.err
 to_xdmf=$(inline 'to-xdmf run.h5')
 eval "$to_xdmf --quiet"
 test -s run.xdmf && test -s run.paraview.py

@@ -3,9 +3,11 @@
 # avalanche is confirmed, avalanche.tsv holds the run and every path, a second make redoes
 # nothing, and a run without an avalanche is skipped with its reason.
 B=$CDPILE_BIN
-"$B/deposit" --grains 80 --width 10 --seed 3 --quiet -o pile.h5
+# the engine of the studies made so far (pipelines/Makefile, STUDY_ENGINE)
+old=(--solver nsgs --max-substeps 1 --tolerance 1e-4)
+"$B/deposit" --grains 80 --width 10 --seed 3 --stiffness 0 "${old[@]}" --quiet -o pile.h5
 mkdir -p study
-"$B/tilt-cd" pile.h5 --rate 0.05 --stiffness 1e5 --frame-every-deg 1 --quiet -o study/run-1.h5
+"$B/tilt-cd" pile.h5 --rate 0.05 --stiffness 1e5 "${old[@]}" --frame-every-deg 1 --quiet -o study/run-1.h5
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" indeterminacy STUDY="$PWD/study" RATE=0.05 STIFFNESS=1e5 \
   INDETERMINACY_SEEDS=1 INDETERMINACY_TARGETS=avalanche CDPILE_BIN="$B" \
   INDETERMINACY_OPTIONS='AVALANCHE_PATHS="1 2" AVALANCHE_LEAD=2' "$@"; }
@@ -34,7 +36,7 @@ grep -q '^| 1 | 3 |' $out/avalanche.md || { cat $out/avalanche.md >&2; exit 1; }
 mk > make2.log 2>&1 || { cat make2.log >&2; exit 1; }
 if grep -q 'tilt-cd' make2.log; then echo "branches were made again" >&2; cat make2.log >&2; exit 1; fi
 # A run that ends before its avalanche is skipped, with its reason in the summary.
-"$B/tilt-cd" pile.h5 --rate 0.05 --to 3 --frame-every-deg 1 --quiet -o study/run-2.h5
+"$B/tilt-cd" pile.h5 --rate 0.05 --to 3 --stiffness 1e5 "${old[@]}" --frame-every-deg 1 --quiet -o study/run-2.h5
 make --no-print-directory -C "$CDPILE_SOURCE/pipelines/indeterminacy" avalanche STUDY="$PWD/study" SEEDS="1 2" \
   AVALANCHE_PATHS="1 2" CDPILE_BIN="$B" > make3.log 2>&1 || { cat make3.log >&2; exit 1; }
 grep -q "^- run 2: skip: the run has no avalanche (it ends at 3 deg)" $out/avalanche.md || { cat $out/avalanche.md >&2; exit 1; }

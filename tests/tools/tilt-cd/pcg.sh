@@ -1,7 +1,7 @@
 # --solver pcg (docs/method.md, "The pcg solver"): NSGS sweeps alternating with conjugate-gradient rounds on the active set. Recorded in /parameters; through a small pile's avalanche at k = 1e6 m g / D, capped at 400 sweeps, every pcg step converges where NSGS leaves some at the cap, in fewer sweeps; a pcg run killed and resumed is the run never interrupted, bit for bit.
-deposit --grains 60 --width 8 --seed 3 -o pile.h5 --quiet
-opts=(--rate 0.05 --stiffness 1e6 --max-sweeps 400 --checkpoint-every 20 --quiet)
-tilt-cd pile.h5 "${opts[@]}" -o nsgs.h5
+deposit --grains 60 --width 8 --seed 3 --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 -o pile.h5 --quiet
+opts=(--rate 0.05 --stiffness 1e6 --tolerance 1e-4 --max-sweeps 400 --max-substeps 1 --checkpoint-every 20 --quiet)
+tilt-cd pile.h5 "${opts[@]}" --solver nsgs -o nsgs.h5
 tilt-cd pile.h5 "${opts[@]}" --solver pcg -o ref.h5
 "$PY" - <<'PY'
 import h5py, numpy as np

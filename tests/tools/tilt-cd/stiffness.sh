@@ -1,7 +1,7 @@
-# --stiffness K (in m g / D) is recorded in SI as contact_stiffness_N_m2 = K m g / D, m the pile's mean grain mass and D its mean diameter; 0 (the default) is rigid, and a negative K is a usage error.
+# --stiffness K (in m g / D) is recorded in SI as contact_stiffness_N_m2 = K m g / D, m the pile's mean grain mass and D its mean diameter; 0 is rigid, and a negative K is a usage error.
 deposit --grains 60 --width 10 --seed 2 -o pile.h5 --quiet
 tilt-cd pile.h5 --to 0.05 --rate 0.01 --stiffness 1e6 -o soft.h5 --quiet
-tilt-cd pile.h5 --to 0.05 --rate 0.01 -o rigid.h5 --quiet
+tilt-cd pile.h5 --to 0.05 --rate 0.01 --stiffness 0 -o rigid.h5 --quiet
 "$PY" - <<'PY'
 import h5py, numpy as np
 with h5py.File("pile.h5", "r") as p, h5py.File("soft.h5", "r") as s, h5py.File("rigid.h5", "r") as r:

@@ -1,7 +1,7 @@
 # Run-time warnings: a solver capped far below what the pile needs is reported on stderr,
 # even with --quiet, and flagged in the run's /results; a sound run has none.
 deposit --grains 60 --width 10 --seed 5 -o pile.h5 --quiet
-tilt-cd pile.h5 --to 0.5 --rate 0.01 --max-sweeps 1 --tolerance 1e-9 -o capped.h5 --quiet 2> stderr.txt
+tilt-cd pile.h5 --to 0.5 --rate 0.01 --stiffness 0 --max-substeps 1 --max-sweeps 1 --tolerance 1e-9 -o capped.h5 --quiet 2> stderr.txt
 expect_eq 1 "$(wc -l < stderr.txt)"
 grep -qE '^tilt-cd: warning: [0-9]+ of 50 steps \([0-9.]+ %\) hit the sweep cap; their forces are not converged \(raise --max-sweeps; docs/performance.md\)$' stderr.txt
 h5dump -a /results/warnings capped.h5 | grep -q '(0): 1$'
