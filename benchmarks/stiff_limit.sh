@@ -105,7 +105,7 @@ for prep in preps:
             paired = [s for s in seeds if (prep, s, ref) in runs]
             if k != ref and len(paired) > 1:
                 d = np.array([runs[(prep, s, k)][c] - runs[(prep, s, ref)][c] for s in paired])
-                line += f", paired with {ref}: {d.mean():+.4g} +- {se(d):.2g}"
+                line += f", paired with {ref}: {d.mean():+.4g} +- {se(d):.2g} ({len(d)} pairs)"
             lines.append(f"{line} ({len(a)} piles)")
 open(f"{out}/summary.txt", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
