@@ -58,6 +58,16 @@ timed() {  # timed CMD...: runs CMD, leaves its CPU seconds in $cpu
   rm -f "$t"
 }
 
+# The engine of the NSGS runs these figures were made with (the tools' defaults before
+# 2026-11-26), on piles settled rigid by it.
+engine=(--solver nsgs --max-substeps 1 --tolerance 1e-4)
+pile_of() {  # pile_of SEED OUTDIR: the 1000-grain pile of SEED (30 D wide), made once
+  local pile=$2/pile-$1.h5
+  [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$1" --stiffness 0 "${engine[@]}" \
+    --quiet -o "$pile"
+  echo "$pile"
+}
+
 header="run\tcpu_s\tsteps\tsweeps_per_step\tcapped\tsubsteps_mean\tsubsteps_max\ttheta_c_deg\tnu_0_10\tnu_0_10_quiet"
 case "${1:-}" in
   windows)
@@ -87,14 +97,12 @@ case "${1:-}" in
     mkdir -p "$out"
     echo -e "$header" | tee "$out/runs.tsv"
     for seed in $(seq 1 "$seeds"); do
-      pile=$out/pile-$seed.h5
-      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --stiffness 0 --solver nsgs --max-substeps 1 \
-        --tolerance 1e-4 --quiet -o "$pile"
+      pile=$(pile_of "$seed" "$out")
       for mode in nsgs substeps; do
         extra=()
         [[ $mode == substeps ]] && extra=("${substeps[@]}")
         file=$out/run-$seed-$mode.h5
-        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --solver nsgs --max-substeps 1 --tolerance 1e-4 "${extra[@]}" \
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 "${engine[@]}" "${extra[@]}" \
           -o "$file" --force --quiet
         summary "$file" "seed=$seed $mode" "$cpu" | tee -a "$out/runs.tsv"
       done
@@ -129,14 +137,12 @@ PY
     mkdir -p "$out"
     [[ -e $out/runs.tsv ]] || echo -e "$header" > "$out/runs.tsv"
     for seed in $(seq 1 "$seeds"); do
-      pile=$out/pile-$seed.h5
-      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" --stiffness 0 --solver nsgs --max-substeps 1 \
-        --tolerance 1e-4 --quiet -o "$pile"
+      pile=$(pile_of "$seed" "$out")
       for n in "${divisors[@]}"; do
         file=$out/run-$seed-h$n.h5
         grep -q "^seed=$seed h/$n"$'\t' "$out/runs.tsv" && continue  # made by an earlier call
         dt=$("$py" -c "print(1e-4 / $n)") rate=$("$py" -c "print(1e-3 / $n)")
-        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
+        timed "$bin/tilt-cd" "$pile" --stiffness 1e6 "${engine[@]}" \
           --time-step "$dt" --rate "$rate" \
           -o "$file" --force --quiet
         summary "$file" "seed=$seed h/$n" "$cpu" | tee -a "$out/runs.tsv"
