@@ -6,7 +6,8 @@
 Every run tilted the same pile from 0 degrees past its avalanche with one setting (time
 step h, NSGS tolerance, sweep cap). Its outcome, from the most to the least severe:
   - failed:      tilt-cd stopped with an error (for example a diverged solver);
-  - overlap:     the largest overlap went beyond 1e-3 D (tilt-cd's overlap warning): the
+  - overlap:     the largest overlap went beyond 1e-3 D (on these rigidly deposited piles,
+                 what tilt-cd's overlap warning measures): the
                  time step is too large for the velocities of the flow;
   - early:       the avalanche came more than DELTA degrees before the reference's: a
                  spurious avalanche;

@@ -82,11 +82,12 @@ static void usage(cli::Usage& u) {
       "contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after). Results: steps, "
       "final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
-      "unconverged_steps, max_overlap_m, stop_reason (avalanche, to or max_angle), warnings and "
+      "unconverged_steps, max_overlap_m, max_overlap_grown_m (beyond the pile's own overlaps), "
+      "stop_reason (avalanche, to or max_angle), warnings and "
       "warning_messages.",
       "Warnings (on stderr, even with --quiet, and in /results): more than 1 % of the steps at the "
       "sweep "
-      "cap, or an overlap beyond 1e-3 D (docs/method.md, \"Warnings\")."};
+      "cap, or overlaps grown beyond 1e-3 D in the run (docs/method.md, \"Warnings\")."};
   u.argument("pile",
              "pile file made by deposit, or with --branch-at a run made by tilt-cd ('-' for "
              "standard input)");

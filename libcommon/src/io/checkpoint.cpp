@@ -18,6 +18,8 @@ const Value* find(const Checkpoint& c, const std::string& name) {
 }
 }  // namespace
 
+bool Checkpoint::has_counter(const std::string& name) const { return find(*this, name) != nullptr; }
+
 std::int64_t Checkpoint::counter_int(const std::string& name, const std::string& file) const {
   const Value* v = find(*this, name);
   if (!v || !std::holds_alternative<std::int64_t>(*v))

@@ -80,6 +80,7 @@ void write_checkpoint(const h5::File& f, const cd::Engine& e, const LoopState& s
                 {"detector_confirmed_step", d.confirmed_step},
                 {"unconverged_steps", s.unconverged},
                 {"max_overlap", s.max_overlap},
+                {"max_overlap_grown", s.max_overlap_grown},
                 {"substep_level", std::int64_t{st.substep_level}}};
   c.description =
       "state to resume this partial run bit for bit: grain state, warm-start impulses [N s/m] "
@@ -96,9 +97,8 @@ Restored read_checkpoint(const h5::File& f, const Grains& properties) {
   r.engine.step = c.step;
   r.engine.time = c.time;
   // Partials written before sub-steps existed have no level: they ran without sub-steps.
-  bool has_level = false;
-  for (const auto& [name, value] : c.counters) has_level = has_level || name == "substep_level";
-  r.engine.substep_level = has_level ? static_cast<int>(c.counter_int("substep_level", file)) : 0;
+  r.engine.substep_level =
+      c.has_counter("substep_level") ? static_cast<int>(c.counter_int("substep_level", file)) : 0;
   AvalancheDetector& d = r.loop.detector;
   d.since = c.counter_int("detector_since", file);
   d.since_deg = c.counter_real("detector_since_deg", file);
@@ -108,6 +108,11 @@ Restored read_checkpoint(const h5::File& f, const Grains& properties) {
   d.confirmed_step = c.counter_int("detector_confirmed_step", file);
   r.loop.unconverged = c.counter_int("unconverged_steps", file);
   r.loop.max_overlap = c.counter_real("max_overlap", file);
+  // Partials written before the growth was kept have only the largest overlap: an upper
+  // bound of the growth, so a resumed run warns at least as often as it would have.
+  r.loop.max_overlap_grown = c.has_counter("max_overlap_grown")
+                                 ? c.counter_real("max_overlap_grown", file)
+                                 : r.loop.max_overlap;
   return r;
 }
 

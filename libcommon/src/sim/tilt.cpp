@@ -6,6 +6,7 @@
 #include "cdpile/fields.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/common.hpp"
+#include "cdpile/sim/overlap.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +26,7 @@ double angle_deg(const TiltOptions& o, std::int64_t step) {
 }
 
 TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopState st,
-                  Pending& pending, const TiltHooks& hooks) {
+                  Pending& pending, const OverlapGrowth& growth, const TiltHooks& hooks) {
   const Agitation agitation(engine.grains(), o.settings.gravity);
   const std::vector<Species> species = engine.grains().species;
   const std::int64_t margin = steps_for(o.margin_deg, o.rate_deg);
@@ -73,6 +74,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
                        count_critical(c, species, o.settings.mu_grain, o.settings.mu_wall, o.eps));
     if (!r.converged) ++st.unconverged;
     st.max_overlap = std::max(st.max_overlap, r.max_overlap);
+    st.max_overlap_grown = std::max(st.max_overlap_grown, growth.grown(c));
     const double a = agitation(r.kinetic_energy);
     st.detector.update(step, deg, a);
     const std::int64_t last = last_step();
@@ -122,11 +124,12 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
       {"avalanche_detected", std::int64_t{st.detector.detected ? 1 : 0}},
       {"unconverged_steps", st.unconverged},
       {"max_overlap_m", st.max_overlap},
+      {"max_overlap_grown_m", st.max_overlap_grown},
       {"stop_reason", out.stop_reason},
   };
   // Flagged in the file as well as on stderr: a number of warnings and their text.
   out.warnings = settings_warnings(o.settings, agitation.diameter());
-  for (auto& w : run_warnings(step, st.unconverged, st.max_overlap, agitation.diameter(),
+  for (auto& w : run_warnings(step, st.unconverged, st.max_overlap_grown, agitation.diameter(),
                               o.settings.contact_stiffness, o.settings.max_substeps))
     out.warnings.push_back(std::move(w));
   results["warnings"] = static_cast<std::int64_t>(out.warnings.size());
@@ -209,14 +212,15 @@ TiltOutcome run_tilt(const PileInput& pile, const TiltOptions& o, const std::str
   f0.contacts = pile.contacts;
   pending.frames.push_back(std::move(f0));
   LoopState st = fresh_state(o);
+  const OverlapGrowth growth(pile.contacts);
   if (to_stdout) {
     StreamRecorder rec(h, pile.grains);
-    return drive(engine, rec, o, st, pending, hooks);
+    return drive(engine, rec, o, st, pending, growth, hooks);
   }
   FileRecorder rec(output, force);
   rec.start(h, pile.grains, pending, engine, st);
   try {
-    return drive(engine, rec, o, st, pending, hooks);
+    return drive(engine, rec, o, st, pending, growth, hooks);
   } catch (...) {
     // A run that fails in its first step (a pile the engine cannot handle) never
     // started: its partial holds only the pile, and is removed. A run that did steps
@@ -240,6 +244,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
   remove_stale_temporaries(output);
   Restored rs;
   Box box;
+  Contacts start;  // the run's first frame: the pile's overlaps, which are not the run's
   {
     h5::File f = h5::open_read(partial, partial);
     io::RunReader r(f);
@@ -255,6 +260,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
     }
     rs = read_checkpoint(f, r.grain_properties());
     box = r.header().box;
+    if (r.frame_count() > 0) start = r.contacts(0);
   }
   cd::Engine engine(box, rs.grains, o.settings);
   engine.set_state(rs.engine);
@@ -264,7 +270,7 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
   Pending pending;
   FileRecorder rec(output, force);
   rec.mark_committed(rs.engine.step);
-  return drive(engine, rec, o, st, pending, hooks);
+  return drive(engine, rec, o, st, pending, OverlapGrowth(start), hooks);
 }
 
 }  // namespace cdpile::sim

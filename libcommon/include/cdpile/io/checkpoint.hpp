@@ -37,6 +37,8 @@ struct Checkpoint {
 
   /// A counter read back; an Error names `file` and the group if it is missing or of
   /// another type.
+  /// Whether the partial has the counter (one written by an earlier version may not).
+  bool has_counter(const std::string& name) const;
   std::int64_t counter_int(const std::string& name, const std::string& file) const;
   double counter_real(const std::string& name, const std::string& file) const;
 };

@@ -38,7 +38,8 @@ void remove_stale_temporaries(const std::string& output);
 struct LoopState {
   AvalancheDetector detector;
   std::int64_t unconverged = 0;
-  double max_overlap = 0.0;
+  double max_overlap = 0.0;        ///< the largest overlap of any step [m]
+  double max_overlap_grown = 0.0;  ///< the largest beyond the pile's own (sim/overlap.hpp) [m]
 };
 
 /// The state a checkpoint restores: the grains, the engine's warm start and clock, the loop.
