@@ -24,8 +24,7 @@ class OverlapGrowth {
   double grown(const Contacts& now) const;
 
  private:
-  static std::uint64_t pair(std::int32_t i, std::int32_t j);
-  std::vector<std::pair<std::uint64_t, double>> start_;  ///< (pair, overlap [m]), sorted
+  std::vector<std::pair<std::uint64_t, double>> start_;  ///< (cd::pair_key, overlap [m]), sorted
 };
 
 }  // namespace cdpile::sim
