@@ -68,7 +68,7 @@ void measure_sweep(const SweepSums& s, double gravity_velocity, SolveReport& rep
   // Without gravity and without an active contact there is no velocity scale: the
   // measures are then absolute [m/s].
   const double unit = scale > 0.0 ? scale : 1.0;
-  report.residual = s.largest / unit;
+  report.add_sweep(s.largest / unit);
   report.residual_rms =
       s.active > 0 ? std::sqrt(s.square_sum / static_cast<double>(s.active)) / unit : 0.0;
   if (!std::isfinite(report.residual))
@@ -83,6 +83,14 @@ bool criterion_met(const SolverSettings& settings, const SolveReport& r, const C
     case Criterion::quad: return r.residual_rms <= tol;
     case Criterion::qm16: return r.residual_rms <= tol && r.residual <= qm16_max_factor * tol;
     case Criterion::law: return law_residual(s, gravity_velocity).max <= tol;
+    case Criterion::err: {
+      // A linear iteration contracting by rho per sweep is within rho / (1 - rho) times its
+      // last correction of its limit: the bound on the error that the last correction
+      // alone underestimates by about the condition number when rho is near 1
+      // (docs/method.md, "Convergence"). A sweep that changed nothing is the limit.
+      const double rho = r.contraction(err_window(settings));
+      return r.residual == 0.0 || (rho >= 0.0 && rho < 1.0 && r.residual * rho <= tol * (1.0 - rho));
+    }
   }
   return false;
 }

@@ -33,14 +33,34 @@ const char* criterion_name(Criterion c) {
     case Criterion::quad: return "quad";
     case Criterion::qm16: return "qm16";
     case Criterion::law: return "law";
+    case Criterion::err: return "err";
   }
   return "?";
 }
 
 Criterion criterion_from_name(const std::string& name) {
-  for (const Criterion c : {Criterion::maxm, Criterion::quad, Criterion::qm16, Criterion::law})
+  for (const Criterion c :
+       {Criterion::maxm, Criterion::quad, Criterion::qm16, Criterion::law, Criterion::err})
     if (name == criterion_name(c)) return c;
-  throw UsageError("unknown convergence criterion '" + name + "' (maxm, quad, qm16 or law)");
+  throw UsageError("unknown convergence criterion '" + name + "' (maxm, quad, qm16, law or err)");
+}
+
+void SolveReport::add_sweep(double new_residual) {
+  residual = new_residual;
+  history_[count_ % (kHistory + 1)] = new_residual;
+  ++count_;
+}
+
+double SolveReport::contraction(int over) const {
+  if (over < 1 || over > kHistory || count_ <= over) return -1.0;
+  const double before = history_[(count_ - 1 - over) % (kHistory + 1)];
+  if (before == 0.0) return 0.0;  // converged exactly then, and since
+  return std::pow(residual / before, 1.0 / over);
+}
+
+int err_window(const SolverSettings& s) {
+  return s.solver == SolverKind::pcg ? std::min(2 * (s.sweeps_between_rounds + 1), SolveReport::kHistory)
+                                     : 2;
 }
 
 void validate(const SolverSettings& s) {

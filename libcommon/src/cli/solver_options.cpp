@@ -33,8 +33,9 @@ void declare_solver_options(Usage& u) {
          "when NSGS stops: 'maxm', every contact's velocity correction <= tolerance; "
          "'quad', their root mean square <= tolerance; 'qm16', quad and every correction "
          "<= 16.66 tolerance (LMGC90's names); 'law', the contact law's residual "
-         "<= tolerance g h, whatever the solver (docs/method.md)",
-         {"maxm", "quad", "qm16", "law"});
+         "<= tolerance g h, whatever the solver; 'err', the error estimated from the largest "
+         "correction and the measured contraction per sweep <= tolerance (docs/method.md)",
+         {"maxm", "quad", "qm16", "law", "err"});
   u.integer("check-every", d.check_every,
             "sweeps between two tests of --criterion (LMGC90 tests every 50)", 1, 100000000);
   u.text("solver", cd::solver_name(d.solver),

@@ -30,8 +30,12 @@ enum class Criterion {
   quad,  ///< root mean square of the corrections over the active contacts <= tolerance
   qm16,  ///< quad, and every correction <= 16.66 tolerance (LMGC90 'QM/16')
   law,   ///< LawResidual::max <= tolerance (any solver's iterate, measured alike)
+  /// the estimated error: residual rho / (1 - rho) <= tolerance, rho the mean contraction
+  /// per sweep over the last sweeps (SolveReport::contraction, err_window())
+  err,
 };
-/// The criterion's name as on the command line and in files ("maxm", "quad", "qm16", "law").
+/// The criterion's name as on the command line and in files ("maxm", "quad", "qm16", "law",
+/// "err").
 const char* criterion_name(Criterion c);
 /// The criterion of a name; throws cdpile::UsageError on another name.
 Criterion criterion_from_name(const std::string& name);
@@ -59,6 +63,12 @@ struct SolverSettings {
   int sweeps_between_rounds = 6;
 };
 
+/// The sweeps over which the 'err' criterion measures the contraction: two (a forward and
+/// a backward sweep) for NSGS and NNCG; for pcg two cycles of sweeps and gradient rounds,
+/// since the sweeps just after a round contract fast (the round took the slow modes) and
+/// would promise a rate the next ones do not keep.
+int err_window(const SolverSettings& s);
+
 /// Checks a settings value range; throws cdpile::UsageError naming the bad field.
 void validate(const SolverSettings& s);
 
@@ -72,6 +82,19 @@ struct SolveReport {
   /// component of each), divided by the same scale: the 'quad' measure.
   double residual_rms = 0.0;
   bool converged = true;  ///< the criterion was met before the sweep cap
+
+  /// Records the residual of a new sweep (`residual` and the history of the last ones).
+  void add_sweep(double new_residual);
+  /// The mean contraction per sweep of `residual` over the last `over` sweeps,
+  /// (r_k / r_{k-over})^(1/over); negative until that many sweeps are recorded.
+  double contraction(int over) const;
+
+  /// The most sweeps contraction() looks back over.
+  static constexpr int kHistory = 32;
+
+ private:
+  double history_[kHistory + 1] = {};  ///< residuals, a ring indexed by the sweep count
+  int count_ = 0;                      ///< sweeps recorded
 };
 
 /// A contact solver: finds the impulses of a ContactSystem from the ones it holds (the
