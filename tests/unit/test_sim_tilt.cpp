@@ -537,7 +537,8 @@ TEST(Settings, ParametersRoundTripAndErrorsNameTheFile) {
   v = sim::settings_parameters(s);
   v["criterion"] = std::string("fast");
   EXPECT_EQ(message(v),
-            "run.h5: /parameters: unknown convergence criterion 'fast' (maxm, quad, qm16, law or err)");
+            "run.h5: /parameters: unknown convergence criterion 'fast' (maxm, quad, qm16, law or "
+            "err)");
   v = sim::settings_parameters(s);
   v["theta"] = 0.2;
   EXPECT_EQ(message(v), "run.h5: /parameters: engine settings: theta must be in [0.5, 1]");

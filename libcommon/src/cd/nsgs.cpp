@@ -89,7 +89,8 @@ bool criterion_met(const SolverSettings& settings, const SolveReport& r, const C
       // alone underestimates by about the condition number when rho is near 1
       // (docs/method.md, "Convergence"). A sweep that changed nothing is the limit.
       const double rho = r.contraction(err_window(settings));
-      return r.residual == 0.0 || (rho >= 0.0 && rho < 1.0 && r.residual * rho <= tol * (1.0 - rho));
+      return r.residual == 0.0 ||
+             (rho >= 0.0 && rho < 1.0 && r.residual * rho <= tol * (1.0 - rho));
     }
   }
   return false;

@@ -59,8 +59,9 @@ double SolveReport::contraction(int over) const {
 }
 
 int err_window(const SolverSettings& s) {
-  return s.solver == SolverKind::pcg ? std::min(2 * (s.sweeps_between_rounds + 1), SolveReport::kHistory)
-                                     : 2;
+  return s.solver == SolverKind::pcg
+             ? std::min(2 * (s.sweeps_between_rounds + 1), SolveReport::kHistory)
+             : 2;
 }
 
 void validate(const SolverSettings& s) {
