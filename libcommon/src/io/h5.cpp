@@ -10,7 +10,10 @@
 #include <filesystem>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 
 namespace cdpile::io::h5 {
 
@@ -161,6 +164,159 @@ std::vector<T> allocate(const File& f, const std::string& path, hsize_t n) {
   }
 }
 
+/// A number type as stored, when it is one the schema reads (docs/schema.md, "Types"):
+/// HDF5's standard integers (8 to 64 bits, signed or not) and IEEE floats (32 and 64
+/// bits), in either byte order.
+struct StoredNumber {
+  bool real;  ///< an IEEE float; else an integer
+  bool is_signed;
+  std::size_t bytes;
+};
+
+/// H5Tequal compares every property of an atomic type (class, size, precision, bit
+/// offset, sign, padding, byte order, the float's fields and bias): a type damaged or
+/// written oddly matches none of these, and HDF5 is never asked to convert it. A precision
+/// beyond the type's size made its integer-to-float conversion read outside its buffer
+/// and die with SIGBUS (docs/fuzzing.md, "Findings").
+std::optional<StoredNumber> standard_number(hid_t type) {
+  const std::pair<hid_t, StoredNumber> known[] = {
+      {H5T_STD_I8LE, {false, true, 1}},   {H5T_STD_I8BE, {false, true, 1}},
+      {H5T_STD_U8LE, {false, false, 1}},  {H5T_STD_U8BE, {false, false, 1}},
+      {H5T_STD_I16LE, {false, true, 2}},  {H5T_STD_I16BE, {false, true, 2}},
+      {H5T_STD_U16LE, {false, false, 2}}, {H5T_STD_U16BE, {false, false, 2}},
+      {H5T_STD_I32LE, {false, true, 4}},  {H5T_STD_I32BE, {false, true, 4}},
+      {H5T_STD_U32LE, {false, false, 4}}, {H5T_STD_U32BE, {false, false, 4}},
+      {H5T_STD_I64LE, {false, true, 8}},  {H5T_STD_I64BE, {false, true, 8}},
+      {H5T_STD_U64LE, {false, false, 8}}, {H5T_STD_U64BE, {false, false, 8}},
+      {H5T_IEEE_F32LE, {true, true, 4}},  {H5T_IEEE_F32BE, {true, true, 4}},
+      {H5T_IEEE_F64LE, {true, true, 8}},  {H5T_IEEE_F64BE, {true, true, 8}},
+  };
+  // H5Tequal of HDF5 1.10 takes a float of VAX byte order for an IEEE one: the order,
+  // precision and offset are checked here too.
+  const H5T_order_t order = H5Tget_order(type);
+  if ((order != H5T_ORDER_LE && order != H5T_ORDER_BE) || H5Tget_offset(type) != 0 ||
+      H5Tget_precision(type) != 8 * H5Tget_size(type))
+    return std::nullopt;
+  for (const auto& [id, number] : known)
+    if (H5Tequal(type, id) > 0 && H5Tget_order(id) == order) return number;
+  return std::nullopt;
+}
+
+/// What a stored type is, for a message: "a 4-byte signed integer of 64 bits at bit
+/// offset 0, little-endian".
+std::string type_text(hid_t type) {
+  const H5T_class_t cls = H5Tget_class(type);
+  const char* kind = "type of unknown class";
+  switch (cls) {
+    case H5T_INTEGER:
+      kind = H5Tget_sign(type) == H5T_SGN_NONE ? "unsigned integer" : "signed integer";
+      break;
+    case H5T_FLOAT: kind = "float"; break;
+    case H5T_STRING: kind = "text"; break;
+    case H5T_BITFIELD: kind = "bit field"; break;
+    case H5T_OPAQUE: kind = "opaque type"; break;
+    case H5T_COMPOUND: kind = "compound type"; break;
+    case H5T_REFERENCE: kind = "reference"; break;
+    case H5T_ENUM: kind = "enumeration"; break;
+    case H5T_VLEN: kind = "variable-length sequence"; break;
+    case H5T_ARRAY: kind = "array type"; break;
+    default: break;
+  }
+  std::string s = "a " + std::to_string(H5Tget_size(type)) + "-byte " + kind;
+  if (cls == H5T_INTEGER || cls == H5T_FLOAT) {
+    s += " of " + std::to_string(H5Tget_precision(type)) + " bits at bit offset " +
+         std::to_string(H5Tget_offset(type));
+    const H5T_order_t order = H5Tget_order(type);
+    s += order == H5T_ORDER_LE   ? ", little-endian"
+         : order == H5T_ORDER_BE ? ", big-endian"
+                                 : ", byte order code " + std::to_string(static_cast<int>(order));
+  }
+  return s;
+}
+
+template <class T>
+constexpr const char* schema_type_name() {
+  if constexpr (std::is_same_v<T, double>) return "float64";
+  if constexpr (std::is_same_v<T, float>) return "float32";
+  if constexpr (std::is_same_v<T, std::int64_t>) return "int64";
+  if constexpr (std::is_same_v<T, std::int32_t>) return "int32";
+  if constexpr (std::is_same_v<T, std::int8_t>) return "int8";
+  if constexpr (std::is_same_v<T, std::uint8_t>) return "uint8";
+}
+
+/// Whether every value of the stored type survives its conversion to T: floats no wider
+/// than T, integers into a float (exact up to 2^53 in a float64: no count of this schema
+/// comes near), integers into an integer type whose range holds the stored one.
+template <class T>
+bool holds(const StoredNumber& s) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return !s.real || s.bytes <= sizeof(T);
+  } else if constexpr (std::is_signed_v<T>) {
+    return !s.real && (s.is_signed ? s.bytes <= sizeof(T) : s.bytes < sizeof(T));
+  } else {
+    return !s.real && !s.is_signed && s.bytes <= sizeof(T);
+  }
+}
+
+/// Refuses, before HDF5 converts anything, a stored number type that the schema does not
+/// name or whose values T cannot hold. `object` names what is read ("" for the dataset at
+/// `path`, "attribute 'x'" for one of its attributes).
+template <class T>
+void check_number_type(const File& f, const std::string& path, const std::string& object,
+                       hid_t type) {
+  const std::string what = object.empty() ? "" : object + ": ";
+  const H5T_class_t cls = H5Tget_class(type);
+  if (std::is_floating_point_v<T> ? cls != H5T_INTEGER && cls != H5T_FLOAT : cls != H5T_INTEGER)
+    fail(f, path,
+         what + "expected " + (std::is_floating_point_v<T> ? "numbers" : "integers") + ", found " +
+             type_text(type));
+  const auto stored = standard_number(type);
+  if (!stored)
+    fail(f, path,
+         what + "stored as " + type_text(type) +
+             ", not a standard integer or IEEE float type (damaged, or written by another "
+             "program): refused before conversion");
+  if (!holds<T>(*stored))
+    fail(f, path,
+         what + "stored as " + type_text(type) + ", which does not fit the " +
+             schema_type_name<T>() + " read here (docs/schema.md)");
+}
+
+/// Refuses a data space that is neither simple nor scalar: a null one holds no values,
+/// and no object of the schema has one.
+void check_space(const File& f, const std::string& path, const std::string& object, hid_t space) {
+  const H5S_class_t cls = H5Sget_simple_extent_type(space);
+  if (cls != H5S_SIMPLE && cls != H5S_SCALAR)
+    fail(f, path, (object.empty() ? "" : object + ": ") + "has no values (a null data space)");
+}
+
+/// An attribute of the schema is one value or a list: a scalar or rank-1 data space.
+void check_attr_space(const File& f, const std::string& path, const std::string& name,
+                      const Handle& attr) {
+  Handle space(H5Aget_space(attr.id()));
+  const std::string object = "attribute '" + name + "'";
+  check_space(f, path, object, space.id());
+  const int rank = H5Sget_simple_extent_ndims(space.id());
+  if (rank < 0 || rank > 1)
+    fail(f, path, object + ": has rank " + std::to_string(rank) + ", expected one value or a list");
+}
+
+/// Text as the schema stores it: ASCII or UTF-8, of variable length or fixed (at least one
+/// byte), padded by NULs or spaces; HDF5 reads it with its own type, converting nothing.
+void check_text_type(const File& f, const std::string& path, const std::string& name, hid_t type) {
+  const std::string object = "attribute '" + name + "'";
+  const H5T_cset_t cset = H5Tget_cset(type);
+  if (cset != H5T_CSET_ASCII && cset != H5T_CSET_UTF8)
+    fail(f, path,
+         object + ": text of unknown character set (code " +
+             std::to_string(static_cast<int>(cset)) + ")");
+  if (H5Tis_variable_str(type) > 0) return;
+  const H5T_str_t pad = H5Tget_strpad(type);
+  if (pad != H5T_STR_NULLTERM && pad != H5T_STR_NULLPAD && pad != H5T_STR_SPACEPAD)
+    fail(f, path,
+         object + ": text of unknown padding (code " + std::to_string(static_cast<int>(pad)) + ")");
+  if (H5Tget_size(type) < 1) fail(f, path, object + ": text of no bytes");
+}
 }  // namespace
 
 void silence_errors() {
@@ -553,11 +709,9 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
                     std::vector<hsize_t>* dims_out) {
   Handle d = open_dataset(f, path);
   Handle type(H5Dget_type(d.id()));
-  H5T_class_t cls = H5Tget_class(type.id());
-  const bool want_float = std::is_floating_point_v<T>;
-  if (want_float ? (cls != H5T_FLOAT && cls != H5T_INTEGER) : cls != H5T_INTEGER)
-    fail(f, path, want_float ? "expected numbers" : "expected integers");
+  check_number_type<T>(f, path, "", type.id());
   Handle space(H5Dget_space(d.id()));
+  check_space(f, path, "", space.id());
   int rank = H5Sget_simple_extent_ndims(space.id());
   std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
   H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
@@ -597,9 +751,14 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
 template <class T>
 std::vector<T> read_rows(const File& f, const std::string& path, hsize_t first, hsize_t count) {
   Handle d = open_dataset(f, path);
+  {
+    Handle type(H5Dget_type(d.id()));
+    check_number_type<T>(f, path, "", type.id());
+  }
   Handle space(H5Dget_space(d.id()));
+  check_space(f, path, "", space.id());
   int rank = H5Sget_simple_extent_ndims(space.id());
-  std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 0)));
   H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
   if (rank < 1 || first > dims[0] || count > dims[0] - first)
     fail(f, path,
@@ -730,6 +889,8 @@ std::vector<std::string> attr_strings(const File& f, const std::string& path,
   Handle a = open_attr(f, path, name);
   Handle t(H5Aget_type(a.id()));
   if (H5Tget_class(t.id()) != H5T_STRING) fail(f, path, "attribute '" + name + "' is not text");
+  check_text_type(f, path, name, t.id());
+  check_attr_space(f, path, name, a);
   hssize_t n = attr_points(a);
   std::vector<std::string> out;
   if (n < 0) fail(f, path, "cannot read attribute " + name);
@@ -787,6 +948,8 @@ std::vector<T> attr_numbers(const File& f, const std::string& path, const std::s
     fail(f, path, "attribute '" + name + "' is not a number");
   if (std::is_integral_v<T> && cls != H5T_INTEGER)
     fail(f, path, "attribute '" + name + "' should be an integer");
+  check_number_type<T>(f, path, "attribute '" + name + "'", t.id());
+  check_attr_space(f, path, name, a);
   const hssize_t n = attr_points(a);
   if (n < 0) fail(f, path, "cannot read attribute " + name);
   check_claim(f, path, static_cast<double>(n), static_cast<double>(H5Tget_size(t.id())), false);
