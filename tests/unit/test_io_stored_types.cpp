@@ -291,3 +291,30 @@ TEST(StoredTypes, ADamagedTypeInAFileOfTheEarlierFormatIsRefusedNotConverted) {
             "little-endian, not a standard integer or IEEE float type (damaged, or written by "
             "another program): refused before conversion");
 }
+
+// An external link names another file: HDF5 would open it and hand its data over as this
+// file's. The readers refuse it wherever a path goes through one (found by the structure
+// mutator, docs/fuzzing.md).
+TEST(StoredStructure, AnExternalLinkIsRefusedNotFollowed) {
+  const fs::path other =
+      fs::temp_directory_path() / ("cdpile-other-" + std::to_string(::getpid()) + ".h5");
+  {
+    h5::File o = h5::create(other.string(), "other.h5");
+    h5::write(o, "/x", std::vector<double>{1, 2, 3});
+  }
+  const std::vector<char> image = image_with([&](const h5::File& w) {
+    h5::create_group(w, "/g");
+    H5Lcreate_external(other.c_str(), "/x", w.id(), "/g/x", H5P_DEFAULT, H5P_DEFAULT);
+    H5Lcreate_external(other.c_str(), "/", w.id(), "/outside", H5P_DEFAULT, H5P_DEFAULT);
+  });
+  const h5::File f = h5::open_image(image, "types.h5");
+  const std::string why = refusal([&] { h5::read<double>(f, "/g/x", {3}); });
+  const std::string through = refusal([&] { h5::read<double>(f, "/outside/x", {3}); });
+  fs::remove(other);
+  EXPECT_EQ(why,
+            "types.h5: /g/x: a link to another file (external or user-defined link): refused, "
+            "the schema keeps every object in its file");
+  EXPECT_EQ(through,
+            "types.h5: /outside: a link to another file (external or user-defined link): "
+            "refused, the schema keeps every object in its file");
+}

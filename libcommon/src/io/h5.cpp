@@ -543,6 +543,14 @@ bool exists(const File& f, const std::string& path) {
     pos = path.find('/', pos + 1);
     std::string part = path.substr(0, pos);
     if (H5Lexists(f.id(), part.c_str(), H5P_DEFAULT) <= 0) return false;
+    // An external link would have HDF5 open another file, named by this one, and read it
+    // as if it were this file's (found by the structure mutator, docs/fuzzing.md).
+    H5L_info_t link;
+    if (H5Lget_info(f.id(), part.c_str(), &link, H5P_DEFAULT) >= 0 && link.type != H5L_TYPE_HARD &&
+        link.type != H5L_TYPE_SOFT)
+      throw Error(f.name(), part,
+                  "a link to another file (external or user-defined link): refused, the schema "
+                  "keeps every object in its file");
     if (pos == std::string::npos) return true;
   }
 }

@@ -572,7 +572,11 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   count_ = h5::read<std::int64_t>(f, cg + "/count", {frames});
   auto csteps = h5::read<std::int64_t>(f, cg + "/step", {frames});
   if (csteps != frame_steps_) bad(f, cg + "/step", "differs from " + pos + "/step");
-  const auto k = static_cast<std::int64_t>(h5::shape(f, cg + "/i").at(0));
+  const auto rows = h5::shape(f, cg + "/i");
+  if (rows.size() != 1)
+    bad(f, cg + "/i",
+        "expected one dimension (the contacts), found " + std::to_string(rows.size()));
+  const auto k = static_cast<std::int64_t>(rows[0]);
   std::int64_t expect = 0;
   for (std::size_t q = 0; q < frames; ++q) {
     if (offset_[q] != expect || count_[q] < 0)

@@ -1,0 +1,35 @@
+# The structure mutator's findings (tests/fuzz/*/structure-*, valid checksummed files with a wrong structure) and the damaged type of tests/fuzz/product/ give one line naming the file and the object, exit 1 and no output, in every tool that reads them, by path and from standard input.
+src="$CDPILE_SOURCE/tests/fuzz"
+# expect_refused NAME TOOL ARGS...: exit 1, one line "TOOL: NAME: /PATH...: ..." on stderr
+# (the object named), nothing written.
+expect_refused() {
+  local name=$1 tool=$2; shift 2
+  local rc=0
+  rm -rf out.*
+  timeout 120 "$tool" "$@" > /dev/null 2> err.txt || rc=$?
+  expect_eq 1 "$rc" "(exit code of $tool $*: $(cat err.txt))"
+  expect_eq 1 "$(wc -l < err.txt)" "(lines on stderr from $tool $*: $(cat err.txt))"
+  grep -q "^$tool: $name: /[^ ]*: " err.txt || { echo "no object named: $(cat err.txt)" >&2; return 1; }
+  test -z "$(ls out.* 2> /dev/null)"
+}
+found=0
+for gz in "$src"/run/structure-*.h5.gz; do
+  [[ -e $gz ]] || continue
+  found=$((found + 1))
+  f=$(basename "$gz" .gz)
+  gunzip -c "$gz" > "$f"
+  expect_refused "$f" critical "$f" -o out.tsv
+  expect_refused "$f" localnu "$f" -o out.h5
+  expect_refused "$f" to-xdmf "$f" -o out.xdmf
+  expect_refused "$f" to-lammps "$f" -o out.dump
+  expect_refused stdin critical - -o out.tsv < "$f"
+done
+for gz in "$src"/product/*.h5.gz; do
+  found=$((found + 1))
+  f=$(basename "$gz" .gz)
+  gunzip -c "$gz" > "$f"
+  expect_refused "$f" correlate "$f" -o out.tsv
+  expect_refused "$f" clusterfit "$f" -o out.tsv
+  expect_refused stdin correlate - -o out.tsv < "$f"
+done
+[[ $found -ge 2 ]]
