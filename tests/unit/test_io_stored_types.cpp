@@ -318,3 +318,37 @@ TEST(StoredStructure, AnExternalLinkIsRefusedNotFollowed) {
             "types.h5: /outside: a link to another file (external or user-defined link): "
             "refused, the schema keeps every object in its file");
 }
+
+// Chunks pass through the schema's filters (shuffle, deflate) and Fletcher-32; any other
+// filter is refused before a chunk is read: HDF5 1.10.8's scale-offset filter read outside
+// its buffer on a file HDF5 wrote (found by the structure mutator, docs/fuzzing.md).
+TEST(StoredStructure, OnlyTheSchemasFiltersAndFletcher32AreRead) {
+  const std::vector<double> v = {1, 2, 3, 4};
+  const std::vector<char> image = image_with([&](const h5::File& w) {
+    const hsize_t n = 4, chunk = 2;
+    h5::Handle space(H5Screate_simple(1, &n, nullptr));
+    auto make = [&](const char* path, auto&& filters) {
+      h5::Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+      H5Pset_chunk(dcpl.id(), 1, &chunk);
+      filters(dcpl.id());
+      h5::Handle d(H5Dcreate2(w.id(), path, H5T_IEEE_F64LE, space.id(), H5P_DEFAULT, dcpl.id(),
+                              H5P_DEFAULT));
+      H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    };
+    make("/checked", [](hid_t p) {
+      H5Pset_shuffle(p);
+      H5Pset_deflate(p, 4);
+      H5Pset_fletcher32(p);
+    });
+    make("/nbit", [](hid_t p) { H5Pset_nbit(p); });
+    make("/scaled", [](hid_t p) { H5Pset_scaleoffset(p, H5Z_SO_FLOAT_DSCALE, 2); });
+  });
+  const h5::File f = h5::open_image(image, "types.h5");
+  EXPECT_EQ(h5::read<double>(f, "/checked", {4}), v);
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/nbit", {4}); }),
+            "types.h5: /nbit: stored through the N-bit filter: the readers take chunks through "
+            "deflate, shuffle and Fletcher-32 only");
+  EXPECT_EQ(refusal([&] { h5::read_rows<double>(f, "/scaled", 0, 2); }),
+            "types.h5: /scaled: stored through the scale-offset filter: the readers take chunks "
+            "through deflate, shuffle and Fletcher-32 only");
+}
