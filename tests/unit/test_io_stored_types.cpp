@@ -195,13 +195,16 @@ TEST(StoredTypes, RankExtentAndANullSpaceAreChecked) {
                             H5P_DEFAULT));
   });
   const h5::File f = h5::open_image(image, "types.h5");
-  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/m", {0}); }),
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/m", {h5::any}); }),
             "types.h5: /m: expected shape [*], found [3 x 2]");
   EXPECT_EQ(refusal([&] {
               h5::read<double>(f, "/m", {3, 3});
             }),
             "types.h5: /m: expected shape [3 x 3], found [3 x 2]");
-  EXPECT_EQ(h5::read<double>(f, "/m", {0, 2}), v);
+  EXPECT_EQ(h5::read<double>(f, "/m", {h5::any, 2}), v);
+  // an extent of 0 is exact: a shape taken from an empty dataset matches no other one
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/m", {0, 2}); }),
+            "types.h5: /m: expected shape [0 x 2], found [3 x 2]");
   EXPECT_EQ(refusal([&] { h5::read<double>(f, "/null", {}); }),
             "types.h5: /null: has no values (a null data space)");
   EXPECT_EQ(refusal([&] { h5::read_rows<double>(f, "/null", 0, 0); }),

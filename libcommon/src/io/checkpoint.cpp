@@ -80,7 +80,7 @@ Checkpoint read_checkpoint(const h5::File& f, const Grains& properties) {
     c.grains.position[k] = Vec2(pos[2 * k], pos[2 * k + 1]);
     c.grains.velocity[k] = Vec2(vel[2 * k], vel[2 * k + 1]);
   }
-  auto ii = h5::read<std::int32_t>(f, g + "/impulse_i", {0});
+  auto ii = h5::read<std::int32_t>(f, g + "/impulse_i", {h5::any});
   auto jj = h5::read<std::int32_t>(f, g + "/impulse_j", {ii.size()});
   auto rn = h5::read<double>(f, g + "/impulse_rn", {ii.size()});
   auto rt = h5::read<double>(f, g + "/impulse_rt", {ii.size()});

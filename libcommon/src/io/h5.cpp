@@ -147,8 +147,8 @@ bool filtered(const File& f, const std::string& path, hid_t dataset, double elem
   for (int k = 0; k < filters; ++k) {
     unsigned flags = 0;
     std::size_t n = 0;
-    const H5Z_filter_t id = H5Pget_filter2(dcpl.id(), static_cast<unsigned>(k), &flags, &n,
-                                           nullptr, 0, nullptr, nullptr);
+    const H5Z_filter_t id = H5Pget_filter2(dcpl.id(), static_cast<unsigned>(k), &flags, &n, nullptr,
+                                           0, nullptr, nullptr);
     if (id == H5Z_FILTER_DEFLATE || id == H5Z_FILTER_SHUFFLE || id == H5Z_FILTER_FLETCHER32)
       continue;
     const std::string name = id == H5Z_FILTER_SZIP          ? "SZIP"
@@ -745,11 +745,13 @@ std::vector<T> read(const File& f, const std::string& path, const std::vector<hs
   H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
   if (!expect.empty()) {
     bool ok = dims.size() == expect.size();
-    for (std::size_t k = 0; ok && k < dims.size(); ++k) ok = expect[k] == 0 || expect[k] == dims[k];
+    for (std::size_t k = 0; ok && k < dims.size(); ++k)
+      ok = expect[k] == any || expect[k] == dims[k];
     if (!ok) {
       std::string want = "[";
       for (std::size_t k = 0; k < expect.size(); ++k)
-        want += (k ? " x " : "") + (expect[k] ? std::to_string(expect[k]) : std::string("*"));
+        want +=
+            (k ? " x " : "") + (expect[k] == any ? std::string("*") : std::to_string(expect[k]));
       fail(f, path, "expected shape " + want + "], found " + dims_text(dims));
     }
   }

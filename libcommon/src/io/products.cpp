@@ -245,18 +245,24 @@ ProductFile read_product_hdf5(const h5::File& f) {
       }
       Column& c = t.add_column(cn, unit, kind);
       if (kind == ColumnKind::text) {
-        auto code = h5::read<std::uint8_t>(f, path, {0}, &dims);
+        auto code = h5::read<std::uint8_t>(f, path, {h5::any}, &dims);
         auto labels = h5::attr_strings(f, path, "labels");
         for (auto k : code) {
           if (k >= labels.size()) throw Error(f.name(), path, "label code out of range");
           c.text.push_back(labels[k]);
         }
       } else {
-        c.num = h5::read<double>(f, path, {0}, &dims);
+        c.num = h5::read<double>(f, path, {h5::any}, &dims);
         for (double v : c.num)
           if (!std::isfinite(v)) throw Error(f.name(), path, "value is not finite");
         if (h5::exists(f, path + "_defined")) {
           auto def = h5::read<std::uint8_t>(f, path + "_defined", {dims[0]});
+          // {0} in a shape matches any extent: an empty column needs its own check (found
+          // by the structure mutator, docs/fuzzing.md)
+          if (def.size() != c.num.size())
+            throw Error(f.name(), path + "_defined",
+                        "holds " + std::to_string(def.size()) + " rows, its column " +
+                            std::to_string(c.num.size()));
           for (std::size_t r = 0; r < def.size(); ++r)
             if (!def[r]) c.num[r] = std::numeric_limits<double>::quiet_NaN();
         }

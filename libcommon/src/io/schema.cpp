@@ -296,7 +296,7 @@ RunWriter RunWriter::reopen(h5::File& f, std::int64_t last_step) {
     auto names = h5::members(f, kObservables);
     if (!names.empty()) {
       const std::string clock = std::string(kObservables) + "/" + names.front();
-      auto steps = h5::read<std::int64_t>(f, clock + "/step", {0});
+      auto steps = h5::read<std::int64_t>(f, clock + "/step", {h5::any});
       hsize_t rows = 0;
       while (rows < steps.size() && steps[rows] <= last_step) ++rows;
       for (const auto& n : names)
@@ -520,7 +520,7 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   if (!(header_.box.width > 0)) bad(f, box + "/edges", "box width must be positive");
 
   std::vector<hsize_t> dims;
-  grains_.radius = h5::read<double>(f, grain_path("radius"), {0}, &dims);
+  grains_.radius = h5::read<double>(f, grain_path("radius"), {h5::any}, &dims);
   n_ = dims[0];
   grains_.mass = h5::read<double>(f, grain_path("mass"), {n_});
   grains_.inertia = h5::read<double>(f, grain_path("inertia"), {n_});
@@ -550,7 +550,7 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
 
   const std::string pos = grain_path("position");
   if (!h5::exists(f, pos)) return;  // a file with no frame yet
-  frame_steps_ = h5::read<std::int64_t>(f, pos + "/step", {0}, &dims);
+  frame_steps_ = h5::read<std::int64_t>(f, pos + "/step", {h5::any}, &dims);
   const hsize_t frames = dims[0];
   frame_time_ = h5::read<double>(f, pos + "/time", {frames});
   for (const char* e : {"position", "velocity"}) {
@@ -717,7 +717,7 @@ Series RunReader::series() const {
   if (names.empty()) return s;
   const std::string clock = std::string(kObservables) + "/" + names.front();
   std::vector<hsize_t> dims;
-  s.step = h5::read<std::int64_t>(f, clock + "/step", {0}, &dims);
+  s.step = h5::read<std::int64_t>(f, clock + "/step", {h5::any}, &dims);
   s.time = h5::read<double>(f, clock + "/time", {dims[0]});
   for (const auto& n : names) {
     const std::string p = std::string(kObservables) + "/" + n + "/value";

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -184,8 +185,13 @@ void append(const File& f, const std::string& path, const T* data, const std::ve
 /// Shrinks an extendible dataset to `rows` along its first dimension.
 void truncate_rows(const File& f, const std::string& path, hsize_t rows);
 
-/// Reads a whole dataset, checking its rank and the trailing dimensions given
-/// (`expect`, a 0 entry matches anything). Returns the data flattened in C order.
+/// In an expected shape: any extent. An extent of 0 is exact (an empty dataset): with 0 as
+/// the wildcard, a shape computed from an empty dataset matched every other one (found by
+/// the structure mutator, docs/fuzzing.md).
+inline constexpr hsize_t any = std::numeric_limits<hsize_t>::max();
+
+/// Reads a whole dataset, checking its rank and each dimension given (`expect`, an `any`
+/// entry matches every extent). Returns the data flattened in C order.
 template <class T>
 std::vector<T> read(const File& f, const std::string& path, const std::vector<hsize_t>& expect,
                     std::vector<hsize_t>* dims_out = nullptr);
