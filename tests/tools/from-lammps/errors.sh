@@ -25,6 +25,11 @@ expect_fail 1 "from-lammps: table.tsv: line 1: expected an 'ITEM:' line, got 'x	
 sed '0,/^1 2 /s/^1 2 /1 9 /' p.pairs > bad.pairs
 expect_fail 1 "from-lammps: bad.pairs: line 10: atom 9 is not in the atoms of step 0 (p.atoms: line 1)" \
   from-lammps p.atoms bad.pairs --script p.in
+# an atom id beyond what a double holds exactly (2.3e25 made the conversion to int64
+# undefined; found by the lammps harness)
+sed '0,/^1 2 /s/^1 2 /23333333333333333333333333 2 /' p.pairs > huge.pairs
+expect_fail 1 "from-lammps: huge.pairs: line 10: atom id 2.333333333333333e+25 is not an integer of at most 9e15" \
+  from-lammps p.atoms huge.pairs --script p.in
 # a pair given twice, listed from the other side (newton off, two ranks)
 awk '{ print } /^ITEM: ENTRIES/ && !done { getline; print; split($0, f, " "); t = f[1]; f[1] = f[2]; f[2] = t;
       line = f[1]; for (k = 2; k <= 9; k++) line = line " " f[k]; print line; done = 1 }' p.pairs |
