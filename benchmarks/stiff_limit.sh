@@ -110,7 +110,7 @@ for prep in preps:
 open(f"{out}/summary.txt", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-for prep, style in zip(preps, ["-", "--"]):
+for prep, style in zip(preps, ["-", "--", ":", "-."]):
     for k in ks:
         keys = [key for key in nu if key[0] == prep and key[2] == k]
         if not keys:
