@@ -32,6 +32,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 vars=()
+threads=1
 for v in "$@"; do
   [[ $v =~ ^[A-Z_][A-Z0-9_]*=.*$ ]] || { echo "slurm.sh: '$v': expected a make variable NAME=VALUE" >&2; exit 2; }
   case $v in
@@ -44,6 +45,9 @@ for v in "$@"; do
         echo "slurm.sh: '$v' and --name $name disagree: the name is the study's, give it once" >&2; exit 2
       fi
       name=${v#NAME=}; continue ;;
+    THREADS=*)  # threads per tilt: the runs' tasks ask for that many cores
+      threads=${v#THREADS=}
+      [[ $threads =~ ^[1-9][0-9]*$ ]] || { echo "slurm.sh: '$v': expected a positive number of threads" >&2; exit 2; } ;;
   esac
   vars+=("$v")
 done
@@ -75,7 +79,7 @@ runs_job() {  # $1: the array's indices
 #SBATCH --job-name=cdpile-$name
 #SBATCH --array=$1
 #SBATCH --ntasks=1
-#SBATCH --cpus-per-task=1
+#SBATCH --cpus-per-task=$threads
 #SBATCH --time=$time
 #SBATCH --output=$logs/run-%A_%a.log
 #SBATCH --open-mode=append

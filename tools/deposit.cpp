@@ -35,7 +35,7 @@ static void usage(cli::Usage& u) {
       "rest_speed, rest_steps, settle_max_steps, and the solver's time_step_s, theta, "
       "gravity_m_s2, "
       "mu_grain, mu_wall, alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, "
-      "solver, check_every, contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after. "
+      "solver, check_every, contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, sweep_order. "
       "Results: "
       "settled, settle_steps, settle_time_s, final_agitation, unconverged_steps, bed_height_m, "
       "bed_height_D, packing_fraction (with packing_slab_bottom_m, packing_slab_top_m), "

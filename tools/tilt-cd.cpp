@@ -79,7 +79,8 @@ static void usage(cli::Usage& u) {
       "frame_every_steps, "
       "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
       "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, solver, check_every, "
-      "contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after). Results: steps, "
+      "contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, sweep_order). Results: "
+      "steps, "
       "final_angle_deg, "
       "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
       "unconverged_steps, max_overlap_m, max_overlap_grown_m (beyond the pile's own overlaps), "
@@ -139,6 +140,8 @@ static void usage(cli::Usage& u) {
 }
 
 // The options of the run, with the pile's values as defaults (friction, gravity, D).
+// A branch's or a resume's are those given over the run's (inherited()), checked once
+// merged: --threads alone is then valid on a run in strips.
 static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) {
   auto param = [&](const char* key, double fallback) {
     return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
@@ -164,7 +167,7 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
                       .value_or(std::max<std::int64_t>(
                           1, std::llround(a.real("frame-every-deg") / o.rate_deg)));
   o.checkpoint_every = a.integer("checkpoint-every");
-  sim::validate(o);
+  if (!pile.branch && !a.flag("resume")) sim::validate(o);
   return o;
 }
 

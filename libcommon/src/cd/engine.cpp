@@ -83,6 +83,10 @@ Engine::Engine(Box box, Grains grains, Settings settings)
   SolverSettings budget = settings_;
   budget.max_sweeps = std::min(settings_.max_sweeps, settings_.substep_after);
   budget_solver_ = make_solver(budget);
+  if (settings_.threads > 1) {
+    team_ = std::make_shared<Team>(settings_.threads);
+    system_.team = team_.get();
+  }
 }
 
 // The (sub)step size of the stages, and the compliance of the force-selection rule
@@ -237,6 +241,7 @@ void Engine::detect(const Vec2& g) {
     lo = lo.cwiseMin(predicted_[i]);
     hi = hi.cwiseMax(predicted_[i]);
   }
+  if (settings_.sweep_order == SweepOrder::strips) assign_strips(r_max);
   std::vector<ContactRow>& rows = system_.rows;
   rows.clear();
   if (n == 0) return;
@@ -355,6 +360,21 @@ void Engine::compute_delassus() {
       r.w_nn += system_.compliance_n;
       r.w_tt += system_.compliance_t;
     }
+  }
+}
+
+// The vertical strip of each moving grain's predicted centre (SweepOrder::strips,
+// schedule.hpp): strips at least 4 r_max wide tile the box, so that a contact's grains lie
+// in one strip or two neighbouring ones.
+void Engine::assign_strips(double r_max) {
+  const std::size_t n = grains_.size();
+  const int strips = strip_count(box_.width, r_max);
+  const double width = box_.width / strips;
+  system_.strip.assign(n + 1, -1);  // the walls' body: static
+  for (std::size_t i = 0; i < n; ++i) {
+    if (inv_mass_[i] == 0.0 && inv_inertia_[i] == 0.0) continue;
+    const double at = std::floor(predicted_[i].x() / width);
+    system_.strip[i] = static_cast<std::int32_t>(std::clamp(at, 0.0, static_cast<double>(strips - 1)));
   }
 }
 

@@ -13,14 +13,22 @@
 
 namespace cdpile::cd {
 
-SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint32_t> order) {
+namespace {
+
+SweepSums& operator+=(SweepSums& a, const SweepSums& b) {
+  a.largest = std::max(a.largest, b.largest);
+  a.square_sum += b.square_sum;
+  a.scale_sum += b.scale_sum;
+  a.active += b.active;
+  return a;
+}
+
+// The local solves of positions [first, last) of the schedule, forward or backward.
+SweepSums sweep_block(ContactSystem& s, const Schedule& plan, std::size_t first,
+                      std::size_t last, bool backward) {
   SweepSums sums;
-  const std::size_t m = s.rows.size();
-  CDPILE_DEBUG_CHECK(order.empty() || order.size() == m,
-                     "a sweep order is a permutation of the rows");
-  for (std::size_t q = 0; q < m; ++q) {
-    const std::size_t at = backward ? m - 1 - q : q;
-    ContactRow& r = s.rows[order.empty() ? at : order[at]];
+  for (std::size_t q = first; q < last; ++q) {
+    ContactRow& r = s.rows[plan.positions[backward ? last - 1 - (q - first) : q]];
     double b_n, b_t;
     s.free_local_velocity(r, b_n, b_t);
     const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
@@ -39,6 +47,24 @@ SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint3
     s.apply_impulse(r, dn, dt);
   }
   return sums;
+}
+
+}  // namespace
+
+SweepSums nsgs_sweep(ContactSystem& s, bool backward, const Schedule& plan) {
+  CDPILE_DEBUG_CHECK(plan.size() == s.rows.size(), "a sweep schedule covers every row");
+  std::vector<SweepSums> blocks(plan.blocks());
+  for_each_block(plan, s.team, backward, [&](std::size_t first, std::size_t last, std::size_t b) {
+    blocks[b] = sweep_block(s, plan, first, last, backward);
+  });
+  // Block order, whatever the threads: the sums are the same numbers on any team.
+  SweepSums sums;
+  for (const SweepSums& b : blocks) sums += b;
+  return sums;
+}
+
+Schedule sweep_schedule(const ContactSystem& s, const SolverSettings& settings) {
+  return row_schedule(s, settings.sweep_order, sweep_order(s, settings.scramble));
 }
 
 std::vector<std::uint32_t> sweep_order(const ContactSystem& s, std::uint64_t seed) {
@@ -100,11 +126,12 @@ SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) co
   SolveReport report;
   if (system.rows.empty()) return report;
   const int every = settings_.check_every;
-  const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
+  Schedule plan = sweep_schedule(system, settings_);
+  const RowsInScheduleOrder in_order(system, plan);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     if (system.cancel && system.cancel()) throw StepCancelled();
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    measure_sweep(nsgs_sweep(system, backward, order), gravity_velocity, report);
+    measure_sweep(nsgs_sweep(system, backward, plan), gravity_velocity, report);
     report.sweeps = k + 1;
     if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
       return report;
@@ -120,7 +147,8 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
   std::vector<double> before(2 * m), p(2 * m, 0.0);
   double d2_previous = 0.0;
   const int every = settings_.check_every;
-  const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
+  Schedule plan = sweep_schedule(system, settings_);
+  const RowsInScheduleOrder in_order(system, plan);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     if (system.cancel && system.cancel()) throw StepCancelled();
     for (std::size_t a = 0; a < m; ++a) {
@@ -128,7 +156,7 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
       before[2 * a + 1] = system.rows[a].rt;
     }
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
-    measure_sweep(nsgs_sweep(system, backward, order), gravity_velocity, report);
+    measure_sweep(nsgs_sweep(system, backward, plan), gravity_velocity, report);
     report.sweeps = k + 1;
     if ((k + 1) % every == 0 && criterion_met(settings_, report, system, gravity_velocity))
       return report;

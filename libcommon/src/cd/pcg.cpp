@@ -37,12 +37,6 @@ void zero_velocities(std::vector<Body>& bodies) {
   for (Body& b : bodies) b.vx = b.vy = b.w = 0.0;
 }
 
-double dot(const std::vector<Local>& a, const std::vector<Local>& b) {
-  double s = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) s += a[k].n * b[k].n + a[k].t * b[k].t;
-  return s;
-}
-
 double largest(const std::vector<Local>& a) {
   double m = 0.0;
   for (const Local& x : a) m = std::max({m, std::abs(x.n), std::abs(x.t)});
@@ -51,26 +45,41 @@ double largest(const std::vector<Local>& a) {
 
 /// The linear problem of the face the last sweep left: A = W + C on the free components,
 /// applied without being formed (A x = H M^-1 H^T x + c x, scratch bodies carrying
-/// M^-1 H^T x as the system's bodies carry M^-1 H^T R).
+/// M^-1 H^T x as the system's bodies carry M^-1 H^T R). Its rows are the active rows of
+/// the sweeps' schedule, in its blocks and colours when it has them (schedule.hpp): the
+/// Gauss-Seidel pass and the scatter of a product then share a colour among the team's
+/// threads, and the dot products are summed per block, so that a round gives the same
+/// numbers on any number of threads.
 class Face {
  public:
-  explicit Face(ContactSystem& s) : s_(s) {
+  Face(ContactSystem& s, const Schedule& plan) : s_(s) {
     scratch_.bodies = s.bodies;
-    for (std::uint32_t a = 0; a < s.rows.size(); ++a) {
-      const ContactRow& r = s.rows[a];
-      if (r.rn > 0.0) rows_.push_back({a, r.status == ContactStatus::stick});
+    auto active = [&](std::uint32_t a) { return s.rows[a].rn > 0.0; };
+    std::vector<std::uint32_t> kept;
+    if (plan.coloured) {
+      schedule_ = sub_schedule(plan, active, kept);
+    } else {  // pair order, whatever the scramble: the rows in pair order
+      for (std::uint32_t a = 0; a < s.rows.size(); ++a)
+        if (active(a)) kept.push_back(a);
+      schedule_.positions.resize(kept.size());
+      for (std::uint32_t k = 0; k < kept.size(); ++k) schedule_.positions[k] = k;
+      schedule_.block_start = {0, static_cast<std::uint32_t>(kept.size())};
+      schedule_.colour_start = {0, 1};
     }
+    for (const std::uint32_t a : kept) rows_.push_back({a, s.rows[a].status == ContactStatus::stick});
   }
   std::size_t size() const { return rows_.size(); }
 
   /// -(A R + q) on the free components: minus the law's velocity u'_a = W_aa R_a + b_a.
   void residual(std::vector<Local>& out) const {
-    for (std::size_t k = 0; k < rows_.size(); ++k) {
-      const ContactRow& r = s_.rows[rows_[k].row];
-      double b_n, b_t;
-      s_.free_local_velocity(r, b_n, b_t);
-      out[k] = {-(b_n + r.w_nn * r.rn), rows_[k].t ? -(b_t + r.w_tt * r.rt) : 0.0};
-    }
+    for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) {
+        const ContactRow& r = s_.rows[rows_[k].row];
+        double b_n, b_t;
+        s_.free_local_velocity(r, b_n, b_t);
+        out[k] = {-(b_n + r.w_nn * r.rn), rows_[k].t ? -(b_t + r.w_tt * r.rt) : 0.0};
+      }
+    });
   }
 
   /// z = P^-1 res with P one symmetric Gauss-Seidel pass over the face from z = 0
@@ -78,73 +87,107 @@ class Face {
   void precondition(const std::vector<Local>& res, std::vector<Local>& z) {
     zero_velocities(scratch_.bodies);
     std::fill(z.begin(), z.end(), Local{});
-    const std::size_t f = rows_.size();
-    for (std::size_t q = 0; q < 2 * f; ++q) {
-      const std::size_t k = q < f ? q : 2 * f - 1 - q;
-      const ContactRow& r = s_.rows[rows_[k].row];
-      const Local u = relative_velocity(scratch_.bodies, r);
-      const double dn = (res[k].n - u.n - s_.compliance_n * z[k].n) / r.w_nn;
-      const double dt = rows_[k].t ? (res[k].t - u.t - s_.compliance_t * z[k].t) / r.w_tt : 0.0;
-      z[k].n += dn;
-      z[k].t += dt;
-      scratch_.apply_impulse(r, dn, dt);
-    }
+    for (const bool backward : {false, true})
+      for_each_block(schedule_, s_.team, backward, [&](std::size_t first, std::size_t last, std::size_t) {
+        for (std::size_t q = first; q < last; ++q) {
+          const std::size_t k = schedule_.positions[backward ? last - 1 - (q - first) : q];
+          const ContactRow& r = s_.rows[rows_[k].row];
+          const Local u = relative_velocity(scratch_.bodies, r);
+          const double dn = (res[k].n - u.n - s_.compliance_n * z[k].n) / r.w_nn;
+          const double dt =
+              rows_[k].t ? (res[k].t - u.t - s_.compliance_t * z[k].t) / r.w_tt : 0.0;
+          z[k].n += dn;
+          z[k].t += dt;
+          scratch_.apply_impulse(r, dn, dt);
+        }
+      });
   }
 
   /// q = A p, leaving M^-1 H^T p in the scratch bodies for move().
   void product(const std::vector<Local>& p, std::vector<Local>& q) {
     zero_velocities(scratch_.bodies);
-    for (std::size_t k = 0; k < rows_.size(); ++k)
-      scratch_.apply_impulse(s_.rows[rows_[k].row], p[k].n, p[k].t);
-    for (std::size_t k = 0; k < rows_.size(); ++k) {
-      const ContactRow& r = s_.rows[rows_[k].row];
-      const Local u = relative_velocity(scratch_.bodies, r);
-      q[k] = {u.n + s_.compliance_n * p[k].n, rows_[k].t ? u.t + s_.compliance_t * p[k].t : 0.0};
-    }
+    for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t) {
+      for (std::size_t i = first; i < last; ++i) {
+        const std::size_t k = schedule_.positions[i];
+        scratch_.apply_impulse(s_.rows[rows_[k].row], p[k].n, p[k].t);
+      }
+    });
+    for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) {
+        const ContactRow& r = s_.rows[rows_[k].row];
+        const Local u = relative_velocity(scratch_.bodies, r);
+        q[k] = {u.n + s_.compliance_n * p[k].n, rows_[k].t ? u.t + s_.compliance_t * p[k].t : 0.0};
+      }
+    });
+  }
+
+  /// sum_k a_k . b_k, summed per block of the schedule and the blocks in order.
+  double dot(const std::vector<Local>& a, const std::vector<Local>& b) const {
+    std::vector<double> partial(schedule_.blocks(), 0.0);
+    for_each_range(partial.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t blk = first; blk < last; ++blk) {
+        double sum = 0.0;
+        for (std::size_t i = schedule_.block_start[blk]; i < schedule_.block_start[blk + 1]; ++i) {
+          const std::size_t k = schedule_.positions[i];
+          sum += a[k].n * b[k].n + a[k].t * b[k].t;
+        }
+        partial[blk] = sum;
+      }
+    });
+    double total = partial.empty() ? 0.0 : partial[0];
+    for (std::size_t blk = 1; blk < partial.size(); ++blk) total += partial[blk];
+    return total;
   }
 
   /// R += alpha p and v += alpha M^-1 H^T p (the scratch bodies of the last product()).
   void move(const std::vector<Local>& p, double alpha) {
-    for (std::size_t k = 0; k < rows_.size(); ++k) {
-      ContactRow& r = s_.rows[rows_[k].row];
-      r.rn += alpha * p[k].n;
-      r.rt += alpha * p[k].t;
-    }
-    for (std::size_t b = 0; b < s_.bodies.size(); ++b) {
-      s_.bodies[b].vx += alpha * scratch_.bodies[b].vx;
-      s_.bodies[b].vy += alpha * scratch_.bodies[b].vy;
-      s_.bodies[b].w += alpha * scratch_.bodies[b].w;
-    }
+    for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) {
+        ContactRow& r = s_.rows[rows_[k].row];
+        r.rn += alpha * p[k].n;
+        r.rt += alpha * p[k].t;
+      }
+    });
+    for_each_range(s_.bodies.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t b = first; b < last; ++b) {
+        s_.bodies[b].vx += alpha * scratch_.bodies[b].vx;
+        s_.bodies[b].vy += alpha * scratch_.bodies[b].vy;
+        s_.bodies[b].w += alpha * scratch_.bodies[b].w;
+      }
+    });
   }
 
   /// Projects every face row into the cone (R_n >= 0, then |R_t| <= mu R_n), the bodies'
   /// velocities following; returns whether any row moved.
   bool project() {
-    bool moved = false;
-    for (const FreeRow& f : rows_) {
-      ContactRow& r = s_.rows[f.row];
-      const double rn = std::max(0.0, r.rn);
-      const double rt = std::clamp(r.rt, -r.mu * rn, r.mu * rn);
-      if (rn == r.rn && rt == r.rt) continue;
-      moved = true;
-      s_.apply_impulse(r, rn - r.rn, rt - r.rt);
-      r.rn = rn;
-      r.rt = rt;
-    }
-    return moved;
+    std::vector<char> moved(schedule_.blocks(), 0);
+    for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t blk) {
+      for (std::size_t i = first; i < last; ++i) {
+        ContactRow& r = s_.rows[rows_[schedule_.positions[i]].row];
+        const double rn = std::max(0.0, r.rn);
+        const double rt = std::clamp(r.rt, -r.mu * rn, r.mu * rn);
+        if (rn == r.rn && rt == r.rt) continue;
+        moved[blk] = 1;
+        s_.apply_impulse(r, rn - r.rn, rt - r.rt);
+        r.rn = rn;
+        r.rt = rt;
+      }
+    });
+    return std::find(moved.begin(), moved.end(), 1) != moved.end();
   }
 
  private:
   ContactSystem& s_;
   ContactSystem scratch_;  // bodies only
   std::vector<FreeRow> rows_;
+  Schedule schedule_;  // positions are indices into rows_
 };
 
 /// One round of conjugate gradients on the face the last sweep left (pcg.hpp); returns
 /// its iterations. It ends at the first iterate that leaves the cone (projected onto
 /// it), when the face's residual is at most `target` [m/s], or after `budget` iterations.
-int gradient_round(ContactSystem& s, double target, int budget) {
-  Face face(s);
+int gradient_round(ContactSystem& s, const Schedule& plan, double target, int budget) {
+  Face face(s, plan);
   const std::size_t f = face.size();
   if (f == 0 || budget <= 0) return 0;
   std::vector<Local> res(f), z(f), p(f), q(f);
@@ -152,31 +195,35 @@ int gradient_round(ContactSystem& s, double target, int budget) {
   if (largest(res) <= target) return 0;
   face.precondition(res, z);
   p = z;
-  double rz = dot(res, z);
+  double rz = face.dot(res, z);
   int k = 0;
   while (k < budget) {
     ++k;
     face.product(p, q);
-    const double pq = dot(p, q);
+    const double pq = face.dot(p, q);
     if (!(pq > 0.0) || !(rz > 0.0)) break;  // nothing left that A sees
     const double alpha = rz / pq;
     face.move(p, alpha);
     // Stopping at the cone instead (where the first contact reaches it) moved 1-10 % of
     // alpha in a rearrangement, and was no faster than NSGS (docs/performance.md).
     if (face.project()) break;
-    for (std::size_t i = 0; i < f; ++i) {
-      res[i].n -= alpha * q[i].n;
-      res[i].t -= alpha * q[i].t;
-    }
+    for_each_range(f, s.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i < last; ++i) {
+        res[i].n -= alpha * q[i].n;
+        res[i].t -= alpha * q[i].t;
+      }
+    });
     if (largest(res) <= target) break;
     face.precondition(res, z);
-    const double rz_next = dot(res, z);
+    const double rz_next = face.dot(res, z);
     const double beta = rz_next / rz;
     rz = rz_next;
-    for (std::size_t i = 0; i < f; ++i) {
-      p[i].n = z[i].n + beta * p[i].n;
-      p[i].t = z[i].t + beta * p[i].t;
-    }
+    for_each_range(f, s.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t i = first; i < last; ++i) {
+        p[i].n = z[i].n + beta * p[i].n;
+        p[i].t = z[i].t + beta * p[i].t;
+      }
+    });
   }
   return k;
 }
@@ -186,12 +233,13 @@ int gradient_round(ContactSystem& s, double target, int budget) {
 SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) const {
   SolveReport report;
   if (system.rows.empty()) return report;
-  const std::vector<std::uint32_t> order = sweep_order(system, settings_.scramble);
+  Schedule plan = sweep_schedule(system, settings_);
+  const RowsInScheduleOrder in_order(system, plan);
   int work = 0, sweeps = 0, since_round = 0;
   while (work < settings_.max_sweeps) {
     if (system.cancel && system.cancel()) throw StepCancelled();
     const bool backward = settings_.symmetric_sweeps && (sweeps % 2 == 1);
-    const SweepSums sums = nsgs_sweep(system, backward, order);
+    const SweepSums sums = nsgs_sweep(system, backward, plan);
     measure_sweep(sums, gravity_velocity, report);
     ++sweeps;
     ++work;
@@ -208,7 +256,7 @@ SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) con
                  sums.active > 0 ? sums.scale_sum / static_cast<double>(sums.active) : 0.0);
     const double target = 0.1 * settings_.tolerance * (unit > 0.0 ? unit : 1.0);
     // at most max_sweeps - work - 1 iterations: the step always ends on a sweep
-    work += gradient_round(system, target,
+    work += gradient_round(system, plan, target,
                            std::min(iterations_per_round, settings_.max_sweeps - work - 1));
     since_round = 0;
   }

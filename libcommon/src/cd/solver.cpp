@@ -6,9 +6,11 @@
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/pcg.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace cdpile::cd {
 
@@ -71,6 +73,14 @@ void validate(const SolverSettings& s) {
   if (s.check_every < 1) bad("the sweeps between convergence checks must be >= 1");
   if (s.krylov_after < 1 || s.sweeps_between_rounds < 1)
     bad("the sweeps before and between gradient rounds must be >= 1");
+  if (s.threads < 1 || s.threads > max_threads)
+    bad("threads must be in [1, " + std::to_string(max_threads) + "], got " +
+        std::to_string(s.threads));
+  // Not bad(): the message names the two fields a user sets.
+  if (s.threads > 1 && s.sweep_order == SweepOrder::pair)
+    throw UsageError(field("threads") + " " + std::to_string(s.threads) +
+                     ": more than one thread needs " + field("sweep_order") +
+                     " strips (pair order is sequential; docs/method.md, \"Threads\")");
 }
 
 std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {

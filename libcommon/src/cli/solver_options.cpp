@@ -62,6 +62,16 @@ void declare_solver_options(Usage& u) {
             "0: sweeps in pair order; else the seed of a random sweep order drawn anew every "
             "step (LMGC90's quick scramble): another solver path through the same steps",
             0, std::numeric_limits<std::int64_t>::max());
+  u.text("sweep-order", cd::sweep_order_name(d.sweep_order),
+         "the order of the sweeps: 'pair', the contacts in pair order (or --scramble's); "
+         "'strips', the box cut into vertical strips two largest diameters wide or more, the "
+         "even strips then the odd ones, which --threads share (docs/method.md, \"Threads\")",
+         {"pair", "strips"});
+  u.integer("threads", d.threads,
+            "threads that share the strips of a sweep (with --sweep-order strips): the run is "
+            "the same, bit for bit, on any number; not recorded, so a run resumes or branches "
+            "on any (docs/method.md, \"Threads\")",
+            1, cd::max_threads);
   u.real("alert", 0.1, "alert distance: contact candidates within this gap", "D", 0.0, 10.0);
   u.alias("theta", "theta-method");  // the old spelling, beside theta the tilt everywhere else
 }
@@ -84,6 +94,8 @@ cd::Settings solver_settings(const Args& a, double diameter, double mass, double
                      std::to_string(cd::max_substeps_limit) + "], got '" +
                      std::to_string(s.max_substeps) + "'");
   s.substep_after = static_cast<int>(a.integer("substep-after"));
+  s.sweep_order = cd::sweep_order_from_name(a.text("sweep-order"));
+  s.threads = static_cast<int>(a.integer("threads"));
   return s;
 }
 

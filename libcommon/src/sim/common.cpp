@@ -23,13 +23,15 @@ io::Values settings_parameters(const cd::Settings& s) {
           {"contact_stiffness_N_m2", s.contact_stiffness},
           {"scramble_seed", static_cast<std::int64_t>(s.scramble)},
           {"max_substeps", std::int64_t{s.max_substeps}},
-          {"substep_after", std::int64_t{s.substep_after}}};
+          {"substep_after", std::int64_t{s.substep_after}},
+          {"sweep_order", std::string(cd::sweep_order_name(s.sweep_order))}};
 }
 
 io::Values pre_seam_settings() {
   return {{"solver", std::string("nsgs")},   {"check_every", std::int64_t{1}},
           {"contact_stiffness_N_m2", 0.0},   {"scramble_seed", std::int64_t{0}},
-          {"max_substeps", std::int64_t{1}}, {"substep_after", std::int64_t{100}}};
+          {"max_substeps", std::int64_t{1}}, {"substep_after", std::int64_t{100}},
+          {"sweep_order", std::string("pair")}};
 }
 
 io::Values with_pre_seam_settings(io::Values v) {
@@ -63,10 +65,12 @@ cd::Settings settings_from_parameters(const io::Values& given, const std::string
       throw Error(file, "/parameters", std::string("missing text parameter '") + key + "'");
     return *name;
   };
-  const std::string criterion = text("criterion"), solver = text("solver");
+  const std::string criterion = text("criterion"), solver = text("solver"),
+                    order = text("sweep_order");
   try {
     s.criterion = cd::criterion_from_name(criterion);
     s.solver = cd::solver_from_name(solver);
+    s.sweep_order = cd::sweep_order_from_name(order);
     cd::validate(s);
   } catch (const UsageError& e) {
     throw Error(file, "/parameters", e.what());

@@ -76,6 +76,7 @@ const std::vector<std::pair<std::string, std::string>>& tilt_option_parameters()
       {"scramble", "scramble_seed"},
       {"max-substeps", "max_substeps"},
       {"substep-after", "substep_after"},
+      {"sweep-order", "sweep_order"},
       {"alert", "alert_distance_m"}};
   return table;
 }
@@ -127,6 +128,7 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   InheritedOptions out;
   out.options = tilt_options_from_parameters(merged, file);
   out.options.checkpoint_every = asked.checkpoint_every;
+  out.options.settings.threads = asked.settings.threads;  // how fast, not what: not a parameter
   for (const auto& [option, key] : tilt_option_parameters()) {
     if (option == "frame-every-deg" || (start_deg && key == "tilt_from_deg"))
       continue;  // one entry per parameter

@@ -67,3 +67,12 @@ make_fails "pipelines: $guard/variables.txt: the study was made with WIDTH=40, n
 mk analysis-seeds SEEDS="1 2"
 make_fails "pipelines: $guard/seeds.txt: the analysis is of the runs of seeds 1 2, not 1 2 3: give this study another NAME, or remove that file to analyse these seeds instead" \
   analysis-seeds SEEDS="1 2 3"
+# THREADS: a run's task asks Slurm for that many cores (the analysis for one); the sweep
+# order names the study, the number of threads does not.
+"$gen" --name par --seeds "1" -- SWEEP_ORDER=strips THREADS=4 GRAINS=500 STUDIES="$studies" > par.sbatch 2> par.log
+grep -qx '#SBATCH --cpus-per-task=4' par.sbatch
+grep -qx "slurm.sh: pipelines $CDPILE_SOURCE/pipelines; study $studies/par-N500-R1.5-mu0.5-rate0.001-tol1e-4-strips (the nodes must see both at these paths)" par.log
+"$gen" --analysis --name par --seeds "1" -- SWEEP_ORDER=strips THREADS=4 GRAINS=500 STUDIES="$studies" 2> /dev/null | grep -qx '#SBATCH --cpus-per-task=1'
+rc=0; "$gen" --name par --seeds 1 -- THREADS=0 > /dev/null 2> err.txt || rc=$?
+expect_eq 2 "$rc"
+expect_eq "slurm.sh: 'THREADS=0': expected a positive number of threads" "$(cat err.txt)"

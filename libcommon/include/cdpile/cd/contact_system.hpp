@@ -24,6 +24,8 @@
 
 namespace cdpile::cd {
 
+class Team;  // team.hpp
+
 /// One rigid body: a disk, or the static body standing for the walls.
 struct Body {
   double vx, vy, w;     ///< velocity being solved for (v_free + M^-1 H^T R) [m/s, rad/s]
@@ -70,6 +72,15 @@ struct ContactSystem {
   /// StepCancelled. A signalled tool stops within a second even when one step takes
   /// longer (a large pile at the sweep cap), with its last completed step intact.
   std::function<bool()> cancel;
+  /// The threads that share a coloured schedule's colours (schedule.hpp); none: one thread.
+  /// Owned by the engine; the numbers do not depend on it.
+  Team* team = nullptr;
+  /// Per body, the vertical strip of the box its centre lies in (schedule.hpp,
+  /// SweepOrder::strips), -1 for a body that does not move; empty: no strips.
+  std::vector<std::int32_t> strip;
+  /// Scratch for a solver that reorders the rows during a solve (schedule.hpp,
+  /// RowsInScheduleOrder): kept between steps so that the step allocates nothing.
+  std::vector<ContactRow> spare_rows;
 
   bool compliant() const { return compliance_n != 0.0 || compliance_t != 0.0; }
 
@@ -90,18 +101,24 @@ struct ContactSystem {
   }
 
   /// Adds M^-1 H_a^T (dn, dt) to the two bodies of row r: the velocity change an impulse
-  /// change (dn, dt) at that contact makes.
+  /// change (dn, dt) at that contact makes. A body without inverse mass and inertia (the
+  /// walls, a glued grain) is not written: the change would be zero, and contacts of one
+  /// colour share such bodies (schedule.hpp).
   void apply_impulse(const ContactRow& r, double dn, double dt) {
     Body& a = bodies[static_cast<std::size_t>(r.bi)];
     Body& b = bodies[static_cast<std::size_t>(r.bj)];
     const double px = dn * r.nx - dt * r.ny;  // R = R_n n + R_t t
     const double py = dn * r.ny + dt * r.nx;
-    a.vx += a.inv_m * px;
-    a.vy += a.inv_m * py;
-    a.w -= a.inv_i * r.ri * dt;
-    b.vx -= b.inv_m * px;
-    b.vy -= b.inv_m * py;
-    b.w -= b.inv_i * r.rj * dt;
+    if (a.inv_m != 0.0 || a.inv_i != 0.0) {
+      a.vx += a.inv_m * px;
+      a.vy += a.inv_m * py;
+      a.w -= a.inv_i * r.ri * dt;
+    }
+    if (b.inv_m != 0.0 || b.inv_i != 0.0) {
+      b.vx -= b.inv_m * px;
+      b.vy -= b.inv_m * py;
+      b.w -= b.inv_i * r.rj * dt;
+    }
   }
 };
 

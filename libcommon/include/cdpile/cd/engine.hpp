@@ -23,6 +23,7 @@
 
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/solver.hpp"
+#include "cdpile/cd/team.hpp"
 #include "cdpile/model.hpp"
 
 #include <cmath>
@@ -166,6 +167,12 @@ class Engine {
   /// The impulses (R_n, R_t) the last step ended with, per row of contacts() [N s/m].
   Eigen::VectorXd local_impulses() const;
 
+  /// The team's Team::set_smallest_shared (tests: 0, so that small scenes use the threads);
+  /// nothing without a team.
+  void set_smallest_shared(std::size_t n) {
+    if (team_) team_->set_smallest_shared(n);
+  }
+
   /// Locks (or unlocks) a grain's rotation: infinite inertia (validation tests).
   void lock_rotation(std::size_t grain, bool locked = true);
 
@@ -177,6 +184,7 @@ class Engine {
 
  private:
   void detect(const Vec2& g);
+  void assign_strips(double r_max);
   void compute_frames();
   void compute_delassus();
   void warm_start();
@@ -200,6 +208,7 @@ class Engine {
   ContactSystem system_;                                // bodies and rows: what the solver works on
   std::shared_ptr<const ContactSolver> solver_;         // stateless: copies of an engine share it
   std::shared_ptr<const ContactSolver> budget_solver_;  // capped at substep_after sweeps
+  std::shared_ptr<Team> team_;  // SolverSettings::threads > 1; copies of an engine share it
   double h_ = 0.0;                                      // the (sub)step being done [s]
   double stored_h_ = 0.0;                               // the (sub)step of the stored impulses [s]
   int substep_level_ = 0;                               // EngineState::substep_level

@@ -4,6 +4,7 @@
 /// contact's local velocity is read from its two bodies in O(1)).
 #pragma once
 
+#include "cdpile/cd/schedule.hpp"
 #include "cdpile/cd/solver.hpp"
 
 #include <cstdint>
@@ -20,14 +21,19 @@ struct SweepSums {
   int active = 0;           ///< contacts with R_n > 0 after the sweep
 };
 
-/// One sweep over the rows, forward or backward, in pair order or in `order` (a
-/// permutation of the row indices) when it is not empty.
-SweepSums nsgs_sweep(ContactSystem& s, bool backward, std::span<const std::uint32_t> order = {});
+/// One sweep over the rows in the order of `plan` (schedule.hpp), forward or backward
+/// (the last colour first, each in reverse), a coloured plan's colours shared among the
+/// threads of s.team. The sums are made per block and added in block order.
+SweepSums nsgs_sweep(ContactSystem& s, bool backward, const Schedule& plan);
 
 /// The sweep order of a step: empty (pair order) when `seed` is 0, else a permutation of
 /// the rows drawn from (seed, s.step) by Fisher-Yates on std::mt19937_64, whose output the
 /// standard fixes: the same on every platform, so a scrambled run resumes bit for bit.
 std::vector<std::uint32_t> sweep_order(const ContactSystem& s, std::uint64_t seed);
+
+/// The schedule of a step's sweeps under `settings`: the scramble's order (or pair
+/// order), coloured when settings.sweep_order says so.
+Schedule sweep_schedule(const ContactSystem& s, const SolverSettings& settings);
 
 /// The convergence measures of a sweep (SolveReport::residual, residual_rms) and whether
 /// the settings' criterion is met by them (or, for Criterion::law, by the system).

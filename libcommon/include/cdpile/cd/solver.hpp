@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/schedule.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -43,6 +44,9 @@ Criterion criterion_from_name(const std::string& name);
 /// LMGC90's 'QM/16' bound on the largest correction, in tolerances.
 inline constexpr double qm16_max_factor = 16.66;
 
+/// The most threads a solve takes (SolverSettings::threads).
+inline constexpr int max_threads = 1024;
+
 /// How a step's contact system is solved; none of these changes the law being solved.
 struct SolverSettings {
   SolverKind solver = SolverKind::nsgs;
@@ -61,6 +65,15 @@ struct SolverSettings {
   /// (docs/performance.md, "The pcg solver").
   int krylov_after = 20;
   int sweeps_between_rounds = 6;
+  /// The order of the sweeps (schedule.hpp; docs/method.md, "Threads"): pair order, or
+  /// vertical strips of the box, which threads can share. The order changes the path to
+  /// the solution, not the law; a run in strips gives the same numbers on any number of
+  /// threads.
+  SweepOrder sweep_order = SweepOrder::pair;
+  /// Threads that share the strips of a sweep (docs/method.md, "Threads"): how fast,
+  /// never what. Not a parameter of a run: a run resumes or branches on any number. More
+  /// than 1 needs SweepOrder::strips (pair order is one thread's).
+  int threads = 1;
 };
 
 /// The sweeps over which the 'err' criterion measures the contraction: two (a forward and

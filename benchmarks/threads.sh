@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The sweeps on threads (docs/performance.md, "Threads"; docs/method.md, "Threads").
+#
+#   benchmarks/threads.sh window INPUT FROM TO OUTDIR [THREADS...]
+#       tilts INPUT from FROM to TO degrees, once in pair order on one thread and once in
+#       strips on each number of THREADS (default "1 2"), with the tools' defaults, and
+#       prints one row per run: CPU and wall time, sweeps (and iterations) per step, steps
+#       at the cap, sub-steps per step, nu at the end. INPUT is a run made by tilt-cd with a
+#       frame at FROM (the window is a branch from it) or a pile (the window starts at FROM:
+#       a pile tilted at once by FROM degrees rearranges).
+#   Every run in strips must give the same file on every number of threads: the rows
+#   say "same" when its numbers equal those of the first number of threads.
+#
+# Tools from $CDPILE_BIN (default: build/bin beside this script). CPU is the time of all
+# threads; a speed-up is read from the wall time on an otherwise idle machine. Heavy on
+# large piles: run it detached and niced.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+bin=${CDPILE_BIN:-$here/../build/bin}
+py=${PYTHON:-/usr/bin/python3}
+
+usage() { sed -n '3,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[[ ${1:-} == window && $# -ge 5 ]] || usage
+input=$2 from=$3 to=$4 out=$5
+shift 5
+threads=("$@")
+[[ ${#threads[@]} -gt 0 ]] || threads=(1 2)
+mkdir -p "$out"
+if h5ls "$input/frames" > /dev/null 2>&1 || h5ls "$input/observables" > /dev/null 2>&1; then
+  start=(--branch-at "$from")
+else
+  start=(--from "$from")
+fi
+
+row() {  # row LABEL FILE TIMEFILE SAME
+  "$py" - "$@" <<'PY'
+import sys, h5py
+label, path, timing, same = sys.argv[1:5]
+user, system, wall = (float(x) for x in open(timing).read().split()[-3:])
+with h5py.File(path, "r") as f:
+    o = f["observables"]
+    v = lambda k: o[k]["value"][:]
+    sweeps, sub, conv = v("sweeps"), v("substeps"), v("converged")
+    nu = v("critical")[-1] / max(1, v("contacts")[-1])
+    print(f"{label}\tcpu {user + system:.2f} s\twall {wall:.2f} s\tsteps {len(sweeps)}\t"
+          f"sweeps/step {sweeps.mean():.1f}\tcapped {(conv == 0).sum()}\t"
+          f"substeps/step {sub.mean():.2f}\tnu_end {nu:.4f}\t{same}")
+PY
+}
+
+run() {  # run LABEL OPTIONS...
+  local label=$1; shift
+  /usr/bin/time -f "%U %S %e" -o "$out/$label.time" \
+    "$bin/tilt-cd" "$input" "${start[@]}" --to "$to" -o "$out/$label.h5" --force --quiet "$@"
+}
+
+run pair
+row pair "$out/pair.h5" "$out/pair.time" ""
+first=
+for t in "${threads[@]}"; do
+  run "strips-$t" --sweep-order strips --threads "$t"
+  same=""
+  if [[ -n $first ]]; then
+    if h5diff --exclude-path /provenance "$out/$first.h5" "$out/strips-$t.h5" > /dev/null; then
+      same="same as $first"
+    else
+      same="DIFFERS from $first"
+    fi
+  fi
+  row "strips-$t" "$out/strips-$t.h5" "$out/strips-$t.time" "$same"
+  first=${first:-strips-$t}
+done

@@ -1,0 +1,172 @@
+// Sweep schedules: pair order, or the strips that threads share (schedule.hpp).
+#include "cdpile/cd/schedule.hpp"
+
+#include "cdpile/check.hpp"
+#include "cdpile/error.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+namespace cdpile::cd {
+
+const char* sweep_order_name(SweepOrder o) {
+  switch (o) {
+    case SweepOrder::pair: return "pair";
+    case SweepOrder::strips: return "strips";
+  }
+  return "?";
+}
+
+SweepOrder sweep_order_from_name(const std::string& name) {
+  for (const SweepOrder o : {SweepOrder::pair, SweepOrder::strips})
+    if (name == sweep_order_name(o)) return o;
+  throw UsageError("unknown sweep order '" + name + "' (pair or strips)");
+}
+
+int strip_count(double width, double r_max) {
+  if (!(r_max > 0.0) || !(width > 0.0)) return 1;
+  return std::max(1, static_cast<int>(std::min(1e6, std::floor(width / (4.0 * r_max)))));
+}
+
+namespace {
+
+// One group, one block: the base order (or pair order), visited by one thread.
+Schedule one_group(std::span<const std::uint32_t> base, std::size_t m) {
+  Schedule out;
+  out.positions.resize(m);
+  for (std::size_t q = 0; q < m; ++q)
+    out.positions[q] = base.empty() ? static_cast<std::uint32_t>(q) : base[q];
+  out.block_start = {0, static_cast<std::uint32_t>(m)};
+  out.colour_start = {0, 1};
+  return out;
+}
+
+// The strips schedule (SweepOrder::strips): a contact belongs to the lower strip of its
+// moving bodies; a strip's contacts then touch that strip and the next only, so two strips
+// of one parity share no moving body: colour 0 is the even strips, colour 1 the odd ones,
+// and a strip is one block, swept in the base order by one thread. A contact whose bodies
+// lie more than one strip apart (a candidate across a strip, in a fast flow) breaks
+// that: the step is then swept as one group, in the base order.
+Schedule strip_schedule(const ContactSystem& s, std::span<const std::uint32_t> base) {
+  const std::size_t m = s.rows.size();
+  auto row_at = [&](std::size_t q) { return base.empty() ? static_cast<std::uint32_t>(q) : base[q]; };
+  if (s.strip.size() != s.bodies.size()) return one_group(base, m);
+  std::int32_t strips = 0;
+  for (const std::int32_t k : s.strip) strips = std::max(strips, k + 1);
+  if (strips < 2) return one_group(base, m);
+  std::vector<std::int32_t> strip_of(m);
+  for (std::size_t q = 0; q < m; ++q) {
+    const ContactRow& r = s.rows[row_at(q)];
+    const std::int32_t a = s.strip[static_cast<std::size_t>(r.bi)];
+    const std::int32_t b = s.strip[static_cast<std::size_t>(r.bj)];
+    if (a >= 0 && b >= 0 && std::abs(a - b) > 1) return one_group(base, m);
+    strip_of[q] = a < 0 ? std::max(b, 0) : b < 0 ? a : std::min(a, b);
+  }
+  // Stable counting sort by (parity, strip): even strips first.
+  auto slot = [&](std::int32_t k) { return static_cast<std::size_t>(k % 2 == 0 ? k / 2 : (strips + 1) / 2 + k / 2); };
+  std::vector<std::uint32_t> first(static_cast<std::size_t>(strips) + 1, 0);
+  for (std::size_t q = 0; q < m; ++q) ++first[slot(strip_of[q]) + 1];
+  for (std::size_t k = 0; k < static_cast<std::size_t>(strips); ++k) first[k + 1] += first[k];
+  std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+  Schedule out;
+  out.positions.resize(m);
+  for (std::size_t q = 0; q < m; ++q) out.positions[next[slot(strip_of[q])]++] = row_at(q);
+  out.coloured = true;
+  out.block_start.assign(first.begin(), first.end());
+  out.colour_start = {0, static_cast<std::uint32_t>((strips + 1) / 2), static_cast<std::uint32_t>(strips)};
+  return out;
+}
+
+}  // namespace
+
+Schedule row_schedule(const ContactSystem& s, SweepOrder order,
+                      std::span<const std::uint32_t> base) {
+  CDPILE_DEBUG_CHECK(base.empty() || base.size() == s.rows.size(),
+                     "a sweep order is a permutation of the rows");
+  if (order == SweepOrder::pair || s.rows.empty()) return one_group(base, s.rows.size());
+  return strip_schedule(s, base);
+}
+
+Schedule sub_schedule(const Schedule& s, const std::function<bool(std::uint32_t)>& keep,
+                      std::vector<std::uint32_t>& kept) {
+  // The same colours and blocks, each keeping its positions that pass (an emptied block
+  // stays, empty: the blocks of a colour are what the threads share).
+  kept.clear();
+  Schedule out;
+  out.coloured = s.coloured;
+  out.colour_start = s.colour_start;
+  out.block_start.push_back(0);
+  for (std::size_t b = 0; b < s.blocks(); ++b) {
+    for (std::uint32_t q = s.block_start[b]; q < s.block_start[b + 1]; ++q)
+      if (keep(s.positions[q])) kept.push_back(s.positions[q]);
+    out.block_start.push_back(static_cast<std::uint32_t>(kept.size()));
+  }
+  out.positions.resize(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) out.positions[k] = static_cast<std::uint32_t>(k);
+  return out;
+}
+
+RowsInScheduleOrder::RowsInScheduleOrder(ContactSystem& s, Schedule& plan) : s_(s) {
+  if (!plan.coloured) return;
+  row_of_ = plan.positions;
+  const std::size_t m = s.rows.size();
+  s.spare_rows.resize(m);
+  for (std::size_t q = 0; q < m; ++q) s.spare_rows[q] = s.rows[row_of_[q]];
+  s.rows.swap(s.spare_rows);
+  for (std::size_t q = 0; q < m; ++q) plan.positions[q] = static_cast<std::uint32_t>(q);
+}
+
+RowsInScheduleOrder::~RowsInScheduleOrder() {
+  if (row_of_.empty()) return;
+  for (std::size_t q = 0; q < row_of_.size(); ++q) s_.spare_rows[row_of_[q]] = s_.rows[q];
+  s_.rows.swap(s_.spare_rows);
+}
+
+void for_each_block(const Schedule& s, Team* team, bool backward,
+                    const std::function<void(std::size_t, std::size_t, std::size_t)>& work) {
+  const std::size_t colours = s.colours();
+  auto colour_blocks = [&](std::size_t c, std::size_t from, std::size_t to) {
+    for (std::size_t k = from; k < to; ++k) {
+      const std::size_t b = backward ? to - 1 - (k - from) : k;
+      work(s.block_start[b], s.block_start[b + 1], b);
+    }
+    (void)c;
+  };
+  // A small schedule runs on one thread: its colours take less time than the team takes
+  // to meet at a barrier. The blocks are the same, so the numbers are too.
+  if (!team || team->size() == 1 || !s.coloured || s.size() < team->smallest_shared()) {
+    for (std::size_t k = 0; k < colours; ++k) {
+      const std::size_t c = backward ? colours - 1 - k : k;
+      colour_blocks(c, s.colour_start[c], s.colour_start[c + 1]);
+    }
+    return;
+  }
+  const auto threads = static_cast<std::size_t>(team->size());
+  team->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    for (std::size_t k = 0; k < colours; ++k) {
+      const std::size_t c = backward ? colours - 1 - k : k;
+      const std::size_t b0 = s.colour_start[c], nb = s.colour_start[c + 1] - b0;
+      colour_blocks(c, b0 + nb * u / threads, b0 + nb * (u + 1) / threads);
+      if (k + 1 < colours) team->barrier();
+    }
+  });
+}
+
+void for_each_range(std::size_t n, Team* team,
+                    const std::function<void(std::size_t, std::size_t)>& work) {
+  if (!team || team->size() == 1 || n < team->smallest_shared()) {
+    work(0, n);
+    return;
+  }
+  const auto threads = static_cast<std::size_t>(team->size());
+  team->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    work(n * u / threads, n * (u + 1) / threads);
+  });
+}
+
+}  // namespace cdpile::cd

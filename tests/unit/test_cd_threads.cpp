@@ -1,0 +1,276 @@
+// Threads (docs/method.md, "Threads"): the team and its barrier, the strips schedule, and
+// the same numbers, bit for bit, on 1, 2 and 3 threads on the analytic scenes and on
+// piles that rearrange. The `tsan` preset runs these under ThreadSanitizer.
+#include "cdpile/cd/engine.hpp"
+#include "cdpile/cd/schedule.hpp"
+#include "cdpile/cd/team.hpp"
+#include "cdpile/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace cd = cdpile::cd;
+using cdpile::Box;
+using cdpile::Grains;
+using cdpile::Vec2;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kR = 0.5e-3;    // disk radius [m]
+constexpr double kRho = 2500.0;  // [kg/m^3]
+constexpr double kG = 9.81;
+
+cd::Settings in_strips(cd::SolverKind solver, int threads) {
+  cd::Settings s;
+  s.solver = solver;
+  s.sweep_order = cd::SweepOrder::strips;
+  s.threads = threads;
+  return s;
+}
+
+/// What a run leaves: every grain's state and every contact's force, to compare bit for bit.
+struct Outcome {
+  std::vector<double> numbers;
+  std::vector<int> sweeps;
+};
+
+/// Runs `steps` steps of an engine on `threads` threads, the team sharing even the small
+/// schedules of these scenes (Team::set_smallest_shared(0)).
+template <class Tilt>
+Outcome run(const Box& box, const Grains& g, cd::Settings s, int steps, Tilt tilt) {
+  cd::Engine e(box, g, s);
+  e.set_smallest_shared(0);
+  Outcome out;
+  for (int n = 0; n < steps; ++n) out.sweeps.push_back(e.step(tilt(n)).sweeps);
+  const Grains& end = e.grains();
+  for (std::size_t i = 0; i < end.size(); ++i)
+    out.numbers.insert(out.numbers.end(), {end.position[i].x(), end.position[i].y(),
+                                           end.velocity[i].x(), end.velocity[i].y(),
+                                           end.angular_velocity[i], end.orientation[i]});
+  const cdpile::Contacts c = e.contacts();
+  out.numbers.insert(out.numbers.end(), c.fn.begin(), c.fn.end());
+  out.numbers.insert(out.numbers.end(), c.ft.begin(), c.ft.end());
+  return out;
+}
+
+/// A triangular stack of disks between the side walls, `base` disks on the floor and one
+/// fewer on each row above: a hyperstatic network.
+Grains triangular_stack(int base) {
+  Grains g;
+  const double r3 = std::sqrt(3.0) * kR;
+  for (int row = 0; row < base; ++row)
+    for (int k = 0; k < base - row; ++k)
+      g.add_disk(kR, kRho, Vec2((1 + row + 2 * k) * kR, kR + row * r3));
+  return g;
+}
+
+/// A loose heap: disks of radii 0.8 to 1.2 kR on a jittered grid, dropped from rest.
+Grains heap(int columns, int rows, unsigned seed) {
+  Grains g;
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> radius(0.8 * kR, 1.2 * kR), jitter(-0.1 * kR, 0.1 * kR);
+  for (int row = 0; row < rows; ++row)
+    for (int k = 0; k < columns; ++k)
+      g.add_disk(radius(random), kRho,
+                 Vec2((1.3 + 2.6 * k) * kR + jitter(random), (1.3 + 2.6 * row) * kR));
+  return g;
+}
+
+}  // namespace
+
+// Every thread runs the job once per run(), and a barrier separates what the threads wrote
+// before it from what they read after it.
+TEST(Team, RunsEveryThreadOnceAndTheBarrierSeparatesPhases) {
+  for (const int n : {1, 2, 3, 5}) {
+    cd::Team team(n);
+    std::vector<int> wrote(static_cast<std::size_t>(n), 0), calls(static_cast<std::size_t>(n), 0);
+    std::vector<int> read(static_cast<std::size_t>(n * n), -1);
+    for (int round = 1; round <= 50; ++round) {
+      team.run([&](int t) {
+        const auto u = static_cast<std::size_t>(t);
+        ++calls[u];
+        wrote[u] = round;
+        team.barrier();
+        for (std::size_t v = 0; v < wrote.size(); ++v) read[u * wrote.size() + v] = wrote[v];
+      });
+      for (const int v : read) ASSERT_EQ(v, round) << n << " threads";
+    }
+    for (const int c : calls) EXPECT_EQ(c, 50);
+  }
+  EXPECT_THROW(cd::Team(0), cdpile::UsageError);
+}
+
+// The strips schedule: a permutation of the rows, the even strips first, each strip one
+// block in pair order, and no moving body in two blocks of one colour; a contact across
+// more than one strip makes the step one group.
+TEST(Schedule, StripsShareNoMovingBodyWithinAColour) {
+  // A 12 x 6 lattice of bodies, spacing 1, in 4 strips of width 3; the bottom row is
+  // glued (static), the walls one static body.
+  cd::ContactSystem s;
+  const int nx = 12, ny = 6;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+      s.bodies.push_back(y == 0 ? cd::Body{0, 0, 0, 0, 0} : cd::Body{0, 0, 0, 1, 1});
+  s.bodies.push_back({0, 0, 0, 0, 0});  // the walls
+  const int walls = nx * ny;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) s.strip.push_back(y == 0 ? -1 : x / 3);
+  s.strip.push_back(-1);
+  auto add = [&](int a, int b) {
+    cd::ContactRow r{};
+    r.i = a;
+    r.j = b == walls ? cdpile::wall_left : b;
+    r.bi = a;
+    r.bj = b;
+    s.rows.push_back(r);
+  };
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const int a = y * nx + x;
+      if (x == 0) add(a, walls);
+      if (x + 1 < nx) add(a, a + 1);
+      if (y + 1 < ny) add(a, a + nx);
+      if (x + 1 < nx && y + 1 < ny) add(a, a + nx + 1);
+    }
+  const cd::Schedule plan = cd::row_schedule(s, cd::SweepOrder::strips, {});
+  ASSERT_TRUE(plan.coloured);
+  ASSERT_EQ(plan.colours(), 2u);
+  ASSERT_EQ(plan.blocks(), 4u);
+  std::vector<std::uint32_t> sorted = plan.positions;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t q = 0; q < sorted.size(); ++q) ASSERT_EQ(sorted[q], q);
+  const int strip_of_block[] = {0, 2, 1, 3};  // even strips, then odd
+  for (std::size_t c = 0; c < plan.colours(); ++c) {
+    std::vector<int> block_of(s.bodies.size(), -1);
+    for (std::uint32_t b = plan.colour_start[c]; b < plan.colour_start[c + 1]; ++b) {
+      for (std::uint32_t q = plan.block_start[b]; q < plan.block_start[b + 1]; ++q) {
+        const cd::ContactRow& r = s.rows[plan.positions[q]];
+        const std::int32_t a = s.strip[r.bi], d = s.strip[r.bj];
+        EXPECT_EQ(a < 0 ? std::max(d, 0) : d < 0 ? a : std::min(a, d), strip_of_block[b]);
+        if (q > plan.block_start[b]) {
+          EXPECT_LT(plan.positions[q - 1], plan.positions[q]);
+        }
+        for (const std::int32_t body : {r.bi, r.bj}) {
+          if (!cd::moves(s.bodies[body])) continue;
+          if (block_of[body] < 0) block_of[body] = static_cast<int>(b);
+          EXPECT_EQ(block_of[body], static_cast<int>(b)) << "body " << body << " colour " << c;
+        }
+      }
+    }
+  }
+  // A candidate reaching two strips away: one group, in pair order.
+  add(nx + 1, nx + 7);
+  const cd::Schedule one = cd::row_schedule(s, cd::SweepOrder::strips, {});
+  EXPECT_FALSE(one.coloured);
+  EXPECT_EQ(one.blocks(), 1u);
+  EXPECT_EQ(cd::strip_count(120.0, 0.6), 50);
+  EXPECT_EQ(cd::strip_count(1.0, 1.0), 1);
+  EXPECT_EQ(cd::sweep_order_from_name("strips"), cd::SweepOrder::strips);
+  EXPECT_THROW(cd::sweep_order_from_name("colour"), cdpile::UsageError);
+}
+
+// More than one thread needs the strips: pair order is sequential.
+TEST(Threads, PairOrderTakesOneThread) {
+  cd::Settings s;
+  s.threads = 2;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.sweep_order = cd::SweepOrder::strips;
+  EXPECT_NO_THROW(cd::validate(s));
+  s.threads = 0;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+}
+
+// The analytic scenes in strips on 1, 2 and 3 threads: a locked disk on a 20-degree
+// incline sticks with f = m g (cos, sin); a column of 10 disks carries n m g under the
+// n-th from the top; and each scene's numbers are the same on every team.
+TEST(Threads, AnalyticScenesSameOnEveryTeam) {
+  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg}) {
+    Grains disk;
+    disk.add_disk(kR, kRho, Vec2(0.05, kR));
+    const double m = disk.mass[0];
+    std::vector<double> first;
+    for (const int threads : {1, 2, 3}) {
+      cd::Settings s = in_strips(kind, threads);
+      s.tolerance = 1e-10;
+      s.contact_stiffness = 1e6 * m * kG / (2 * kR);
+      cd::Engine e(Box{0.1, 0.05}, disk, s);
+      e.set_smallest_shared(0);
+      e.lock_rotation(0);
+      for (int n = 0; n < 300; ++n) e.step(20 * kDeg);
+      const auto c = e.contacts();
+      ASSERT_EQ(c.size(), 1u);
+      EXPECT_NEAR(c.fn[0], m * kG * std::cos(20 * kDeg), 1e-8 * m * kG);
+      EXPECT_NEAR(std::abs(c.ft[0]), m * kG * std::sin(20 * kDeg), 1e-8 * m * kG);
+      if (first.empty()) first = {c.fn[0], c.ft[0]};
+      EXPECT_EQ(first, (std::vector<double>{c.fn[0], c.ft[0]})) << threads << " threads";
+    }
+    const int k = 10;
+    Grains column;
+    for (int n = 0; n < k; ++n) column.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * n));
+    Outcome one;
+    for (const int threads : {1, 2, 3}) {
+      cd::Settings s = in_strips(kind, threads);
+      s.tolerance = 1e-10;
+      s.max_sweeps = 100000;
+      s.contact_stiffness = 1e5 * column.mass[0] * kG / (2 * kR);
+      cd::Engine e(Box{0.02, 0.02}, column, s);
+      e.set_smallest_shared(0);
+      for (int step = 0; step < 400; ++step) e.step(0.0);
+      const auto c = e.contacts();
+      ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+      const double mg = column.mass[0] * kG;
+      for (std::size_t q = 0; q < c.size(); ++q) {
+        const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+        EXPECT_NEAR(c.fn[q], carried * mg, 1e-6 * k * mg) << "contact " << q;
+      }
+      const Outcome o = run(Box{0.02, 0.02}, column, s, 50, [](int) { return 0.0; });
+      if (threads == 1) one = o;
+      EXPECT_EQ(o.numbers, one.numbers) << threads << " threads";
+    }
+  }
+}
+
+// A hyperstatic stack tilted by 10 degrees at k = 1e7 m g / D, and a loose heap of 150
+// disks dropped from rest and tilted (it falls, collides and rearranges) at k = 1e6 and
+// 1e8 with sub-steps: every number the same on 1, 2 and 3 threads, for NSGS and pcg.
+// The stack's walls carry its weight, as in pair order.
+TEST(Threads, RearrangingPilesSameOnEveryTeam) {
+  const Grains stack = triangular_stack(8);
+  const double mg = stack.mass[0] * kG;
+  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg}) {
+    Outcome one;
+    for (const int threads : {1, 2, 3}) {
+      cd::Settings s = in_strips(kind, threads);
+      s.tolerance = 1e-8;
+      s.max_sweeps = 1000000;
+      s.contact_stiffness = 1e7 * mg / (2 * kR);
+      const Outcome o = run(Box{16 * kR, 0.03}, stack, s, 40, [](int) { return 10.0 * kDeg; });
+      if (threads == 1) one = o;
+      EXPECT_EQ(o.numbers, one.numbers) << cd::solver_name(kind) << ", " << threads << " threads";
+      EXPECT_EQ(o.sweeps, one.sweeps) << cd::solver_name(kind) << ", " << threads << " threads";
+    }
+  }
+  const Grains pile = heap(15, 10, 7);
+  const double m = pile.mass[0];
+  for (const double k : {1e6, 1e8}) {
+    Outcome one;
+    for (const int threads : {1, 2, 3}) {
+      cd::Settings s = in_strips(cd::SolverKind::pcg, threads);
+      s.tolerance = 1e-6;
+      s.contact_stiffness = k * m * kG / (2 * kR);
+      s.max_substeps = 64;
+      s.substep_after = 200;
+      const Outcome o =
+          run(Box{40 * kR, 0.05}, pile, s, 150, [](int n) { return 0.1 * n * kDeg; });
+      if (threads == 1) one = o;
+      EXPECT_EQ(o.numbers, one.numbers) << "k " << k << ", " << threads << " threads";
+      EXPECT_EQ(o.sweeps, one.sweeps) << "k " << k << ", " << threads << " threads";
+    }
+  }
+}
