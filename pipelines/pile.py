@@ -206,7 +206,12 @@ def main():
     out = a.out or (stem + ("-pile.png" if a.what == "figure" else ".mp4"))
     if os.path.exists(out) and not a.force:
         raise SystemExit(f"pile.py: {out}: exists; not overwritten (use --force to replace it)")
-    run = Run(a.run)
+    try:
+        run = Run(a.run)
+    except (OSError, KeyError) as e:  # not a run file: one line, no traceback
+        raise SystemExit(f"pile.py: {a.run}: not a run or pile file ({e})")
+    if run.frames == 0:
+        raise SystemExit(f"pile.py: {a.run}: /contacts/step: no frame to draw")
     if a.what == "figure":
         ks = figure(run, out, a.theta_c)
         print(f"{out}: frames {ks} (tilt {', '.join(f'{run.tilt[k]:.2f}' for k in ks)} deg)")

@@ -55,6 +55,12 @@ PY
 test -s pile.png && test ! -e pile.png.tmp.png
 expect_fail 1 "pile.py: pile.png: exists; not overwritten (use --force to replace it)" \
   "$PY" "$CDPILE_SOURCE/pipelines/pile.py" figure run.h5 -o pile.png
+# not a run: one line, no picture
+echo "not a run" > bad.h5
+if "$PY" "$CDPILE_SOURCE/pipelines/pile.py" figure bad.h5 -o bad.png 2> bad.err; then exit 1; fi
+expect_eq 1 "$(wc -l < bad.err)"
+grep -q '^pile.py: bad.h5: not a run or pile file (' bad.err
+test ! -e bad.png
 if ! command -v ffmpeg > /dev/null; then
   echo "the movie is not checked: ffmpeg (Debian package ffmpeg) is not installed; scripts/install-deps.sh installs it" >&2
   exit 0
