@@ -430,7 +430,7 @@ std::string paraview_state(const Summary& s, const std::string& xdmf_name,
       << "# network drawn over the disks\n"
       << "lut.RGBPoints = [0.0, 0.84, 0.87, 0.92, " << num(nu_high) << ", 0.35, 0.55, 0.85]\n"
       << "lut.AutomaticRescaleRangeMode = \"Never\"\n"
-      << "lut.NanColor = [0.85, 0.85, 0.85]\n"
+      << "lut.NanColor = [0.93, 0.82, 0.6]  # sand: no contact within reach, apart from nu = 0\n"
       << "disks.SetScalarBarVisibility(view, True)\n"
       << "nu_bar = GetScalarBar(lut, view)\n"
       << "nu_bar.Title = \"nu (grains)\"\n"
