@@ -21,6 +21,9 @@ matplotlib.use("Agg")  # files only, no display needed
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import pile  # noqa: E402  (pipelines/pile.py: pictures of the pile)
+
 
 class Product:
     """One analysis product: tables of columns (NaN where a value is missing) and results."""
@@ -394,6 +397,29 @@ def main():
          crit)
     if fit is not None:
         fig6(fit, out, n_runs)
+    fig_pile(a.study, crit, out)
+
+
+def fig_pile(study, crit, out):
+    """The pile itself at three angles, with its force network and critical contacts
+    (pipelines/pile.py), from the study's first run, at the theta_c critical found for it."""
+    if crit is None:
+        return
+    names = crit.tables.get("runs", {}).get("name")
+    if names is None or not len(names):
+        return
+    name = _text(names[0])
+    # critical names a run as it was given; the study's runs are beside its analysis folder
+    candidates = [name] + [os.path.join(d, os.path.basename(name)) for d in (study, os.path.dirname(study))]
+    path = next((c for c in candidates if os.path.exists(c)), None)
+    if path is None:
+        print(f"figures.py: {name}: not found, the pile figure is skipped", file=sys.stderr)
+        return
+    theta_c = crit.tables["runs"].get("theta_c", [np.nan])[0]
+    theta_c = None if np.isnan(theta_c) else float(theta_c)
+    png = os.path.join(out, "pile.png")
+    ks = pile.figure(pile.Run(path), png, theta_c)
+    print(f"{png} (frames {ks} of {os.path.basename(path)})")
 
 
 if __name__ == "__main__":

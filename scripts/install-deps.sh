@@ -11,6 +11,7 @@ packages=(
   libgtest-dev                       # unit tests
   libbenchmark-dev                   # micro-benchmarks
   python3 python3-numpy python3-h5py python3-matplotlib  # figures
+  ffmpeg                             # make -C pipelines movie: a video of a run (pipelines/pile.py)
   util-linux                         # script(1), used by one test of terminal output
   python3-paraview xvfb              # ParaView's Python and a virtual X display: the to-xdmf test
   gnuplot-nox                        # the docs' gnuplot recipes, run by tests/tools/docs/gnuplot_recipes.sh

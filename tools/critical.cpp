@@ -5,6 +5,7 @@
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/analysis_input.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/products.hpp"
 
 #include <cmath>
@@ -92,7 +93,10 @@ static void usage(cli::Usage& u) {
       "--table picks some), or an HDF5 product with -o FILE (-o - for a pipe; a name ending in "
       ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
       "from one run) are NA, never NaN. docs/tools/critical.md and docs/analysis.md say more."};
-  u.argument("runs", "tilt run files (HDF5; '-' for standard input)", true, true);
+  u.argument("runs",
+             "tilt run files (HDF5; '-' for standard input); a run tilt-cd is still computing: "
+             "OUTPUT.partial, or OUTPUT while only the partial exists (up to its last checkpoint)",
+             true, true);
   cli::declare_product_output(u, analysis::critical_table_names(analysis::CriticalOptions{}));
   u.flag("no-steps", "leave the per-step table out");
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
@@ -172,8 +176,9 @@ static void run(const cli::Args& a) {
   std::string inputs;
   cli::refuse_repeated_inputs(a.arguments("runs"));
   for (const std::string& path : a.arguments("runs")) {
-    io::Input in(path);
+    io::Input in(io::run_or_partial(path));  // a run tilt-cd is still computing: its partial
     io::RunReader rr(in.hdf5());
+    if (const std::string note = io::partial_run_note(rr); !note.empty()) cli::warn(note);
     histories.emplace_back(in.name(), rr.header().provenance);
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu =

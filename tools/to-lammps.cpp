@@ -1,10 +1,16 @@
 // to-lammps: a pile or run as a LAMMPS dump, one snapshot per frame, for OVITO and VMD
 // (docs/analysis.md, "Seeing the grains"). The work is in libcommon (io/lammps.hpp).
 #include "cdpile/cli/command.hpp"
+#include "cdpile/io/analysis_input.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/lammps.hpp"
 
+#include <filesystem>
+#include <optional>
+
 using namespace cdpile;
+namespace fs = std::filesystem;
 
 static void usage(cli::Usage& u) {
   u.writes_hdf5 = false;
@@ -22,24 +28,48 @@ static void usage(cli::Usage& u) {
       "to its width, 'ff'), in y the floor to the top of the highest grain of the frame ('ff'), "
       "and "
       "in z one largest diameter ('pp').",
-      "Omitted, because the format has no place for them: the contacts and their forces (see "
-      "to-xdmf for those), the orientation (rotation angle) of the grains, the time and the tilt "
-      "angle of each frame, the walls as objects (only the box bounds), and every parameter, "
-      "result and provenance entry of the file. Units are cdpile's SI (LAMMPS 'units si' in 2D)."};
-  u.argument("run", "pile or run (HDF5; '-' for standard input)");
+      "--contacts FILE also writes the same frames' contacts between grains as a LAMMPS 'dump "
+      "local' (ITEM: ENTRIES id1 id2 fn ft critical; one snapshot per frame, same TIMESTEP and "
+      "box): the force network as bonds for OVITO's Load trajectory modifier. fn >= 0 and ft "
+      "(signed, along the contact's tangent) in N/m, critical 1 when |ft| >= (1 - eps) mu fn with "
+      "fn > 0, by the run's critical_eps and mu_grain. Wall contacts are left out: a bond needs "
+      "two "
+      "atoms.",
+      "Omitted, because the format has no place for them: the wall contacts, the orientation "
+      "(rotation angle) of the grains, the time and the tilt angle of each frame, the walls as "
+      "objects (only the box bounds), and every parameter, result and provenance entry of the "
+      "file. Units are cdpile's SI (LAMMPS 'units si' in 2D)."};
+  u.argument("run",
+             "pile or run (HDF5; '-' for standard input); a run tilt-cd is still computing: "
+             "OUTPUT.partial, or OUTPUT while only the partial exists");
   u.output("output dump (text; '-' for standard output)", "-");
   u.integer_opt("first", "first frame written (0-based)", 0, INT64_MAX);
   u.integer_opt("last", "last frame written (0-based, inclusive)", 0, INT64_MAX);
   u.integer("every", 1, "write every this many frames", 1, INT64_MAX);
+  u.text_opt("contacts", "also write the contacts between grains as a dump local to this file");
   u.example("A run for OVITO", "to-lammps run.h5 -o run.dump", "then open run.dump in OVITO");
+  u.example("Grains and force network for OVITO",
+            "to-lammps run.h5 -o run.dump --contacts run.contacts.dump",
+            "open run.dump, then add a Load trajectory modifier with run.contacts.dump "
+            "(docs/analysis.md)");
   u.example("The last frame only", "to-lammps run.h5 --first 40 --last 40 -o end.dump",
             "one snapshot");
 }
 
 static void run(const cli::Args& a) {
   io::Output out(a.output(), a.force());  // refuse a bad target before the work
-  io::Input in(a.argument("run"));
+  std::optional<io::Output> contacts;
+  if (a.given("contacts")) {
+    const std::string& path = a.text("contacts");
+    if (path == a.output() ||
+        (path != "-" && a.output() != "-" &&
+         fs::absolute(path).lexically_normal() == fs::absolute(a.output()).lexically_normal()))
+      throw UsageError("--contacts and -o name the same file " + path);
+    contacts.emplace(path, a.force());
+  }
+  io::Input in(io::run_or_partial(a.argument("run")));  // a run still computed: its partial
   const io::RunReader r(in.hdf5());
+  if (const std::string note = io::partial_run_note(r); !note.empty()) cli::warn(note);
   io::lammps::ExportOptions opt;
   if (auto v = a.integer_opt("first")) opt.first = static_cast<std::size_t>(*v);
   if (auto v = a.integer_opt("last")) opt.last = static_cast<std::size_t>(*v);
@@ -50,7 +80,13 @@ static void run(const cli::Args& a) {
                 "no frame " + std::to_string(*opt.first) + " (" + std::to_string(r.frame_count()) +
                     " frames)");
   const std::size_t n = io::lammps::write_dump(out.text(), r, opt);
+  if (contacts) {
+    const analysis::Friction mu = io::choose_friction(&r.header(), {}, in.name());
+    const double eps = io::recorded_rule(r.header(), in.name()).eps.value_or(analysis::default_eps);
+    io::lammps::write_contacts_dump(contacts->text(), r, opt, mu, eps);
+  }
   out.commit();
+  if (contacts) contacts->commit();
   cli::info(std::to_string(n) + " snapshots of " + std::to_string(r.grain_count()) + " grains -> " +
             out.name());
 }

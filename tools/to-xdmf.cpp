@@ -1,10 +1,12 @@
 // to-xdmf: an XDMF description of a pile, run or localnu map, so that ParaView opens it
 // (docs/analysis.md, "Seeing the grains"). The work is in libcommon (io/xdmf.hpp).
 #include "cdpile/cli/command.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/xdmf.hpp"
 
 #include <filesystem>
+#include <optional>
 
 using namespace cdpile;
 namespace fs = std::filesystem;
@@ -13,33 +15,38 @@ static void usage(cli::Usage& u) {
   u.writes_hdf5 = false;
   u.synopsis = "an XDMF description of a pile, run or localnu map, for ParaView";
   u.description = {
-      "Writes an XDMF file that ParaView's XDMF Reader (the legacy XDMF 2 reader, 'XDMF Reader' "
-      "in ParaView's list; its Xdmf3 readers crash on this layout) opens: it refers to the arrays "
-      "inside the HDF5 file, which is read in place, not copied. Keep the files together: the XDMF "
-      "names the HDF5 file by its path relative to the XDMF.",
-      "A pile or run gives three blocks. grains: every frame (the time slider runs over the "
-      "frames, Time in s) as points at the grain centres with radius, species, mass, velocity (a "
-      "3-vector with z = 0), angular_velocity, orientation and nu, and the frame's tilt_angle and "
-      "step as field data. contacts: every frame's contact rows as points at the contact points "
-      "with i, j, fn, ft, gap, status, normal, critical (1 when |f_t| >= (1 - eps) mu f_n, f_n > "
-      "0, "
-      "with the run's critical_eps, mu_grain and mu_wall unless --eps, --mu, --mu-wall) and "
-      "mobilisation |f_t| / (mu f_n). walls: the floor and side walls as lines. nu of a grain is "
-      "the local state at its centre: critical contacts / contacts within --nu-radius mean "
-      "diameters, "
-      "counting the contacts critical counts (between free grains; with --walls all), as localnu's "
-      "map does at its grid nodes; NaN where no contact is within reach.",
+      "Writes XDMF files that ParaView opens with File > Open (its Xdmf3 reader, or the legacy "
+      "'XDMF Reader'): they refer to arrays read in place, not copied. Keep the files together: "
+      "the XDMF names the input by its path relative to itself.",
+      "A pile or run gives OUTPUT, the grains: every frame (the time slider runs over the frames, "
+      "Time in s) as one point per grain centre with radius, species, mass, velocity (a 3-vector "
+      "with z = 0), angular_velocity, orientation and nu, and the frame's tilt_angle and step as "
+      "field data; and STEM.network.xdmf, what is drawn over them: contacts, the force network as "
+      "one segment per contact between the centres of the two grains (to the contact point for a "
+      "wall) with i, j, fn, ft, gap, status, normal, point, fn_rel = fn / the frame's mean fn, "
+      "critical (1 when |f_t| >= (1 - eps) mu f_n, f_n > 0, with the run's critical_eps, "
+      "mu_grain and mu_wall unless --eps, --mu, --mu-wall) and mobilisation |f_t| / (mu f_n); "
+      "gravity, an arrow above the pile that turns with the tilt (the box's frame); walls. nu of "
+      "a grain is the local state at its centre: critical contacts / contacts within "
+      "--nu-radius mean diameters, counting the contacts critical counts (between free grains; "
+      "with --walls all), as localnu's map does at its grid nodes; NaN where no contact is within "
+      "reach.",
       "A localnu product (HDF5, with its map) gives the nu field of the mapped frame on its grid: "
       "nu, above (nu >= nu_c), contacts and critical at each node; NaN where the map has no value.",
-      "Three files are written: OUTPUT (default: the input's name with .xdmf), OUTPUT.hdf5, a "
-      "small "
-      "HDF5 file with what the input does not hold (critical, mobilisation, nu; the map with NaN), "
-      "and STEM.paraview.py, a ParaView state: File > Load State... that file (or paraview "
-      "--state=STEM.paraview.py) shows the disks at their radius coloured by nu, with the walls "
-      "and, one click away, the contacts."};
+      "Also written: OUTPUT.hdf5, every frame's arrays as whole datasets (ParaView's Xdmf3 reader "
+      "reads no hyperslab): virtual datasets (HDF5 1.10) reading the input's rows in place, and "
+      "what the input does not hold (critical, mobilisation, fn_rel, nu, the network's segments; "
+      "a map with NaN); and STEM.paraview.py, a ParaView state: File > Load State... that file "
+      "(or paraview --state=STEM.paraview.py) shows the disks at their radius coloured by nu on "
+      "the run's range, the force network grey to black by fn / <fn> with the critical contacts "
+      "in red, gravity, the walls and the tilt angle of the frame shown.",
+      "A run still being computed: give tilt-cd's OUTPUT.partial (or OUTPUT while only the "
+      "partial exists); the views show its frames up to its last checkpoint, and refer to the "
+      "partial by name, so run to-xdmf again on the finished run."};
   u.argument("input",
              "pile, run or localnu product (HDF5 file; not standard input: the XDMF refers to it "
-             "by name)");
+             "by name); a run tilt-cd is still computing: OUTPUT.partial, or OUTPUT while only "
+             "the partial exists");
   u.output("output XDMF file (default: INPUT with the extension .xdmf)");
   u.real("nu-radius", 6.0, "radius of the grains' local state nu", "D", 1e-6, 1e6);
   u.real_opt("eps", "tolerance of the critical test (default: the run's critical_eps, else 0.001)",
@@ -57,7 +64,8 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
-  const std::string input = a.argument("input");
+  // a run tilt-cd is still computing: its partial
+  const std::string input = io::run_or_partial(a.argument("input"));
   if (input == "-")
     throw UsageError("the input must be a file: an XDMF file refers to its data by file name");
   std::string output = a.output();
@@ -71,18 +79,23 @@ static void run(const cli::Args& a) {
       output + ".hdf5";  // not .h5: globs of runs (run*.h5) must not take it
   const std::string state_path =
       (fs::path(output).parent_path() / (stem.filename().string() + ".paraview.py")).string();
+  const std::string network_path =
+      (fs::path(output).parent_path() / (stem.filename().string() + ".network.xdmf")).string();
   if (fs::absolute(input).lexically_normal() == out_abs.lexically_normal() ||
       fs::absolute(input).lexically_normal() == fs::absolute(sidecar_path).lexically_normal())
     throw UsageError("the output would replace the input " + input);
 
   io::Output xml(output, a.force()), side(sidecar_path, a.force()), state(state_path, a.force());
   io::Input in(input);
+  const io::RunHeader header = io::read_header(in.hdf5());
+  const bool is_run = header.kind == "pile" || header.kind == "run";
+  std::optional<io::Output> network;  // a run's second XDMF: the force network, gravity, walls
+  if (is_run) network.emplace(network_path, a.force());
   const std::string data_ref =
       fs::absolute(input).lexically_normal().lexically_relative(out_abs.parent_path()).string();
   const std::string side_ref = fs::path(sidecar_path).filename().string();
-  const io::RunHeader header = io::read_header(in.hdf5());
   io::xdmf::Summary s;
-  if (header.kind == "pile" || header.kind == "run") {
+  if (is_run) {
     io::xdmf::Options opt;
     opt.nu_radius = a.real("nu-radius");
     opt.eps = a.real_opt("eps");
@@ -90,13 +103,19 @@ static void run(const cli::Args& a) {
     opt.mu_wall = a.real_opt("mu-wall");
     opt.walls = a.flag("walls");
     const io::RunReader r(in.hdf5());
-    s = io::xdmf::write_run(xml.text(), side.create_hdf5(), r, data_ref, side_ref, opt);
+    if (const std::string note = io::partial_run_note(r); !note.empty())
+      cli::warn(note + "; the views name the partial: run to-xdmf again on the finished run");
+    s = io::xdmf::write_run(xml.text(), network->text(), side.create_hdf5(), r, data_ref, side_ref,
+                            opt);
   } else {
     s = io::xdmf::write_localnu(xml.text(), side.create_hdf5(), in.hdf5(), data_ref, side_ref);
   }
-  state.text() << io::xdmf::paraview_state(s, out_abs.filename().string(), out_abs.string());
+  const fs::path network_abs = fs::absolute(network_path);
+  state.text() << io::xdmf::paraview_state(s, out_abs.filename().string(), out_abs.string(),
+                                           network_abs.filename().string(), network_abs.string());
   side.commit();
   xml.commit();
+  if (network) network->commit();
   state.commit();
   if (s.kind == "localnu")
     cli::info(xml.name() + ": the nu field, " + std::to_string(s.nx) + " x " +
@@ -104,7 +123,7 @@ static void run(const cli::Args& a) {
   else
     cli::info(xml.name() + ": " + std::to_string(s.grains) + " grains, " +
               std::to_string(s.frames) + " frames, " + std::to_string(s.contacts) +
-              " contact rows; " + side.name() + ", " + state.name());
+              " contact rows; " + network->name() + ", " + side.name() + ", " + state.name());
 }
 
 CDPILE_TOOL(usage, run)

@@ -121,6 +121,25 @@ TEST(Products, ShortestRoundTripNumbers) {
   EXPECT_EQ(format_number(std::numeric_limits<double>::infinity()), "NA");
 }
 
+TEST(Products, TablesForPeoplePrintSixSignificantDigits) {
+  // a tilt angle summed in steps of 0.01 deg, and a mean diameter (issue 34's examples)
+  EXPECT_EQ(format_number(0.01 * 1312 + 1.8e-15, 6), "13.12");
+  EXPECT_EQ(format_number(0.0010019143322225507, 6), "0.00100191");
+  EXPECT_EQ(format_number(0.0010019143322225507), "0.0010019143322225507");
+  EXPECT_EQ(format_number(std::numeric_limits<double>::quiet_NaN(), 6), "NA");
+  Product p = sample();
+  p.results = {{"nu_c", 1.0 / 3.0}, {"runs", std::int64_t{123456789}}};
+  std::ostringstream six, full;
+  write_tsv(six, p, {}, {}, true, 6);
+  write_tsv(full, p, {}, {}, true);
+  EXPECT_NE(six.str().find("# result nu_c = 0.333333\n"), std::string::npos);
+  EXPECT_NE(six.str().find("# result runs = 123456789\n"), std::string::npos);  // integers whole
+  EXPECT_NE(six.str().find("\n0.333333\t0\tNA\t"), std::string::npos);  // theta 1/3, n 0
+  EXPECT_NE(full.str().find("# result nu_c = 0.3333333333333333\n"), std::string::npos);
+  // the parameters are the inputs as given, whatever the digits
+  EXPECT_NE(six.str().find("# parameter window_deg = 1\n"), std::string::npos);
+}
+
 TEST(Products, TablesWithoutTheFileHeader) {
   Product p = sample();
   std::ostringstream with, without;

@@ -17,6 +17,12 @@ void declare_product_output(Usage& u, const std::vector<std::string>& tables) {
       "header",
       "with --table, write the commented file header too (provenance, parameters, results, notes), "
       "as a product read back by another tool needs");
+  u.integer_opt("digits",
+                "significant digits of the numbers in TSV tables and results (default: 6 on "
+                "standard output without -o, for people; full precision with -o, a product "
+                "another tool reads back; 0: full precision, the shortest text that reads back "
+                "to the same double)",
+                0, 17);
 }
 
 void refuse_table_if(const Args& a, const std::string& table, bool left_out,
@@ -31,8 +37,11 @@ void emit_product(const Args& a, const analysis::Product& p,
                   const std::vector<io::Provenance>& history) {
   for (const std::string& why : p.not_computed)
     info(why);  // not only in a '# note:' line of the output
+  // A table for people prints the digits its numbers carry (a tilt angle summed in steps of
+  // 0.01 is 13.12, not 13.120000000000001); a product for the next tool keeps every bit.
+  const int digits = static_cast<int>(a.integer_opt("digits").value_or(a.output().empty() ? 6 : 0));
   io::emit(p, history, a.output(), a.force(), io::parse_format(a.text("format")),
-           a.text_list("table"), a.text_list("table").empty() || a.flag("header"));
+           a.text_list("table"), a.text_list("table").empty() || a.flag("header"), digits);
 }
 
 void refuse_repeated_inputs(const std::vector<std::string>& paths) {

@@ -2,6 +2,10 @@
 #include "cdpile/io/checkpoint.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/io/products.hpp"
+
+#include <cmath>
+#include <filesystem>
 
 namespace cdpile::io {
 
@@ -96,6 +100,27 @@ Checkpoint read_checkpoint(const h5::File& f, const Grains& properties) {
     }
   }
   return c;
+}
+
+std::string run_or_partial(const std::string& path) {
+  std::error_code ec;
+  if (path == "-" || std::filesystem::exists(path, ec)) return path;
+  const std::string partial = path + ".partial";
+  return std::filesystem::exists(partial, ec) ? partial : path;
+}
+
+std::string partial_run_note(const RunReader& run) {
+  if (!h5::exists(run.file(), kCheckpointGroup)) return "";
+  const std::size_t F = run.frame_count();
+  std::string held = std::to_string(F) + " frames";
+  if (F > 0)
+    held += ", the last at step " + std::to_string(run.frame_steps().back()) + ", tilt " +
+            format_number(std::round(run.frame_tilt_angle(F - 1) * 180.0 / M_PI * 1e6) / 1e6) +
+            " deg";
+  return run.name() +
+         ": a partial run (tilt-cd has not finished it: still running, or stopped): read up to "
+         "its last checkpoint, " +
+         held;
 }
 
 }  // namespace cdpile::io

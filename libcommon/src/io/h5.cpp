@@ -721,6 +721,34 @@ void append(const File& f, const std::string& path, const T* data, const std::ve
         [] { return "cannot write (disk full?)"; });
 }
 
+void write_virtual(const File& f, const std::string& path, const std::vector<hsize_t>& dims,
+                   const File& src, const std::string& src_name,
+                   const std::vector<VirtualBlock>& blocks) {
+  if (blocks.empty()) fail(f, path, "a virtual dataset without a source");
+  Handle type(H5Dget_type(open_dataset(src, blocks.front().path).id()));
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+  // What no block covers (the z component of a 3-vector) reads as zero.
+  const std::vector<unsigned char> zero(H5Tget_size(type.id()), 0);
+  H5Pset_fill_value(dcpl.id(), type.id(), zero.data());
+  Handle vspace(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
+  for (const VirtualBlock& b : blocks) {
+    Handle d = open_dataset(src, b.path);
+    Handle sspace(H5Dget_space(d.id()));
+    if (H5Sselect_hyperslab(sspace.id(), H5S_SELECT_SET, b.src_start.data(), nullptr,
+                            b.src_count.data(), nullptr) < 0 ||
+        H5Sselect_hyperslab(vspace.id(), H5S_SELECT_SET, b.dst_start.data(), nullptr,
+                            b.dst_count.data(), nullptr) < 0 ||
+        H5Pset_virtual(dcpl.id(), vspace.id(), src_name.c_str(), b.path.c_str(), sspace.id()) < 0)
+      fail(src, b.path, "cannot map into the virtual dataset " + path);
+  }
+  H5Sselect_all(vspace.id());
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id(), 1);
+  Handle id(checked_id(
+      H5Dcreate2(f.id(), path.c_str(), type.id(), vspace.id(), lcpl.id(), dcpl.id(), H5P_DEFAULT),
+      f, path, "cannot create the virtual dataset"));
+}
+
 void truncate_rows(const File& f, const std::string& path, hsize_t rows) {
   Handle d = open_dataset(f, path);
   Handle space(H5Dget_space(d.id()));

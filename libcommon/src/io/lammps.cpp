@@ -1011,4 +1011,50 @@ std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptio
   return written;
 }
 
+namespace {
+/// The frames an export writes: first..last (clamped to the run) every `every`.
+std::vector<std::size_t> export_frames(std::size_t frames, const ExportOptions& opt) {
+  std::vector<std::size_t> ks;
+  if (frames == 0) return ks;
+  const std::size_t last = std::min(opt.last.value_or(frames - 1), frames - 1);
+  for (std::size_t k = opt.first.value_or(0); k <= last; k += std::max<std::size_t>(opt.every, 1))
+    ks.push_back(k);
+  return ks;
+}
+}  // namespace
+
+std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt,
+                                const analysis::Friction& mu, double eps) {
+  const Grains& g = run.grain_properties();
+  const std::size_t n = g.size();
+  double r_max = 0;
+  for (double r : g.radius) r_max = std::max(r_max, r);
+  const double width = run.header().box.width;
+  std::size_t written = 0;
+  for (std::size_t k : export_frames(run.frame_count(), opt)) {
+    const Frame fr = run.frame(k);
+    const Contacts& c = fr.contacts;
+    double ylo = 0, yhi = run.header().box.height;  // the atoms dump's box, frame for frame
+    for (std::size_t q = 0; q < n; ++q) {
+      ylo = std::min(ylo, fr.grains.position[q].y() - g.radius[q]);
+      yhi = std::max(yhi, fr.grains.position[q].y() + g.radius[q]);
+    }
+    std::size_t pairs = 0;
+    for (std::size_t q = 0; q < c.size(); ++q) pairs += c.j[q] >= 0 ? 1 : 0;
+    os << "ITEM: TIMESTEP\n"
+       << fr.step << "\nITEM: NUMBER OF ENTRIES\n"
+       << pairs << "\nITEM: BOX BOUNDS ff ff pp\n0 " << fmt(width) << '\n'
+       << fmt(ylo) << ' ' << fmt(yhi) << '\n'
+       << fmt(-r_max) << ' ' << fmt(r_max) << "\nITEM: ENTRIES id1 id2 fn ft critical\n";
+    // Grain-grain contacts only: a bond needs two atoms, and a wall is none.
+    for (std::size_t q = 0; q < c.size(); ++q) {
+      if (c.j[q] < 0) continue;
+      os << c.i[q] + 1 << ' ' << c.j[q] + 1 << ' ' << fmt(c.fn[q]) << ' ' << fmt(c.ft[q]) << ' '
+         << (analysis::is_critical(c.fn[q], c.ft[q], mu.grain, eps) ? 1 : 0) << '\n';
+    }
+    ++written;
+  }
+  return written;
+}
+
 }  // namespace cdpile::io::lammps

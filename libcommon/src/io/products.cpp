@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -20,10 +21,14 @@ using analysis::ColumnKind;
 using analysis::Product;
 using analysis::Table;
 
-std::string format_number(double v) {
+std::string format_number(double v, int digits) {
   if (!std::isfinite(v)) return missing_marker;
   if (v == 0.0) return "0";  // also -0
   char buf[64];
+  if (digits > 0) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+  }
   auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
   if (ec != std::errc()) return missing_marker;
   return std::string(buf, p);
@@ -37,9 +42,9 @@ std::string clean(std::string s) {
   return s;
 }
 
-std::string value_text(const analysis::Value& v) {
+std::string value_text(const analysis::Value& v, int digits = 0) {
   if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
-  if (auto* d = std::get_if<double>(&v)) return format_number(*d);
+  if (auto* d = std::get_if<double>(&v)) return format_number(*d, digits);
   return clean(std::get<std::string>(v));
 }
 
@@ -52,8 +57,8 @@ analysis::Value parse_value(const std::string& s) {
   return s;
 }
 
-void write_header_lines(std::ostream& os, const Product& p,
-                        const std::vector<Provenance>& history) {
+void write_header_lines(std::ostream& os, const Product& p, const std::vector<Provenance>& history,
+                        int digits) {
   if (!history.empty()) {
     const Provenance& me = history.back();
     os << "# tool: " << clean(me.tool) << ' ' << clean(me.version) << '\n';
@@ -71,11 +76,12 @@ void write_header_lines(std::ostream& os, const Product& p,
   }
   for (const auto& [k, v] : p.parameters)
     os << "# parameter " << k << " = " << value_text(v) << '\n';
-  for (const auto& [k, v] : p.results) os << "# result " << k << " = " << value_text(v) << '\n';
+  for (const auto& [k, v] : p.results)
+    os << "# result " << k << " = " << value_text(v, digits) << '\n';
   for (const auto& n : p.notes) os << "# note: " << clean(n) << '\n';
 }
 
-void write_table(std::ostream& os, const Table& t) {
+void write_table(std::ostream& os, const Table& t, int digits) {
   const std::size_t rows = t.rows();
   os << "# table: " << t.name << '\n';
   if (!t.title.empty()) os << "# about: " << clean(t.title) << '\n';
@@ -100,7 +106,7 @@ void write_table(std::ostream& os, const Table& t) {
       } else if (c.kind == ColumnKind::integer && std::isfinite(c.num[r])) {
         line += std::to_string(static_cast<std::int64_t>(c.num[r]));
       } else {
-        line += format_number(c.num[r]);
+        line += format_number(c.num[r], digits);
       }
     }
     line += '\n';
@@ -111,14 +117,14 @@ void write_table(std::ostream& os, const Table& t) {
 }  // namespace
 
 void write_tsv(std::ostream& os, const Product& p, const std::vector<Provenance>& history,
-               const std::vector<std::string>& only, bool header) {
+               const std::vector<std::string>& only, bool header, int digits) {
   for (const auto& name : only) p.table(name);  // error if unknown
   auto written = [&](const Table& t) {
     return only.empty() || std::find(only.begin(), only.end(), t.name) != only.end();
   };
   bool first = true;
   if (header) {
-    write_header_lines(os, p, history);
+    write_header_lines(os, p, history, digits);
     // The tables and their row counts, so a reader can tell a file cut at a line boundary
     // (a table short of rows, or missing) from a whole one.
     os << "# tables:";
@@ -131,7 +137,7 @@ void write_tsv(std::ostream& os, const Product& p, const std::vector<Provenance>
     if (!written(t)) continue;
     if (!first) os << "\n\n";  // gnuplot's index counts blocks separated by two blank lines
     first = false;
-    write_table(os, t);
+    write_table(os, t, digits);
   }
 }
 
@@ -499,12 +505,13 @@ Format resolve_format(const std::string& output, Format format) {
 }
 
 void emit(const Product& p, const std::vector<Provenance>& history, const std::string& output,
-          bool force, Format format, const std::vector<std::string>& only, bool header) {
+          bool force, Format format, const std::vector<std::string>& only, bool header,
+          int digits) {
   std::string target = output.empty() ? "-" : output;
   const Format f = resolve_format(output, format);
   Output out(target, force);
   if (f == Format::tsv) {
-    write_tsv(out.text(), p, history, only, header);
+    write_tsv(out.text(), p, history, only, header, digits);
   } else {
     write_hdf5(out.create_hdf5(), p, history);
   }

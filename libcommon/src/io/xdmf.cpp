@@ -4,6 +4,7 @@
 #include "cdpile/error.hpp"
 #include "cdpile/io/products.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -35,31 +36,10 @@ std::string item(const Array& a) {
          "</DataItem>";
 }
 
-/// A hyperslab of `a`: start, count per dimension (stride 1), giving `result_dims`.
-std::string slab(const Array& a, const std::vector<std::size_t>& start,
-                 const std::vector<std::size_t>& count, const std::string& result_dims) {
-  std::string sel;
-  for (auto s : start) sel += std::to_string(s) + " ";
-  for (std::size_t k = 0; k < start.size(); ++k) sel += "1 ";
-  for (std::size_t k = 0; k < count.size(); ++k)
-    sel += std::to_string(count[k]) + (k + 1 < count.size() ? " " : "");
-  return "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" + result_dims +
-         "\" Type=\"HyperSlab\">"
-         "<DataItem Dimensions=\"3 " +
-         std::to_string(start.size()) + "\" Format=\"XML\">" + sel + "</DataItem>" + item(a) +
-         "</DataItem>";
-}
-
 std::string attribute(const std::string& name, const char* type, const char* center,
                       const std::string& data) {
   return "   <Attribute Name=\"" + name + "\" AttributeType=\"" + type + "\" Center=\"" + center +
          "\">" + data + "</Attribute>\n";
-}
-
-/// A 3-vector (x, y, 0) from the two components of an [.., 2] array, by XDMF's JOIN.
-std::string vector3(const std::string& x, const std::string& y, std::size_t n) {
-  return "<DataItem ItemType=\"Function\" Function=\"JOIN($0, $1, 0 * $0)\" Dimensions=\"" +
-         std::to_string(n) + " 3\">" + x + y + "</DataItem>";
 }
 
 std::string header() {
@@ -84,9 +64,11 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-Summary write_run(std::ostream& xml, const h5::File& sidecar, const RunReader& run,
-                  const std::string& data_ref, const std::string& sidecar_ref, const Options& opt) {
+Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
+                  const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
+                  const Options& opt) {
   const std::string& file = run.name();
+  const h5::File& data = run.file();
   const std::size_t F = run.frame_count(), N = run.grain_count();
   if (F == 0) throw Error(file, "/particles/grains/position", "no frame to show");
   const RunHeader& h = run.header();
@@ -103,141 +85,241 @@ Summary write_run(std::ostream& xml, const h5::File& sidecar, const RunReader& r
   analysis::validate(rule, mu);
   const double diameter = analysis::mean_diameter(run.grain_properties());
   const std::vector<double> radii{opt.nu_radius * diameter};
+  const std::string cg = "/contacts", gp = "/particles/grains";
+  // The run's rows of each frame, and its tilt in degrees as the file holds it.
+  const std::vector<std::int64_t> offsets = h5::read<std::int64_t>(data, cg + "/offset", {F});
+  const std::vector<double> tilt_deg = h5::read<double>(data, cg + "/tilt_angle", {F});
+  const std::vector<std::int64_t> steps = h5::read<std::int64_t>(data, cg + "/step", {F});
 
-  // Derived arrays: every frame read once.
-  std::vector<std::size_t> offset(F), count(F);
-  std::vector<double> nu(F * N, nan), mob;
-  std::vector<std::uint8_t> critical;
+  Summary sum{h.kind, F, N, 0, 0, 0};
+  sum.diameter = diameter;
+  sum.width = h.box.width;
+  sum.tilt_last_deg = tilt_deg[F - 1];
+  // Every frame's arrays are whole datasets of the file beside (ParaView's Xdmf3 reader
+  // reads no hyperslab, and crashes on a hyperslab geometry): virtual datasets for what the
+  // run holds, mapped onto its rows and never copied; real ones for what is derived.
+  std::vector<std::size_t> count(F);
+  std::vector<double> fn_rel_all;
+  double top = h.box.height;
   for (std::size_t k = 0; k < F; ++k) {
     const Frame fr = run.frame(k);
     const Contacts& c = fr.contacts;
-    offset[k] = critical.size();
+    const auto o = static_cast<hsize_t>(offsets[k]);
+    const hsize_t nc = c.size(), n = N;
     count[k] = c.size();
-    for (std::size_t q = 0; q < c.size(); ++q) {
-      const double m = c.j[q] < 0 ? mu.wall : mu.grain;
-      critical.push_back(analysis::is_critical(c.fn[q], c.ft[q], m, rule.eps) ? 1 : 0);
-      mob.push_back(c.fn[q] > 0 ? std::abs(c.ft[q]) / (m * c.fn[q]) : nan);
-    }
+    sum.contacts += c.size();
+    const std::string fk = "/frames/" + std::to_string(k);
+    auto vmap = [&](const std::string& path, const std::string& src, std::vector<hsize_t> dims,
+                    std::vector<hsize_t> src_start, std::vector<hsize_t> src_count,
+                    std::vector<hsize_t> dst_count) {
+      h5::write_virtual(
+          sidecar, fk + path, dims, data, data_ref,
+          {{src, src_start, src_count, std::vector<hsize_t>(dims.size(), 0), dst_count}});
+    };
+    vmap("/position", gp + "/position/value", {n, 2}, {k, 0, 0}, {1, n, 2}, {n, 2});
+    vmap("/velocity", gp + "/velocity/value", {n, 3}, {k, 0, 0}, {1, n, 2}, {n, 2});
+    vmap("/angular_velocity", gp + "/angular_velocity/value", {n}, {k, 0}, {1, n}, {n});
+    vmap("/orientation", gp + "/orientation/value", {n}, {k, 0}, {1, n}, {n});
+    for (std::size_t g = 0; g < N; ++g)
+      top = std::max(top, fr.grains.position[g].y() + fr.grains.radius[g]);
+
+    // nu of every grain: the local state at its centre.
+    std::vector<double> nu(N, nan);
     analysis::ContactSet set;
     try {
       set = analysis::select_contacts(c, fr.grains.species, mu, rule);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
-    if (set.size() == 0) continue;
-    const analysis::NeighbourIndex index(set.point);
-    const analysis::LocalStates s =
-        analysis::local_states_at(index, set.critical, fr.grains.position, radii);
-    for (std::size_t g = 0; g < N; ++g)
-      if (auto v = s.nu(g, 0)) nu[k * N + g] = *v;
-  }
-  const std::size_t K = critical.size();
-  h5::write(sidecar, "/grains/nu", nu.data(), {F, N}, {1, 4});
-  h5::write(sidecar, "/contacts/critical", critical.data(), {K},
-            {std::max<hsize_t>(1, std::min<hsize_t>(K, 16384)), 4});
-  h5::write(sidecar, "/contacts/mobilisation", mob.data(), {K},
-            {std::max<hsize_t>(1, std::min<hsize_t>(K, 16384)), 4});
-  h5::set_attr(sidecar, "/grains/nu", "meaning",
-               "critical / contacts (by the run's rule) within " + num(opt.nu_radius) +
-                   " mean diameters of the grain's centre; NaN where none");
-  h5::set_attr(sidecar, "/", "source", data_ref);
+    if (set.size() > 0) {
+      const analysis::NeighbourIndex index(set.point);
+      const analysis::LocalStates st =
+          analysis::local_states_at(index, set.critical, fr.grains.position, radii);
+      for (std::size_t g = 0; g < N; ++g)
+        if (auto v = st.nu(g, 0)) nu[g] = *v;
+    }
+    for (double v : nu)
+      if (!std::isnan(v)) sum.nu_max = std::max(sum.nu_max, v);
+    h5::write(sidecar, fk + "/nu", nu);
+    if (nc == 0) continue;
 
-  const std::string sF = std::to_string(F), sN = std::to_string(N), sK = std::to_string(K);
-  const std::string gp = "/particles/grains";
-  const Array pos = array(data_ref, gp + "/position/value", sF + " " + sN + " 2", "Float", 8);
-  const Array vel = array(data_ref, gp + "/velocity/value", sF + " " + sN + " 2", "Float", 8);
-  const Array orient = array(data_ref, gp + "/orientation/value", sF + " " + sN, "Float", 8);
-  const Array omega = array(data_ref, gp + "/angular_velocity/value", sF + " " + sN, "Float", 8);
-  const Array nu_a = array(sidecar_ref, "/grains/nu", sF + " " + sN, "Float", 8);
-  const Array tilt = array(data_ref, "/contacts/tilt_angle", sF, "Float", 8);
-  const Array step = array(data_ref, "/contacts/step", sF, "Int", 8);
-  const std::vector<double> times = [&] {
-    std::vector<double> t(F);
-    for (std::size_t k = 0; k < F; ++k) t[k] = run.frame_time(k);
-    return t;
-  }();
+    // The force network: a segment per contact, from the centre of i to the centre of j,
+    // or to the contact point for a wall (the points after the grains' centres).
+    h5::write_virtual(sidecar, fk + "/network/points", {n + nc, 2}, data, data_ref,
+                      {{gp + "/position/value", {k, 0, 0}, {1, n, 2}, {0, 0}, {n, 2}},
+                       {cg + "/point", {o, 0}, {nc, 2}, {n, 0}, {nc, 2}}});
+    std::vector<std::int32_t> lines(2 * nc);
+    std::vector<std::uint8_t> critical(nc);
+    std::vector<double> mob(nc), fn_rel(nc);
+    double fn_sum = 0;
+    std::size_t active = 0;
+    for (std::size_t q = 0; q < nc; ++q)
+      if (c.fn[q] > 0) fn_sum += c.fn[q], ++active;
+    const double fn_mean = active ? fn_sum / static_cast<double>(active) : 0.0;
+    for (std::size_t q = 0; q < nc; ++q) {
+      lines[2 * q] = c.i[q];
+      lines[2 * q + 1] = c.j[q] >= 0 ? c.j[q] : static_cast<std::int32_t>(N + q);
+      const double m = c.j[q] < 0 ? mu.wall : mu.grain;
+      critical[q] = analysis::is_critical(c.fn[q], c.ft[q], m, rule.eps) ? 1 : 0;
+      mob[q] = c.fn[q] > 0 ? std::abs(c.ft[q]) / (m * c.fn[q]) : nan;
+      fn_rel[q] = fn_mean > 0 ? c.fn[q] / fn_mean : 0.0;
+      fn_rel_all.push_back(fn_rel[q]);
+    }
+    h5::write(sidecar, fk + "/network/lines", lines.data(), {nc, 2});
+    h5::write(sidecar, fk + "/contacts/critical", critical);
+    h5::write(sidecar, fk + "/contacts/mobilisation", mob);
+    h5::write(sidecar, fk + "/contacts/fn_rel", fn_rel);
+    for (const char* name : {"i", "j", "fn", "ft", "gap", "status"})
+      vmap(std::string("/contacts/") + name, cg + "/" + name, {nc}, {o}, {nc}, {nc});
+    vmap("/contacts/normal", cg + "/normal", {nc, 3}, {o, 0}, {nc, 2}, {nc, 2});
+    vmap("/contacts/point", cg + "/point", {nc, 3}, {o, 0}, {nc, 2}, {nc, 2});
+  }
+  sum.top = top;
+  if (!fn_rel_all.empty()) {  // the colour range of the network: up to the 99th percentile
+    const auto at = fn_rel_all.begin() +
+                    static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(fn_rel_all.size() - 1));
+    std::nth_element(fn_rel_all.begin(), at, fn_rel_all.end());
+    sum.fn_rel_high = *at;
+  }
+  {  // the grains' vertices: without them the Xdmf3 reader makes points but no cells
+    std::vector<std::int32_t> v(N);
+    for (std::size_t g = 0; g < N; ++g) v[g] = static_cast<std::int32_t>(g);
+    h5::write(sidecar, "/grains/vertices", v);
+  }
+  h5::set_attr(sidecar, "/", "source", data_ref);
+  h5::set_attr(sidecar, "/", "meaning",
+               "/frames/K: frame K of the source; virtual datasets read the source's rows in "
+               "place; nu: critical / contacts (by the run's rule) within " +
+                   num(opt.nu_radius) +
+                   " mean diameters of the grain's centre, NaN where none; contacts/critical: 1 "
+                   "if critical by the run's rule; mobilisation: |ft| / (mu fn); fn_rel: fn / "
+                   "the mean fn of the frame's active contacts; network/lines: the two points "
+                   "of each contact's segment in network/points (the grains' centres, then the "
+                   "contact points)");
+
+  const std::string sN = std::to_string(N);
+  auto side = [&](const std::string& path, const std::string& dims, const char* type,
+                  int precision) { return item(array(sidecar_ref, path, dims, type, precision)); };
+  auto literal = [](double v, const char* type, int precision) {
+    return std::string("<DataItem Dimensions=\"1\" NumberType=\"") + type + "\" Precision=\"" +
+           std::to_string(precision) + "\" Format=\"XML\">" + num(v) + "</DataItem>";
+  };
+  auto time_of = [&](std::size_t k) { return num(run.frame_time(k)); };
 
   xml << header();
-  xml << "  <!-- " << xml_escape(file) << ": " << N << " grains, " << F << " frames, " << K
-      << " contact rows; written by to-xdmf for ParaView's XDMF Reader (legacy XDMF 2) -->\n";
+  xml << "  <!-- " << xml_escape(file) << ": " << N << " grains, " << F << " frames, "
+      << sum.contacts
+      << " contact rows; written by to-xdmf for ParaView's XDMF readers (Xdmf3 and the legacy "
+         "XDMF 2) -->\n";
   xml << "  <Grid Name=\"grains\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k) {
+    const std::string fk = "/frames/" + std::to_string(k);
     xml << "  <Grid Name=\"grains_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << num(times[k]) << "\"/>\n"
+        << time_of(k) << "\"/>\n"
         << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
-        << "\" NodesPerElement=\"1\"/>\n"
-        << "   <Geometry GeometryType=\"XY\">" << slab(pos, {k, 0, 0}, {1, N, 2}, sN + " 2")
+        << "\" NodesPerElement=\"1\">" << side("/grains/vertices", sN, "Int", 4) << "</Topology>\n"
+        << "   <Geometry GeometryType=\"XY\">" << side(fk + "/position", sN + " 2", "Float", 8)
         << "</Geometry>\n";
     xml << attribute("radius", "Scalar", "Node",
                      item(array(data_ref, gp + "/radius", sN, "Float", 8)));
     xml << attribute("species", "Scalar", "Node",
                      item(array(data_ref, gp + "/species", sN, "UChar", 1)));
     xml << attribute("mass", "Scalar", "Node", item(array(data_ref, gp + "/mass", sN, "Float", 8)));
-    xml << attribute("velocity", "Vector", "Node",
-                     vector3(slab(vel, {k, 0, 0}, {1, N, 1}, sN + " 1"),
-                             slab(vel, {k, 0, 1}, {1, N, 1}, sN + " 1"), N));
-    xml << attribute("angular_velocity", "Scalar", "Node", slab(omega, {k, 0}, {1, N}, sN));
-    xml << attribute("orientation", "Scalar", "Node", slab(orient, {k, 0}, {1, N}, sN));
-    xml << attribute("nu", "Scalar", "Node", slab(nu_a, {k, 0}, {1, N}, sN));
-    xml << attribute("tilt_angle", "Scalar", "Grid", slab(tilt, {k}, {1}, "1"));
-    xml << attribute("step", "Scalar", "Grid", slab(step, {k}, {1}, "1"));
+    xml << attribute("velocity", "Vector", "Node", side(fk + "/velocity", sN + " 3", "Float", 8));
+    xml << attribute("angular_velocity", "Scalar", "Node",
+                     side(fk + "/angular_velocity", sN, "Float", 8));
+    xml << attribute("orientation", "Scalar", "Node", side(fk + "/orientation", sN, "Float", 8));
+    xml << attribute("nu", "Scalar", "Node", side(fk + "/nu", sN, "Float", 8));
+    xml << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
+    xml << attribute("step", "Scalar", "Grid", literal(static_cast<double>(steps[k]), "Int", 8));
     xml << "  </Grid>\n";
   }
-  xml << "  </Grid>\n";
+  xml << "  </Grid>\n </Domain>\n</Xdmf>\n";
 
-  const std::string cg = "/contacts";
-  const Array point = array(data_ref, cg + "/point", sK + " 2", "Float", 8);
-  const Array normal = array(data_ref, cg + "/normal", sK + " 2", "Float", 8);
-  xml << "  <Grid Name=\"contacts\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  // The second file: what is drawn over the grains. Apart, so that the file a user opens
+  // holds one point per grain; every grid temporal, so that the Xdmf3 reader keeps them all.
+  std::ostream& net = network_xml;
+  net << header();
+  net << "  <!-- " << xml_escape(file) << ": the force network of " << F
+      << " frames, gravity and the walls; written by to-xdmf for ParaView's XDMF readers -->\n";
+  net << "  <Grid Name=\"contacts\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k) {
-    const std::size_t o = offset[k], c = count[k];
-    const std::string sc = std::to_string(c);
-    auto one = [&](const char* name, const std::string& ref, const char* type, int precision) {
-      return slab(array(ref, name[0] == '/' ? name : cg + "/" + name, sK, type, precision), {o},
-                  {c}, sc);
-    };
-    xml << "  <Grid Name=\"contacts_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << num(times[k]) << "\"/>\n"
-        << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << c
-        << "\" NodesPerElement=\"1\"/>\n"
-        << "   <Geometry GeometryType=\"XY\">" << slab(point, {o, 0}, {c, 2}, sc + " 2")
-        << "</Geometry>\n";
-    xml << attribute("i", "Scalar", "Node", one("i", data_ref, "Int", 4));
-    xml << attribute("j", "Scalar", "Node", one("j", data_ref, "Int", 4));
-    xml << attribute("fn", "Scalar", "Node", one("fn", data_ref, "Float", 8));
-    xml << attribute("ft", "Scalar", "Node", one("ft", data_ref, "Float", 8));
-    xml << attribute("gap", "Scalar", "Node", one("gap", data_ref, "Float", 8));
-    xml << attribute("status", "Scalar", "Node", one("status", data_ref, "Char", 1));
-    xml << attribute("critical", "Scalar", "Node", one("critical", sidecar_ref, "UChar", 1));
-    xml << attribute("mobilisation", "Scalar", "Node",
-                     one("mobilisation", sidecar_ref, "Float", 8));
-    xml << attribute("normal", "Vector", "Node",
-                     vector3(slab(normal, {o, 0}, {c, 1}, sc + " 1"),
-                             slab(normal, {o, 1}, {c, 1}, sc + " 1"), c));
-    xml << attribute("tilt_angle", "Scalar", "Grid", slab(tilt, {k}, {1}, "1"));
-    xml << "  </Grid>\n";
+    const std::string fk = "/frames/" + std::to_string(k);
+    const std::size_t c = count[k];
+    const std::string sc = std::to_string(c), sP = std::to_string(N + c);
+    net << "  <Grid Name=\"contacts_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
+        << time_of(k) << "\"/>\n";
+    if (c == 0) {  // no segment: the grains' centres alone
+      net << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
+          << "\" NodesPerElement=\"1\"/>\n"
+          << "   <Geometry GeometryType=\"XY\">" << side(fk + "/position", sN + " 2", "Float", 8)
+          << "</Geometry>\n";
+    } else {
+      net << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << c
+          << "\" NodesPerElement=\"2\">" << side(fk + "/network/lines", sc + " 2", "Int", 4)
+          << "</Topology>\n"
+          << "   <Geometry GeometryType=\"XY\">"
+          << side(fk + "/network/points", sP + " 2", "Float", 8) << "</Geometry>\n";
+      const std::string ck = fk + "/contacts/";
+      for (const char* name : {"i", "j"})
+        net << attribute(name, "Scalar", "Cell", side(ck + name, sc, "Int", 4));
+      for (const char* name : {"fn", "ft", "gap"})
+        net << attribute(name, "Scalar", "Cell", side(ck + name, sc, "Float", 8));
+      net << attribute("status", "Scalar", "Cell", side(ck + "status", sc, "Char", 1));
+      net << attribute("critical", "Scalar", "Cell", side(ck + "critical", sc, "UChar", 1));
+      net << attribute("mobilisation", "Scalar", "Cell", side(ck + "mobilisation", sc, "Float", 8));
+      net << attribute("fn_rel", "Scalar", "Cell", side(ck + "fn_rel", sc, "Float", 8));
+      net << attribute("normal", "Vector", "Cell", side(ck + "normal", sc + " 3", "Float", 8));
+      net << attribute("point", "Vector", "Cell", side(ck + "point", sc + " 3", "Float", 8));
+    }
+    net << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
+    net << "  </Grid>\n";
   }
-  xml << "  </Grid>\n";
+  net << "  </Grid>\n";
+
+  // Gravity, drawn as an arrow above the pile: the run turns gravity in the box's frame,
+  // g = g (sin theta, -cos theta), so this is what shows the tilt as time runs.
+  const double w = h.box.width, L = 0.2 * w;
+  net << "  <Grid Name=\"gravity\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < F; ++k) {
+    const double th = tilt_deg[k] * M_PI / 180.0;
+    const Vec2 g{std::sin(th), -std::cos(th)};
+    const Vec2 tail{0.5 * w - 0.5 * L * g.x(), top + 0.6 * L - 0.5 * L * g.y()};
+    const Vec2 head = tail + L * g;
+    auto barb = [&](double turn) {  // 25 degrees off the shaft, a quarter of its length
+      const double a = std::atan2(-g.y(), -g.x()) + turn;
+      return Vec2(head + 0.25 * L * Vec2(std::cos(a), std::sin(a)));
+    };
+    const Vec2 b1 = barb(25 * M_PI / 180), b2 = barb(-25 * M_PI / 180);
+    net << "  <Grid Name=\"gravity_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
+        << time_of(k) << "\"/>\n"
+        << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"3\" NodesPerElement=\"2\">"
+           "<DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">0 1 1 2 1 "
+           "3</DataItem></Topology>\n"
+        << "   <Geometry GeometryType=\"XY\"><DataItem Dimensions=\"4 2\" NumberType=\"Float\" "
+           "Precision=\"8\" Format=\"XML\">"
+        << num(tail.x()) << " " << num(tail.y()) << " " << num(head.x()) << " " << num(head.y())
+        << " " << num(b1.x()) << " " << num(b1.y()) << " " << num(b2.x()) << " " << num(b2.y())
+        << "</DataItem></Geometry>\n";
+    net << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
+    net << "  </Grid>\n";
+  }
+  net << "  </Grid>\n";
 
   // The walls: left wall down, the floor, right wall up (the box frame; gravity turns).
-  double top = h.box.height;
-  {
-    const Frame last = run.frame(F - 1);
-    for (std::size_t g = 0; g < N; ++g)
-      top = std::max(top, last.grains.position[g].y() + last.grains.radius[g]);
-  }
-  const double w = h.box.width;
-  xml << "  <Grid Name=\"walls\" GridType=\"Uniform\">\n"
-      << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\"4\">"
-         "<DataItem Dimensions=\"1 4\" NumberType=\"Int\" Format=\"XML\">0 1 2 "
-         "3</DataItem></Topology>\n"
-      << "   <Geometry GeometryType=\"XY\"><DataItem Dimensions=\"4 2\" NumberType=\"Float\" "
-         "Precision=\"8\" "
-         "Format=\"XML\">0 "
-      << num(top) << " 0 0 " << num(w) << " 0 " << num(w) << " " << num(top)
-      << "</DataItem></Geometry>\n  </Grid>\n";
-  xml << " </Domain>\n</Xdmf>\n";
-  return {h.kind, F, N, K, 0, 0};
+  net << "  <Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < F; ++k)
+    net << "  <Grid Name=\"walls_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
+        << time_of(k) << "\"/>\n"
+        << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\"4\">"
+           "<DataItem Dimensions=\"1 4\" NumberType=\"Int\" Format=\"XML\">0 1 2 "
+           "3</DataItem></Topology>\n"
+        << "   <Geometry GeometryType=\"XY\"><DataItem Dimensions=\"4 2\" NumberType=\"Float\" "
+           "Precision=\"8\" Format=\"XML\">0 "
+        << num(top) << " 0 0 " << num(w) << " 0 " << num(w) << " " << num(top)
+        << "</DataItem></Geometry>\n  </Grid>\n";
+  net << "  </Grid>\n </Domain>\n</Xdmf>\n";
+  return sum;
 }
 
 Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File& product,
@@ -294,7 +376,8 @@ Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File
 }
 
 std::string paraview_state(const Summary& s, const std::string& xdmf_name,
-                           const std::string& xdmf_path) {
+                           const std::string& xdmf_path, const std::string& network_name,
+                           const std::string& network_path) {
   auto py = [](const std::string& v) {  // a Python string literal
     std::string out = "\"";
     for (char c : v) out += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
@@ -324,9 +407,16 @@ std::string paraview_state(const Summary& s, const std::string& xdmf_name,
       << "lut.NanColor = [0.8, 0.8, 0.8]\n"
       << "field.SetScalarBarVisibility(view, True)\n";
   } else {
-    o << "# the grains: disks of their own radius (Point Gaussian scaled by the radius array)\n"
-      << "grains = ExtractBlock(registrationName=\"grains\", Input=reader, "
-         "Selectors=[\"/Root/grains\"])\n"
+    o << "network_xdmf = os.path.join(here, " << py(network_name) << ")\n"
+      << "if not os.path.exists(network_xdmf):\n    network_xdmf = " << py(network_path) << "\n"
+      << "overlay = XDMFReader(registrationName=" << py(network_name)
+      << ", FileNames=[network_xdmf])\n"
+      << "overlay.UpdatePipelineInformation()\n";
+    const double nu_high = s.nu_max > 0 ? s.nu_max : 1.0;
+    const double fn_high = s.fn_rel_high > 0 ? s.fn_rel_high : 1.0;
+    o << "# the grains: disks of their own radius (Point Gaussian scaled by the radius array),\n"
+      << "# coloured by nu on the range of the run's values (0 to the largest over the frames)\n"
+      << "grains = reader  # the file holds the grains alone\n"
       << "disks = Show(grains, view)\n"
       << "disks.SetRepresentationType(\"Point Gaussian\")\n"
       << "disks.ShaderPreset = \"Plain circle\"\n"
@@ -336,25 +426,73 @@ std::string paraview_state(const Summary& s, const std::string& xdmf_name,
       << "disks.GaussianRadius = 1.0\n"
       << "ColorBy(disks, (\"POINTS\", \"nu\"))\n"
       << "lut = GetColorTransferFunction(\"nu\")\n"
+      << "# pale grey-blue (not white: the background) to a mid blue, light enough for the\n"
+      << "# network drawn over the disks\n"
+      << "lut.RGBPoints = [0.0, 0.84, 0.87, 0.92, " << num(nu_high) << ", 0.35, 0.55, 0.85]\n"
       << "lut.AutomaticRescaleRangeMode = \"Never\"\n"
-      << "lut.RescaleTransferFunction(0.0, 1.0)\n"
-      << "lut.NanColor = [0.8, 0.8, 0.8]\n"
+      << "lut.NanColor = [0.93, 0.82, 0.6]  # sand: no contact within reach, apart from nu = 0\n"
       << "disks.SetScalarBarVisibility(view, True)\n"
+      << "nu_bar = GetScalarBar(lut, view)\n"
+      << "nu_bar.Title = \"nu (grains)\"\n"
+      << "nu_bar.ComponentTitle = \"\"\n"
+      << "nu_bar.TitleColor = nu_bar.LabelColor = [0.0, 0.0, 0.0]\n"
+      << "nu_bar.RangeLabelFormat = \"%-#6.3g\"\n"
       << "# the walls\n"
-      << "walls = ExtractBlock(registrationName=\"walls\", Input=reader, "
+      << "walls = ExtractBlock(registrationName=\"walls\", Input=overlay, "
          "Selectors=[\"/Root/walls\"])\n"
       << "box = Show(walls, view)\n"
       << "box.ColorArrayName = [\"POINTS\", \"\"]\n"
       << "box.AmbientColor = box.DiffuseColor = [0.3, 0.3, 0.3]\n"
       << "box.LineWidth = 2.0\n"
-      << "# the contacts, hidden: click the eye beside 'contacts' (coloured by critical)\n"
-      << "contacts = ExtractBlock(registrationName=\"contacts\", Input=reader, "
+      << "# the force network: a segment between the centres of each pair in contact, grey to\n"
+      << "# black with f_n / <f_n> (the frame's mean), drawn in front of the disks\n"
+      << "contacts = ExtractBlock(registrationName=\"contacts\", Input=overlay, "
          "Selectors=[\"/Root/contacts\"])\n"
-      << "points = Show(contacts, view)\n"
-      << "points.SetRepresentationType(\"Points\")\n"
-      << "points.PointSize = 4.0\n"
-      << "ColorBy(points, (\"POINTS\", \"critical\"))\n"
-      << "Hide(contacts, view)\n"
+      << "network = Transform(registrationName=\"network\", Input=contacts)\n"
+      << "network.Transform = \"Transform\"\n"
+      << "network.Transform.Translate = [0.0, 0.0, " << num(s.diameter) << "]\n"
+      << "chains = Show(network, view)\n"
+      << "chains.SetRepresentationType(\"Surface\")\n"
+      << "chains.LineWidth = 2.0\n"
+      << "ColorBy(chains, (\"CELLS\", \"fn_rel\"))\n"
+      << "fn_lut = GetColorTransferFunction(\"fn_rel\")\n"
+      << "fn_lut.RGBPoints = [0.0, 0.6, 0.6, 0.6, " << num(fn_high) << ", 0.0, 0.0, 0.0]\n"
+      << "fn_lut.AutomaticRescaleRangeMode = \"Never\"\n"
+      << "chains.SetScalarBarVisibility(view, True)\n"
+      << "fn_bar = GetScalarBar(fn_lut, view)\n"
+      << "fn_bar.Title = \"f_n / <f_n>\"\n"
+      << "fn_bar.ComponentTitle = \"\"\n"
+      << "fn_bar.TitleColor = fn_bar.LabelColor = [0.0, 0.0, 0.0]\n"
+      << "fn_bar.RangeLabelFormat = \"%-#6.3g\"\n"
+      << "fn_bar.WindowLocation = \"Upper Right Corner\"\n"
+      << "# the critical contacts (|f_t| >= (1 - eps) mu f_n), red, in front of the network\n"
+      << "critical = Threshold(registrationName=\"critical\", Input=contacts, Scalars=[\"CELLS\", "
+         "\"critical\"], LowerThreshold=0.5, UpperThreshold=1.5)\n"
+      << "critical_front = Transform(registrationName=\"critical_front\", Input=critical)\n"
+      << "critical_front.Transform = \"Transform\"\n"
+      << "critical_front.Transform.Translate = [0.0, 0.0, " << num(2 * s.diameter) << "]\n"
+      << "red = Show(critical_front, view)\n"
+      << "red.SetRepresentationType(\"Surface\")\n"
+      << "red.ColorArrayName = [\"POINTS\", \"\"]\n"
+      << "red.AmbientColor = red.DiffuseColor = [0.9, 0.0, 0.0]\n"
+      << "red.LineWidth = 3.0\n"
+      << "# gravity, an arrow above the pile: it turns as the run tilts (the box's frame)\n"
+      << "gravity = ExtractBlock(registrationName=\"gravity\", Input=overlay, "
+         "Selectors=[\"/Root/gravity\"])\n"
+      << "arrow = Show(gravity, view)\n"
+      << "arrow.ColorArrayName = [\"POINTS\", \"\"]\n"
+      << "arrow.AmbientColor = arrow.DiffuseColor = [0.0, 0.5, 0.0]\n"
+      << "arrow.LineWidth = 3.0\n"
+      << "# the tilt angle of the frame shown, top left\n"
+      << "tilt = PythonAnnotation(registrationName=\"tilt\", Input=grains)\n"
+      << "tilt.ArrayAssociation = \"Field Data\"\n"
+      << "tilt.Expression = \"'tilt %.2f deg' % tilt_angle[0]\"\n"
+      << "label = Show(tilt, view)\n"
+      << "label.WindowLocation = \"Upper Left Corner\"\n"
+      << "label.FontSize = 14\n"
+      << "label.Color = [0.0, 0.0, 0.0]\n"
+      << "view.Background = [1.0, 1.0, 1.0]\n"
+      << "view.UseColorPaletteForBackground = 0\n"
       << "scene = GetAnimationScene()\n"
       << "scene.UpdateAnimationUsingDataTimeSteps()\n";
   }

@@ -1,6 +1,9 @@
 # nu_bar pooled in theta windows over frames and runs, with the cluster-robust errors, from a hand-built localnu product.
 # Two frames of five contacts on a line (D = 1): frame 0 (theta 2) nu_i(1) of its critical
 # contacts = 1/2, 1/3; frame 1 (theta 4) = 1, 2/3 (see localnu/by_hand.sh).
+# the exact values below are read with every bit (--digits 0), not the 6 significant digits of a table for people
+correlate() { command correlate --digits 0 "$@"; }
+localnu() { command localnu --digits 0 "$@"; }
 cat > line.tsv <<'T'
 frame	theta	i	j	x	y	fn	ft
 0	2	0	1	0	0	2	1

@@ -1,4 +1,6 @@
 # The frames table has Ek (mean translational kinetic energy per free grain) from the grains' velocities: by hand, and equal to the per-step Ek of the same step.
+# the exact values below are read with every bit (--digits 0), not the 6 significant digits of a table for people
+critical() { command critical --digits 0 "$@"; }
 printf 'frame\ttheta\ti\tj\tx\ty\tfn\tft\n0\t1\t0\t1\t0\t0\t1\t0.5\n0\t1\t1\t2\t1\t0\t1\t0\n1\t2\t0\t1\t0\t0\t1\t0.5\n' > ok.tsv
 table-to-run ok.tsv run.h5 1 0.5
 # Three free disks of diameter 1 m, density 2500: m = 2500 pi / 4. In frame 1, grain 0 moves

@@ -2,6 +2,8 @@
 # Five contacts on a line at x = 0..4 (D = 1, mu = 0.5): frame 0 (theta 2 deg) has
 # contacts 0 and 3 critical (|ft| = mu fn), frame 1 (theta 4 deg) contacts 0 and 1.
 # Within r = 1 of x = 0: {0, 1}; of x = 1, 2, 3: three contacts; of x = 4: {3, 4}.
+# the exact values below are read with every bit (--digits 0), not the 6 significant digits of a table for people
+localnu() { command localnu --digits 0 "$@"; }
 cat > line.tsv <<'T'
 frame	theta	i	j	x	y	fn	ft
 0	2	0	1	0	0	2	1

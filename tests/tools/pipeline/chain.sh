@@ -5,6 +5,10 @@
 # critical neighbours, two for the 15 inner ones and one for the 2 at the ends of the chain:
 # nu_bar = (15 x 3 + 2 x 2)/17/(2r+1) = 49/(17(2r+1)). No contact within 20 D of a critical
 # one is missing (the line runs 20 D beyond the chain).
+# the exact values below are read with every bit (--digits 0), not the 6 significant digits of a table for people
+clusterfit() { command clusterfit --digits 0 "$@"; }
+correlate() { command correlate --digits 0 "$@"; }
+localnu() { command localnu --digits 0 "$@"; }
 awk 'BEGIN { print "frame\ttheta\ti\tj\tx\ty\tfn\tft"
   for (f = 0; f < 2; f++) for (k = 0; k <= 200; k++)
     print f "\t" 5.5 + f "\t" k "\t" k + 1 "\t" k "\t0\t2\t" ((k % 10 == 0 && k >= 20 && k <= 180) ? 1 : 0.3) }' > line.tsv

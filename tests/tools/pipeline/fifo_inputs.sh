@@ -1,5 +1,7 @@
 # A FIFO or a process substitution is read whole, like standard input:
 # correlate <(localnu run.h5 -o -) works, with HDF5 or TSV, and an empty one says so.
+# the exact values below are read with every bit (--digits 0), not the 6 significant digits of a table for people
+localnu() { command localnu --digits 0 "$@"; }
 deposit --grains 40 --width 8 --seed 1 -o p.h5 --quiet
 tilt-cd p.h5 --rate 1 --to 2 -o run.h5 --quiet
 localnu run.h5 --radii 1,2 -o l.h5 --quiet

@@ -13,6 +13,9 @@ done
 for fig in fig1a_nu fig1b_ek fig1c_envelope fig2_events fig3_pdf fig4a_nubar fig5_maps fig7_mobilisation; do
   for ext in png pdf; do [[ -s $study/figures/$fig.$ext ]] || { echo "missing $fig.$ext" >&2; exit 1; }; done
 done
+# the pile itself at three angles, from the first run (pipelines/pile.py)
+[[ -s $study/figures/pile.png ]] || { echo "missing pile.png" >&2; exit 1; }
+grep -q "figures/pile.png (frames \[0, [0-9]*, [0-9]*\] of run-1.h5)" make1.log || { cat make1.log >&2; exit 1; }
 # Fig 6 needs nu_c: drawn, or not drawn with its reason written instead (never empty axes).
 if [[ -e $study/figures/fig6_rc.txt ]]; then
   grep -q '^Fig 6 is not drawn: r_c not computed: no nu_c' "$study/figures/fig6_rc.txt"

@@ -11,6 +11,7 @@ and checks its grid and nu field against the product's map, and loads that produ
 """
 import json
 import math
+import os
 import sys
 
 from paraview import servermanager
@@ -45,6 +46,8 @@ if max(abs(a - b) for a, b in zip(times, expected["times"])) > 1e-12:
 def fetch(source, t):
     source.UpdatePipeline(t)
     d = servermanager.Fetch(source)
+    if not d.IsA("vtkCompositeDataSet"):
+        return dsa.WrapDataObject(d)
     it = d.NewIterator()
     it.InitTraversal()
     blocks = []
@@ -75,16 +78,30 @@ for k, t in enumerate(times):
     if abs(float(g.FieldData["tilt_angle"][0]) - expected["tilt"][k]) > 1e-12:
         fail(f"frame {k}: tilt_angle {g.FieldData['tilt_angle'][0]}, expected {expected['tilt'][k]}")
     c = fetch(contacts, t)
-    if c.GetNumberOfPoints() != expected["contacts"][k]:
-        fail(f"frame {k}: {c.GetNumberOfPoints()} contacts, expected {expected['contacts'][k]}")
-    for name in ("fn", "ft", "status", "critical", "i", "j", "gap", "mobilisation", "normal"):
-        if c.PointData[name] is None:
+    if c.GetNumberOfCells() != expected["contacts"][k]:
+        fail(f"frame {k}: {c.GetNumberOfCells()} contact segments, expected {expected['contacts'][k]}")
+    for name in ("fn", "ft", "status", "critical", "i", "j", "gap", "mobilisation", "normal", "fn_rel", "point"):
+        if c.CellData[name] is None:
             fail(f"frame {k}: contact array {name} missing")
-    if int(np.asarray(c.PointData["critical"]).sum()) != expected["critical"][k]:
-        fail(f"frame {k}: {int(np.asarray(c.PointData['critical']).sum())} critical contacts, the run's "
+    if int(np.asarray(c.CellData["critical"]).sum()) != expected["critical"][k]:
+        fail(f"frame {k}: {int(np.asarray(c.CellData['critical']).sum())} critical contacts, the run's "
              f"observable 'critical' says {expected['critical'][k]}")
-    if np.abs(np.asarray(c.PointData["fn"]) - np.asarray(expected["fn"][k])).max() > 0:
+    if np.abs(np.asarray(c.CellData["fn"]) - np.asarray(expected["fn"][k])).max() > 0:
         fail(f"frame {k}: fn differs from the run's")
+    # each segment joins the centres of the pair (a wall contact: the centre and the contact point)
+    ends = np.asarray(c.Points)[:, :2]
+    cells = c.VTKObject.GetCells()
+    ci, cj = np.asarray(c.CellData["i"]), np.asarray(c.CellData["j"])
+    conn = np.asarray(dsa.vtkDataArrayToVTKArray(cells.GetConnectivityArray())).reshape(-1, 2)
+    centres = np.asarray(expected["positions"][k])
+    if np.abs(ends[conn[:, 0]] - centres[ci]).max() > 0:
+        fail(f"frame {k}: a segment does not start at its grain i")
+    gg = cj >= 0
+    if np.abs(ends[conn[gg, 1]] - centres[cj[gg]]).max() > 0:
+        fail(f"frame {k}: a segment does not end at its grain j")
+    mean = np.asarray(expected["fn"][k])[np.asarray(expected["fn"][k]) > 0].mean()
+    if np.abs(np.asarray(c.CellData["fn_rel"]) * mean - np.asarray(expected["fn"][k])).max() > 1e-12 * mean:
+        fail(f"frame {k}: fn_rel is not fn / <fn>")
 
 # One image, at the last frame, as the state shows it.
 view.ViewSize = [400, 300]
@@ -99,28 +116,109 @@ dims = png.GetOutput().GetDimensions()
 pix = np.asarray(dsa.WrapDataObject(png.GetOutput()).PointData[0])[:, :3].reshape(dims[1], dims[0], 3)[::-1]
 bg = pix[0, 0].astype(int)
 drawn = np.abs(pix.astype(int) - bg).sum(axis=2) > 30
-fraction = drawn.mean()
-# The disks' area as the parallel camera shows it: height 2 x parallel scale.
+# The parallel camera: height 2 x parallel scale; world (x, y) to pixel (column, row).
 cam = view.GetActiveCamera()
 height = 2 * cam.GetParallelScale()
 width = height * dims[0] / dims[1]
-radii = np.asarray(expected["radius"])
-want = float(np.sum(math.pi * radii ** 2)) / (width * height)
-print(f"image {dims[0]} x {dims[1]}: {100 * fraction:.1f} % of pixels drawn, the disks' area is "
-      f"{100 * want:.1f} % of the view")
-if not (0.75 * want < fraction < 1.35 * want + 0.02):
-    fail(f"{100 * fraction:.1f} % of the pixels drawn, the disks cover {100 * want:.1f} % of the view")
-# every grain's centre is drawn
 fx, fy, _ = cam.GetFocalPoint()
+
+
+def to_pixel(x, y):
+    return ((np.asarray(x) - fx) / width + 0.5) * dims[0], (0.5 - (np.asarray(y) - fy) / height) * dims[1]
+
+
+# The disks' area against the pixels drawn between the walls, up to the top grain (the
+# colour bars, the arrow and the text lie outside)
 centres = np.asarray(expected["positions"][-1])
-px = ((centres[:, 0] - fx) / width + 0.5) * dims[0]
-py = (0.5 - (centres[:, 1] - fy) / height) * dims[1]
+radii = np.asarray(expected["radius"])
+c0, r1 = to_pixel(0.0, 0.0)
+c1, r0 = to_pixel(scope_width := float(max(centres[:, 0] + radii)), float(max(centres[:, 1] + radii)))
+region = drawn[int(r0) + 1:int(r1) - 1, int(c0) + 2:int(c1) - 1]
+fraction = region.mean()
+want = float(np.sum(math.pi * radii ** 2)) / (scope_width * float(max(centres[:, 1] + radii)))
+print(f"image {dims[0]} x {dims[1]}: {100 * fraction:.1f} % of pixels drawn inside the pile's bounds, the disks' "
+      f"area is {100 * want:.1f} %")
+if not (0.75 * want < fraction < 1.35 * want + 0.02):
+    fail(f"{100 * fraction:.1f} % of the pixels drawn, the disks cover {100 * want:.1f} % of the pile's bounds")
+# every grain's centre is drawn
+px, py = to_pixel(centres[:, 0], centres[:, 1])
 inside = (px >= 0) & (px < dims[0]) & (py >= 0) & (py < dims[1])
 hit = drawn[py[inside].astype(int), px[inside].astype(int)]
 if inside.sum() < len(centres) or not hit.all():
     fail(f"{int(hit.sum())} of {len(centres)} grain centres drawn")
 colours = {tuple(p) for p in pix[drawn]}
 print(f"{len(centres)} grain centres drawn; {len(colours)} colours")
+
+
+def near(col, row, test):
+    """Whether a pixel within 2 of (col, row) passes test (the lines' anti-aliasing)."""
+    c, r = int(round(float(col))), int(round(float(row)))
+    block = pix[max(r - 2, 0):r + 3, max(c - 2, 0):c + 3].astype(int)
+    return bool(test(block).any())
+
+
+red = lambda b: (b[..., 0] > 150) & (b[..., 1] < 90) & (b[..., 2] < 90)
+grey = lambda b: (np.abs(b[..., 0] - b[..., 1]) < 20) & (np.abs(b[..., 1] - b[..., 2]) < 20) & (b[..., 0] < 170)
+li, lj, lc = (np.asarray(expected[k]) for k in ("last_i", "last_j", "last_critical"))
+mid_x = (centres[li, 0] + np.where(lj >= 0, centres[np.maximum(lj, 0), 0], centres[li, 0])) / 2
+mid_y = (centres[li, 1] + np.where(lj >= 0, centres[np.maximum(lj, 0), 1], centres[li, 1])) / 2
+mcol, mrow = to_pixel(mid_x, mid_y)
+pairs = lj >= 0
+crit = pairs & (lc == 1)
+if crit.sum() == 0:
+    fail("the last frame has no critical contact between grains to look for")
+red_found = [near(mcol[q], mrow[q], red) for q in np.flatnonzero(crit)]
+if not all(red_found):
+    fail(f"{sum(red_found)} of {int(crit.sum())} critical segments red at their midpoints")
+strong = np.flatnonzero(pairs & (lc == 0) & (np.asarray(expected["last_fn"]) > 0))
+grey_found = [near(mcol[q], mrow[q], grey) for q in strong]
+if sum(grey_found) < 0.9 * len(strong):
+    fail(f"{sum(grey_found)} of {len(strong)} loaded segments drawn grey to black at their midpoints")
+print(f"{int(crit.sum())} critical segments red at their midpoints; {sum(grey_found)} of {len(strong)} other "
+      f"loaded segments grey to black; {int(red(pix).sum())} red pixels")
+# The tilt angle of the frame shown, as the annotation computes it and as drawn (top left)
+tilt = scope["tilt"]
+tilt.UpdatePipeline(times[-1])
+text = servermanager.Fetch(tilt).GetColumn(0).GetValue(0)
+if text != "tilt %.2f deg" % expected["tilt"][-1]:
+    fail(f"tilt text {text!r}, expected 'tilt {expected['tilt'][-1]:.2f} deg'")
+corner = drawn[:dims[1] // 8, :dims[0] // 4]
+if corner.sum() < 20:
+    fail("no text drawn in the top left corner")
+print(f"tilt text: {text!r}, {int(corner.sum())} pixels in the top left corner")
+
+# File > Open: ParaView picks its reader for run.xdmf (no reader named): one point per grain.
+# The name with its folder, as the GUI gives it: ParaView 5.11's Xdmf3 reader joins a bare
+# name's HDF5 references to the name itself ("run.xdmfrun.xdmf.hdf5") and aborts.
+opened = OpenDataFile(os.path.join(".", expected["xdmf"]))
+print(f"File > Open: {opened.GetXMLName()}")
+opened.UpdatePipelineInformation()
+if len(opened.TimestepValues) != expected["frames"]:
+    fail(f"File > Open: {len(opened.TimestepValues)} time steps, expected {expected['frames']}")
+for k, t in enumerate(opened.TimestepValues):
+    g = fetch(opened, t)
+    if g.GetNumberOfPoints() != expected["grains"] or g.GetNumberOfCells() != expected["grains"]:
+        fail(f"File > Open, frame {k}: {g.GetNumberOfPoints()} points, {g.GetNumberOfCells()} cells, "
+             f"expected one per grain ({expected['grains']})")
+    if np.abs(np.asarray(g.Points)[:, :2] - np.asarray(expected["positions"][k])).max() > 0:
+        fail(f"File > Open, frame {k}: grain positions differ from the run's")
+    if abs(float(g.FieldData["tilt_angle"][0]) - expected["tilt"][k]) > 1e-12:
+        fail(f"File > Open, frame {k}: tilt_angle differs from the run's")
+net = OpenDataFile(os.path.join(".", expected["network"]))
+net.UpdatePipelineInformation()
+for k, t in enumerate(net.TimestepValues):
+    net.UpdatePipeline(t)
+    d = servermanager.Fetch(net)
+    it = d.NewIterator()
+    it.InitTraversal()
+    cells = []
+    while not it.IsDoneWithTraversal():
+        cells.append(it.GetCurrentDataObject().GetNumberOfCells())
+        it.GoToNextItem()
+    if cells[0] != expected["contacts"][k]:
+        fail(f"File > Open of the network, frame {k}: {cells[0]} segments, expected {expected['contacts'][k]}")
+print(f"File > Open: {expected['grains']} points a frame, {expected['frames']} frames; network "
+      f"{expected['contacts']} segments")
 
 # The nu field of a localnu product.
 nu_reader = XDMFReader(FileNames=[sys.argv[4]])

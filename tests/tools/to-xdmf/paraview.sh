@@ -1,4 +1,4 @@
-# ParaView opens a small run through to-xdmf: its XDMF Reader (legacy XDMF 2) reads every frame (time steps, grain count, arrays, contact counts, critical flags against the run's own observable), the state to-xdmf writes renders the disks at their radii (one offscreen image whose pixels are checked), and a localnu map reads back as its nu field.
+# ParaView opens a small run through to-xdmf: File > Open (OpenDataFile, the Xdmf3 reader ParaView picks) loads one point per grain per frame and the network file one segment per contact; the legacy XDMF Reader of the state reads every frame (time steps, grain count, arrays, contact counts, critical flags against the run's own observable); the state renders the disks at their radii, the force network with the critical contacts in red and the last frame's tilt angle (one offscreen image whose pixels are checked), and a localnu map reads back as its nu field.
 if ! command -v pvpython > /dev/null; then
   echo "skipped: ParaView's Python (pvpython, Debian package python3-paraview) is not installed; scripts/install-deps.sh installs it" >&2
   exit 77
@@ -11,7 +11,7 @@ here="$CDPILE_SOURCE/tests/tools/to-xdmf"
 deposit --grains 30 --width 6 --seed 2 --quiet -o pile.h5
 tilt-cd pile.h5 --rate 2 --to 6 --frame-every 1 --quiet -o run.h5
 to-xdmf run.h5 --quiet
-test -s run.xdmf && test -s run.xdmf.hdf5 && test -s run.paraview.py
+test -s run.xdmf && test -s run.network.xdmf && test -s run.xdmf.hdf5 && test -s run.paraview.py
 # docs/analysis.md's map recipe as written, but for its last line (the ParaView window): the
 # state it loads is loaded offscreen below
 awk '$0 == "```sh paraview-map" {on=1; next} /^```/{on=0} on' "$CDPILE_SOURCE/docs/analysis.md" > map.sh
@@ -42,6 +42,13 @@ for o, n, s in zip(off, cnt, steps):
     if k < len(obs_step) and obs_step[k] == s:
         assert obs_crit[k] == crit[-1], (s, obs_crit[k], crit[-1])
 e["critical"] = crit
+# the last frame's contacts, for the picture: the pairs and which are critical
+o, n = off[-1], cnt[-1]
+fn, ft, j = c["fn"][o:o + n], c["ft"][o:o + n], c["j"][o:o + n]
+mu = np.where(j < 0, par["mu_wall"], par["mu_grain"])
+e["last_i"], e["last_j"] = c["i"][o:o + n].tolist(), j.tolist()
+e["last_critical"] = ((fn > 0) & (np.abs(ft) >= (1 - par["critical_eps"]) * mu * fn)).astype(int).tolist()
+e["last_fn"] = fn.tolist()
 assert sum(crit) > 0
 p = h5py.File("map.h5", "r")
 m = p["tables/map"]
@@ -49,6 +56,7 @@ defined = m["nu_defined"][:] if "nu_defined" in m else np.ones(m["nu"].shape, bo
 r = p["results"].attrs
 e["map"] = dict(nx=int(r["map_nx"]), ny=int(r["map_ny"]), x0=float(m["x"][0]), y0=float(m["y"][0]),
                 dx=float(r["map_dx_m"]), nu=[float(v) if d else None for v, d in zip(m["nu"][:], defined)])
+e["xdmf"], e["network"] = "run.xdmf", "run.network.xdmf"
 json.dump(e, open("expected.json", "w"))
 PY
 # a private X display for ParaView's offscreen window (-noreset: a server that resets when
@@ -62,6 +70,9 @@ DISPLAY=":$(cat display.txt)" timeout 300 pvpython "$here/check_paraview.py" exp
   cat out.txt err.txt >&2; exit 1; }
 cat out.txt
 grep -q '% of pixels drawn' out.txt
+grep -q '^File > Open: ' out.txt
+grep -q 'critical segments red' out.txt
+grep -q '^tilt text: ' out.txt
 grep -q 'grain centres drawn' out.txt
 grep -q '^nu field: ' out.txt
 grep -q '^map state: ' out.txt

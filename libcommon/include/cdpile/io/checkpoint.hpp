@@ -10,6 +10,7 @@
 #include "cdpile/model.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,5 +51,16 @@ void write_checkpoint(const h5::File& f, const Checkpoint& c);
 /// state the checkpoint's replaces. An Error names the file if there is none ("not a
 /// partial run") or it does not match them.
 Checkpoint read_checkpoint(const h5::File& f, const Grains& properties);
+
+/// What a tool that reads runs is given for a run tilt-cd may still be computing: `path`
+/// itself if it exists, else PATH.partial if that exists (tilt-cd writes OUTPUT.partial
+/// until the run is finished; docs/method.md, "Checkpoints"), else `path` (whose absence
+/// the reader then reports). Reading a partial does not disturb tilt-cd: every checkpoint
+/// replaces the partial by a rename, so a reader keeps the complete file it opened.
+std::string run_or_partial(const std::string& path);
+
+/// For a partial run (a file with /checkpoint), the one line a tool says about it on
+/// stderr: what it holds (its frames up to the last checkpoint); empty otherwise.
+std::string partial_run_note(const RunReader& run);
 
 }  // namespace cdpile::io

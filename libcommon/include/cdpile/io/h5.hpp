@@ -182,6 +182,20 @@ void write(const File& f, const std::string& path, const std::vector<T>& v, Layo
 template <class T>
 void append(const File& f, const std::string& path, const T* data, const std::vector<hsize_t>& dims,
             Layout layout);
+/// One block of a virtual dataset: `count` elements of the source dataset `path` (in the
+/// file given to write_virtual) from `src_start`, placed at `dst_start` (blocks of the same
+/// shape; a source of higher rank gives its trailing dimensions).
+struct VirtualBlock {
+  std::string path;
+  std::vector<hsize_t> src_start, src_count, dst_start, dst_count;
+};
+/// Creates a virtual dataset (HDF5 1.10 VDS) of shape `dims` in `f` whose blocks are read
+/// from `src` when the dataset is read, never copied: `src_name` is the source file's name
+/// as stored (relative names are looked for beside `f`). Elements no block covers read as
+/// 0. The type is the first block's source dataset's.
+void write_virtual(const File& f, const std::string& path, const std::vector<hsize_t>& dims,
+                   const File& src, const std::string& src_name,
+                   const std::vector<VirtualBlock>& blocks);
 /// Shrinks an extendible dataset to `rows` along its first dimension.
 void truncate_rows(const File& f, const std::string& path, hsize_t rows);
 

@@ -21,6 +21,7 @@
 /// Errors are cdpile::Error naming the file and the line or the step.
 #pragma once
 
+#include "cdpile/analysis/critical.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -168,5 +169,14 @@ struct ExportOptions {
   std::size_t every = 1;
 };
 std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt = {});
+
+/// to-lammps --contacts: the same frames' grain-grain contacts as `dump local` snapshots
+/// (ITEM: NUMBER OF ENTRIES, ITEM: ENTRIES id1 id2 fn ft critical), the force network as
+/// bonds for OVITO's Load trajectory modifier: id1, id2 the atom ids of write_dump (grain
+/// index + 1), fn >= 0 and ft signed along the contact's tangent [N/m], critical 1 when
+/// |ft| >= (1 - eps) mu fn with fn > 0. Wall contacts are left out (no second atom). The box
+/// bounds are the atoms dump's. Returns the number of snapshots.
+std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt,
+                                const analysis::Friction& mu, double eps);
 
 }  // namespace cdpile::io::lammps

@@ -40,8 +40,9 @@
 
 namespace cdpile::io {
 
-/// The shortest round-trip text of a double ("NA" for NaN or infinity).
-std::string format_number(double v);
+/// The shortest round-trip text of a double ("NA" for NaN or infinity); with `digits` > 0,
+/// the double to that many significant digits (printf's %.Ng).
+std::string format_number(double v, int digits = 0);
 
 /// A product as read from a file, with the history of the tools that made it.
 struct ProductFile {
@@ -52,9 +53,11 @@ struct ProductFile {
 /// Writes a product as TSV. `only` lists the tables to write (empty: all). `header`: the
 /// commented file header (tool, command, provenance, parameters, results, notes, the
 /// tables' row counts) before the tables; without it the output is the tables alone, each
-/// with its own '# table:' lines, and cannot be read back as a product.
+/// with its own '# table:' lines, and cannot be read back as a product. `digits`: the
+/// significant digits of the numbers of the tables and of the parameter and result lines
+/// (0: full precision, the shortest text that reads back to the same double).
 void write_tsv(std::ostream& os, const analysis::Product& p, const std::vector<Provenance>& history,
-               const std::vector<std::string>& only = {}, bool header = true);
+               const std::vector<std::string>& only = {}, bool header = true, int digits = 0);
 
 /// Writes a product into a new HDF5 file.
 void write_hdf5(const h5::File& f, const analysis::Product& p,
@@ -86,9 +89,10 @@ Format resolve_format(const std::string& output, Format format);
 /// Writes a product where the tool was told to: with no -o (`output` empty) TSV on
 /// standard output; with -o FILE, HDF5, unless FILE ends in .tsv, .txt or .dat or the
 /// format says otherwise; `-o -` is HDF5 on standard output (for pipes) unless
-/// `--format tsv`. Atomic (io::Output) and refusing to overwrite without `force`.
+/// `--format tsv`. Atomic (io::Output) and refusing to overwrite without `force`. `digits`
+/// as write_tsv's, for TSV.
 void emit(const analysis::Product& p, const std::vector<Provenance>& history,
           const std::string& output, bool force, Format format,
-          const std::vector<std::string>& only = {}, bool header = true);
+          const std::vector<std::string>& only = {}, bool header = true, int digits = 0);
 
 }  // namespace cdpile::io

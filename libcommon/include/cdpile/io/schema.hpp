@@ -163,6 +163,8 @@ class RunReader {
   /// pile may lack them.
   void check_observables() const;
   const std::string& name() const { return f_->name(); }
+  /// The file read (to-xdmf maps its datasets into virtual ones).
+  const h5::File& file() const { return *f_; }
   /// L = max(box width, box height) [m]: frame() refuses a grain centre farther than L
   /// outside the box.
   double length_scale() const;

@@ -1,26 +1,32 @@
 /// XDMF descriptions of cdpile files for ParaView (docs/analysis.md, "Seeing the grains").
 ///
 /// ParaView has no H5MD reader. An XDMF file is a small XML text that tells it where the
-/// arrays are inside the HDF5 file, so it reads them in place, without a copy. The layout
-/// written here is for ParaView's legacy "XDMF Reader" (XDMF 2): each frame's grains are a
-/// hyperslab of /particles/grains/position/value; ParaView's newer Xdmf3 readers crash on
-/// hyperslabs (ParaView 5.11), so they are not the target.
+/// arrays are inside HDF5 files, so it reads them in place. ParaView 5.11's File > Open picks
+/// its Xdmf3 reader, which reads neither XDMF hyperslabs nor functions (a hyperslab geometry
+/// crashed it with SIGSEGV: the array of a reference item has no type until read, and the
+/// reader copies the geometry without reading it). So every array an XDMF names here is a
+/// whole dataset: what the run holds, as virtual datasets (HDF5 1.10 VDS) in a small file
+/// beside the XDMF, mapped onto the run's rows and never copied; what is derived, as real
+/// datasets of that file. Both the Xdmf3 reader and the legacy XDMF Reader load them.
 ///
-///   pile or run: three grids
-///     grains    a temporal collection, one grid per frame (Time = the frame's time in s):
-///               points at the grain centres (z = 0) with radius, species, mass, velocity
-///               (a 3-vector, z = 0), angular_velocity, orientation, nu (below) and the
-///               frame's tilt_angle and step as field data;
-///     contacts  a temporal collection: points at the contact points with i, j, fn, ft,
-///               gap, status, normal (3-vector), critical (1 if critical by the run's rule)
-///               and mobilisation |f_t| / (mu f_n);
-///     walls     the floor and side walls as lines.
+///   pile or run, two XDMF files:
+///     NAME.xdmf          grains, a temporal collection, one grid per frame (Time = the
+///                        frame's time in s): one vertex per grain centre (z = 0) with radius,
+///                        species, mass, velocity (a 3-vector, z = 0), angular_velocity,
+///                        orientation, nu (below) and the frame's tilt_angle and step as field
+///                        data. File > Open of it loads one point per grain.
+///     STEM.network.xdmf  contacts: per frame one segment per contact row, between the
+///                        centres of i and j (for a wall, from the centre of i to the contact
+///                        point), with i, j, fn, ft, gap, status, normal, point, critical
+///                        (1 if critical by the run's rule), mobilisation |f_t| / (mu f_n) and
+///                        fn_rel = f_n / <f_n> (the mean over the frame's active contacts);
+///                        gravity: an arrow above the pile along g = (sin theta, -cos theta),
+///                        the box frame's gravity; walls: the floor and side walls as lines.
 ///   localnu product with a map: the nu field of the mapped frame on its grid (nu, above,
 ///   contacts, critical at each node).
-/// What the run file does not hold, computed once, goes into a small HDF5 file beside the
-/// XDMF (NAME.xdmf.hdf5: not .h5, so that globs of runs like run*.h5 do not take it): per contact
-/// `critical` and `mobilisation`; per grain and frame `nu`, the local state at the grain's centre,
-/// critical / contacts within `nu_radius` (in mean diameters; 6 D as localnu's map), NaN where no
+/// The file beside (NAME.xdmf.hdf5: not .h5, so that globs of runs like run*.h5 do not take
+/// it): /frames/K/... per frame; nu of a grain is the local state at its centre, critical /
+/// contacts within `nu_radius` (in mean diameters; 6 D as localnu's map), NaN where no
 /// contact is within reach; for a product, nu and above with NaN where the map has no value.
 #pragma once
 
@@ -44,13 +50,20 @@ struct Summary {
   std::string kind;  ///< pile, run or localnu
   std::size_t frames = 0, grains = 0, contacts = 0;
   std::size_t nx = 0, ny = 0;  ///< the map's nodes (localnu)
+  // For the state's view of a pile or run:
+  double nu_max = 0;          ///< the largest nu of a grain over the frames (0: none)
+  double fn_rel_high = 0;     ///< 99th percentile of f_n / <f_n> over the frames' contacts
+  double diameter = 0;        ///< mean diameter [m]
+  double width = 0, top = 0;  ///< the box's width and the walls' top [m]
+  double tilt_last_deg = 0;   ///< the last frame's tilt angle [degree]
 };
 
-/// Writes the XDMF text of a pile or run into `xml` and the derived arrays into `sidecar`
-/// (a new, empty HDF5 file). `data_ref` and `sidecar_ref` are the two files' names as the
-/// XDMF refers to them (relative to the XDMF's folder).
-Summary write_run(std::ostream& xml, const h5::File& sidecar, const RunReader& run,
-                  const std::string& data_ref, const std::string& sidecar_ref,
+/// Writes the XDMF text of a pile's or run's grains into `xml`, of its network, gravity and
+/// walls into `network_xml`, and every frame's arrays into `sidecar` (a new, empty HDF5 file).
+/// `data_ref` and `sidecar_ref` are the two files' names as the XDMF refers to them (relative
+/// to the XDMF's folder; the virtual datasets name the run by `data_ref` too).
+Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
+                  const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
                   const Options& opt = {});
 
 /// The same for a localnu product (HDF5) with a map. Error if it has no map.
@@ -58,12 +71,14 @@ Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File
                       const std::string& data_ref, const std::string& sidecar_ref);
 
 /// A ParaView Python state that opens the XDMF (named `xdmf_name`, beside it; `xdmf_path`
-/// absolute, as a fallback) and shows what `summary` describes: the grains as disks of
-/// their radius coloured by nu, the walls, the contacts (hidden, ready to show); or the nu
-/// field of a product. File > Load State in ParaView, `paraview --state=FILE`, or
-/// `pvpython FILE`.
+/// absolute, as a fallback; for a run also the network's, `network_name`) and shows what
+/// `summary` describes: the grains as disks of their radius coloured by nu on the run's
+/// range, the force network grey to black by f_n / <f_n>, the critical contacts in red,
+/// gravity, the walls and the tilt angle as text; or the nu field of a product. File > Load State
+/// in ParaView, `paraview --state=FILE`, or `pvpython FILE`.
 std::string paraview_state(const Summary& summary, const std::string& xdmf_name,
-                           const std::string& xdmf_path);
+                           const std::string& xdmf_path, const std::string& network_name = "",
+                           const std::string& network_path = "");
 
 /// Text escaped for an XML attribute or element.
 std::string xml_escape(const std::string& s);
