@@ -5,7 +5,7 @@
 #       tilts INPUT from FROM to TO degrees, once in pair order on one thread and once in
 #       strips on each number of THREADS (default "1 2"), with the tools' defaults, and
 #       prints one row per run: CPU and wall time, sweeps (and iterations) per step, steps
-#       at the cap, sub-steps per step, nu at the end. INPUT is a run made by tilt-cd with a
+#       at the cap, sub-steps per step, nu at the end, peak memory. INPUT is a run made by tilt-cd with a
 #       frame at FROM (the window is a branch from it) or a pile (the window starts at FROM:
 #       a pile tilted at once by FROM degrees rearranges).
 #   Every run in strips must give the same file on every number of threads: the rows
@@ -26,7 +26,7 @@ shift 5
 threads=("$@")
 [[ ${#threads[@]} -gt 0 ]] || threads=(1 2)
 mkdir -p "$out"
-if h5ls "$input/frames" > /dev/null 2>&1 || h5ls "$input/observables" > /dev/null 2>&1; then
+if "$py" -c "import h5py, sys; sys.exit(h5py.File(sys.argv[1], 'r').attrs.get('kind') not in (b'run', 'run'))" "$input"; then
   start=(--branch-at "$from")
 else
   start=(--from "$from")
@@ -36,7 +36,7 @@ row() {  # row LABEL FILE TIMEFILE SAME
   "$py" - "$@" <<'PY'
 import sys, h5py
 label, path, timing, same = sys.argv[1:5]
-user, system, wall = (float(x) for x in open(timing).read().split()[-3:])
+user, system, wall, rss = (float(x) for x in open(timing).read().split()[-4:])
 with h5py.File(path, "r") as f:
     o = f["observables"]
     v = lambda k: o[k]["value"][:]
@@ -44,17 +44,17 @@ with h5py.File(path, "r") as f:
     nu = v("critical")[-1] / max(1, v("contacts")[-1])
     print(f"{label}\tcpu {user + system:.2f} s\twall {wall:.2f} s\tsteps {len(sweeps)}\t"
           f"sweeps/step {sweeps.mean():.1f}\tcapped {(conv == 0).sum()}\t"
-          f"substeps/step {sub.mean():.2f}\tnu_end {nu:.4f}\t{same}")
+          f"substeps/step {sub.mean():.2f}\tnu_end {nu:.4f}\tpeak RSS {rss / 1024:.0f} MB\t{same}")
 PY
 }
 
 run() {  # run LABEL OPTIONS...
   local label=$1; shift
-  /usr/bin/time -f "%U %S %e" -o "$out/$label.time" \
+  /usr/bin/time -f "%U %S %e %M" -o "$out/$label.time" \
     "$bin/tilt-cd" "$input" "${start[@]}" --to "$to" -o "$out/$label.h5" --force --quiet "$@"
 }
 
-run pair
+run pair --sweep-order pair
 row pair "$out/pair.h5" "$out/pair.time" ""
 first=
 for t in "${threads[@]}"; do

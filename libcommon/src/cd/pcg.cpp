@@ -33,14 +33,28 @@ Local relative_velocity(const std::vector<Body>& bodies, const ContactRow& r) {
   return {dvx * r.nx + dvy * r.ny, -dvx * r.ny + dvy * r.nx - a.w * r.ri - b.w * r.rj};
 }
 
-void zero_velocities(std::vector<Body>& bodies) {
-  for (Body& b : bodies) b.vx = b.vy = b.w = 0.0;
+void zero_velocities(std::vector<Body>& bodies, Team* team) {
+  for_each_range(bodies.size(), team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b < last; ++b) bodies[b].vx = bodies[b].vy = bodies[b].w = 0.0;
+  });
 }
 
-double largest(const std::vector<Local>& a) {
-  double m = 0.0;
-  for (const Local& x : a) m = std::max({m, std::abs(x.n), std::abs(x.t)});
-  return m;
+/// The largest component. A maximum is the same numbers in any order, so each thread
+/// takes a range and the ranges' maxima are combined.
+double largest(const std::vector<Local>& a, Team* team) {
+  auto range_max = [&](std::size_t first, std::size_t last) {
+    double m = 0.0;
+    for (std::size_t k = first; k < last; ++k) m = std::max({m, std::abs(a[k].n), std::abs(a[k].t)});
+    return m;
+  };
+  if (!team || team->size() == 1 || a.size() < team->smallest_shared()) return range_max(0, a.size());
+  const auto threads = static_cast<std::size_t>(team->size());
+  std::vector<double> part(threads, 0.0);
+  team->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    part[u] = range_max(a.size() * u / threads, a.size() * (u + 1) / threads);
+  });
+  return *std::max_element(part.begin(), part.end());
 }
 
 /// The linear problem of the face the last sweep left: A = W + C on the free components,
@@ -85,8 +99,10 @@ class Face {
   /// z = P^-1 res with P one symmetric Gauss-Seidel pass over the face from z = 0
   /// (forward, then backward): symmetric positive definite with A, so a CG preconditioner.
   void precondition(const std::vector<Local>& res, std::vector<Local>& z) {
-    zero_velocities(scratch_.bodies);
-    std::fill(z.begin(), z.end(), Local{});
+    zero_velocities(scratch_.bodies, s_.team);
+    for_each_range(z.size(), s_.team, [&](std::size_t first, std::size_t last) {
+      std::fill(z.begin() + static_cast<std::ptrdiff_t>(first), z.begin() + static_cast<std::ptrdiff_t>(last), Local{});
+    });
     for (const bool backward : {false, true})
       for_each_block(schedule_, s_.team, backward, [&](std::size_t first, std::size_t last, std::size_t) {
         for (std::size_t q = first; q < last; ++q) {
@@ -105,7 +121,7 @@ class Face {
 
   /// q = A p, leaving M^-1 H^T p in the scratch bodies for move().
   void product(const std::vector<Local>& p, std::vector<Local>& q) {
-    zero_velocities(scratch_.bodies);
+    zero_velocities(scratch_.bodies, s_.team);
     for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t) {
       for (std::size_t i = first; i < last; ++i) {
         const std::size_t k = schedule_.positions[i];
@@ -192,7 +208,7 @@ int gradient_round(ContactSystem& s, const Schedule& plan, double target, int bu
   if (f == 0 || budget <= 0) return 0;
   std::vector<Local> res(f), z(f), p(f), q(f);
   face.residual(res);
-  if (largest(res) <= target) return 0;
+  if (largest(res, s.team) <= target) return 0;
   face.precondition(res, z);
   p = z;
   double rz = face.dot(res, z);
@@ -213,7 +229,7 @@ int gradient_round(ContactSystem& s, const Schedule& plan, double target, int bu
         res[i].t -= alpha * q[i].t;
       }
     });
-    if (largest(res) <= target) break;
+    if (largest(res, s.team) <= target) break;
     face.precondition(res, z);
     const double rz_next = face.dot(res, z);
     const double beta = rz_next / rz;
