@@ -1,6 +1,7 @@
 // The solver seam, the solver-independent residual of the contact law, and the
 // force-selection rule (docs/method.md, "Force selection", "The residual"): scenes whose
 // answers are computed by hand, run through every solver behind the seam.
+#include "cd_scenes.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
@@ -21,10 +22,12 @@ using cdpile::Vec2;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kR = 0.5e-3;    // disk radius [m]
-constexpr double kRho = 2500.0;  // [kg/m^3]
-constexpr double kG = 9.81, kH = 1e-4;
+using cd_scenes::kDeg;
+using cd_scenes::kG;
+using cd_scenes::kR;
+using cd_scenes::kRho;
+using cd_scenes::triangular_stack;
+constexpr double kH = 1e-4;
 
 const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg,
                                       cd::SolverKind::pcg};
@@ -337,20 +340,6 @@ TEST(Scramble, RigidForcesDependOnTheSweepOrderCompliantOnesDoNot) {
   EXPECT_LT(largest_difference(soft1, soft0), 1e-6 * mg);
 }
 
-namespace {
-
-/// A triangular stack of disks between the side walls, `base` disks on the floor and one
-/// fewer on each row above: every disk touches its neighbours, a hyperstatic network.
-Grains triangular_stack(int base) {
-  Grains g;
-  const double r3 = std::sqrt(3.0) * kR;
-  for (int row = 0; row < base; ++row)
-    for (int k = 0; k < base - row; ++k)
-      g.add_disk(kR, kRho, Vec2((1 + row + 2 * k) * kR, kR + row * r3));
-  return g;
-}
-
-}  // namespace
 
 // pcg solves the same step problem as NSGS: on a stiff hyperstatic stack (k = 1e7 m g / D,
 // where Gauss-Seidel's error decays by about 1 - 1e-3 per sweep) tilted by 10 degrees,

@@ -1,6 +1,7 @@
 // Threads (docs/method.md, "Threads"): the team and its barrier, the strips schedule, and
 // the same numbers, bit for bit, on 1, 2 and 3 threads on the analytic scenes and on
 // piles that rearrange. The `tsan` preset runs these under ThreadSanitizer.
+#include "cd_scenes.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/cd/schedule.hpp"
 #include "cdpile/cd/team.hpp"
@@ -21,10 +22,11 @@ using cdpile::Vec2;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kR = 0.5e-3;    // disk radius [m]
-constexpr double kRho = 2500.0;  // [kg/m^3]
-constexpr double kG = 9.81;
+using cd_scenes::kDeg;
+using cd_scenes::kG;
+using cd_scenes::kR;
+using cd_scenes::kRho;
+using cd_scenes::triangular_stack;
 
 cd::Settings in_strips(cd::SolverKind solver, int threads) {
   cd::Settings s;
@@ -62,17 +64,6 @@ Outcome run(const Box& box, const Grains& g, cd::Settings s, int steps, Tilt til
   out.numbers.insert(out.numbers.end(), c.fn.begin(), c.fn.end());
   out.numbers.insert(out.numbers.end(), c.ft.begin(), c.ft.end());
   return out;
-}
-
-/// A triangular stack of disks between the side walls, `base` disks on the floor and one
-/// fewer on each row above: a hyperstatic network.
-Grains triangular_stack(int base) {
-  Grains g;
-  const double r3 = std::sqrt(3.0) * kR;
-  for (int row = 0; row < base; ++row)
-    for (int k = 0; k < base - row; ++k)
-      g.add_disk(kR, kRho, Vec2((1 + row + 2 * k) * kR, kR + row * r3));
-  return g;
 }
 
 /// A loose heap: disks of radii 0.8 to 1.2 kR on a jittered grid, dropped from rest.

@@ -3,6 +3,7 @@
 // (1, 2) not, (2, floor) a wall contact. The network's segments join the centres of the pair
 // (the contact point for the wall), f_n / <f_n> is 2/2, 1/2, 3/2, the XDMF names no hyperslab
 // (ParaView's Xdmf3 reader crashes on one), and the dump local holds the two pairs alone.
+#include "scratch_dir.hpp"
 #include "cdpile/io/h5.hpp"
 #include "cdpile/io/lammps.hpp"
 #include "cdpile/io/schema.hpp"
@@ -24,14 +25,6 @@ namespace h5 = cdpile::io::h5;
 
 namespace {
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    std::string t = (fs::temp_directory_path() / "cdpile-views-XXXXXX").string();
-    dir = mkdtemp(t.data());
-  }
-  ~Scratch() { fs::remove_all(dir); }
-};
 
 /// The run, written to `path`.
 void three_in_a_row(const std::string& path) {
@@ -57,7 +50,7 @@ void three_in_a_row(const std::string& path) {
 }  // namespace
 
 TEST(Views, TheNetworkJoinsTheCentresOfEachPairWithItsForceOverTheMean) {
-  Scratch s;
+  const ScratchDir s("views");
   three_in_a_row((s.dir / "run.h5").string());
   const h5::File run = h5::open_read((s.dir / "run.h5").string(), "run.h5");
   const io::RunReader r(run);
@@ -104,7 +97,7 @@ TEST(Views, TheNetworkJoinsTheCentresOfEachPairWithItsForceOverTheMean) {
 }
 
 TEST(Views, TheContactsDumpHoldsThePairsWithTheirForcesAndFlags) {
-  Scratch s;
+  const ScratchDir s("views");
   three_in_a_row((s.dir / "run.h5").string());
   const h5::File run = h5::open_read((s.dir / "run.h5").string(), "run.h5");
   const io::RunReader r(run);

@@ -1,6 +1,7 @@
 // Virtual datasets (io/h5.hpp, write_virtual): to-xdmf's per-frame arrays read a run's rows
 // in place through them (io/xdmf.hpp), so a reader in another folder, given the virtual
 // file's path, must get the source's values, with zeros where no block maps.
+#include "scratch_dir.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/io/h5.hpp"
 
@@ -15,21 +16,9 @@ namespace fs = std::filesystem;
 using namespace cdpile;
 namespace h5 = cdpile::io::h5;
 
-namespace {
-
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    std::string t = (fs::temp_directory_path() / "cdpile-vds-XXXXXX").string();
-    dir = mkdtemp(t.data());
-  }
-  ~Scratch() { fs::remove_all(dir); }
-};
-
-}  // namespace
 
 TEST(Virtual, AFrameOfAStackReadsInPlaceWithZerosWhereNothingMaps) {
-  Scratch s;
+  const ScratchDir s("vds");
   fs::create_directories(s.dir / "runs");
   fs::create_directories(s.dir / "views");
   {  // a run-like stack: 3 frames x 2 grains x (x, y), and 5 contact rows
@@ -57,7 +46,7 @@ TEST(Virtual, AFrameOfAStackReadsInPlaceWithZerosWhereNothingMaps) {
 }
 
 TEST(Virtual, AMissingSourceDatasetIsAnErrorNamingIt) {
-  Scratch s;
+  const ScratchDir s("vds");
   h5::File src = h5::create((s.dir / "run.h5").string(), "run.h5");
   h5::File side = h5::create((s.dir / "side.hdf5").string(), "side.hdf5");
   try {
