@@ -372,7 +372,7 @@ void Engine::assign_strips(double r_max) {
   const double width = box_.width / strips;
   system_.strip.assign(n + 1, -1);  // the walls' body: static
   for (std::size_t i = 0; i < n; ++i) {
-    if (inv_mass_[i] == 0.0 && inv_inertia_[i] == 0.0) continue;
+    if (!moves(system_.bodies[i])) continue;
     const double at = std::floor(predicted_[i].x() / width);
     system_.strip[i] = static_cast<std::int32_t>(std::clamp(at, 0.0, static_cast<double>(strips - 1)));
   }

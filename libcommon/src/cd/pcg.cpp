@@ -69,17 +69,9 @@ class Face {
   Face(ContactSystem& s, const Schedule& plan) : s_(s) {
     scratch_.bodies = s.bodies;
     auto active = [&](std::uint32_t a) { return s.rows[a].rn > 0.0; };
+    // In pair order the face is the active rows in pair order, whatever the scramble.
     std::vector<std::uint32_t> kept;
-    if (plan.coloured) {
-      schedule_ = sub_schedule(plan, active, kept);
-    } else {  // pair order, whatever the scramble: the rows in pair order
-      for (std::uint32_t a = 0; a < s.rows.size(); ++a)
-        if (active(a)) kept.push_back(a);
-      schedule_.positions.resize(kept.size());
-      for (std::uint32_t k = 0; k < kept.size(); ++k) schedule_.positions[k] = k;
-      schedule_.block_start = {0, static_cast<std::uint32_t>(kept.size())};
-      schedule_.colour_start = {0, 1};
-    }
+    schedule_ = sub_schedule(plan.coloured ? plan : row_schedule(s, SweepOrder::pair, {}), active, kept);
     for (const std::uint32_t a : kept) rows_.push_back({a, s.rows[a].status == ContactStatus::stick});
   }
   std::size_t size() const { return rows_.size(); }

@@ -32,6 +32,11 @@ struct Body {
   double inv_m, inv_i;  ///< zero for a glued grain and for the walls
 };
 
+/// Whether a body is written by a local solve (a free grain): the walls and a glued grain
+/// have neither inverse mass nor inverse inertia and are never written, so contacts that
+/// share only such a body can be solved at once (schedule.hpp).
+inline bool moves(const Body& b) { return b.inv_m != 0.0 || b.inv_i != 0.0; }
+
 /// One contact row, contiguous for the sweeps.
 struct ContactRow {
   std::int32_t i, j;    ///< grains; j < 0 is a wall
@@ -101,20 +106,19 @@ struct ContactSystem {
   }
 
   /// Adds M^-1 H_a^T (dn, dt) to the two bodies of row r: the velocity change an impulse
-  /// change (dn, dt) at that contact makes. A body without inverse mass and inertia (the
-  /// walls, a glued grain) is not written: the change would be zero, and contacts of one
-  /// colour share such bodies (schedule.hpp).
+  /// change (dn, dt) at that contact makes. A body that does not move (moves()) is not
+  /// written: the change would be zero, and the contacts of one strip share such bodies.
   void apply_impulse(const ContactRow& r, double dn, double dt) {
     Body& a = bodies[static_cast<std::size_t>(r.bi)];
     Body& b = bodies[static_cast<std::size_t>(r.bj)];
     const double px = dn * r.nx - dt * r.ny;  // R = R_n n + R_t t
     const double py = dn * r.ny + dt * r.nx;
-    if (a.inv_m != 0.0 || a.inv_i != 0.0) {
+    if (moves(a)) {
       a.vx += a.inv_m * px;
       a.vy += a.inv_m * py;
       a.w -= a.inv_i * r.ri * dt;
     }
-    if (b.inv_m != 0.0 || b.inv_i != 0.0) {
+    if (moves(b)) {
       b.vx -= b.inv_m * px;
       b.vy -= b.inv_m * py;
       b.w -= b.inv_i * r.rj * dt;

@@ -63,10 +63,6 @@ Schedule row_schedule(const ContactSystem& s, SweepOrder order, std::span<const 
 Schedule sub_schedule(const Schedule& s, const std::function<bool(std::uint32_t)>& keep,
                       std::vector<std::uint32_t>& kept);
 
-/// Whether a body is written by a local solve (a free grain): walls and glued grains have
-/// neither inverse mass nor inverse inertia and are never written, so they do not tie two
-/// contacts to one colour.
-inline bool moves(const Body& b) { return b.inv_m != 0.0 || b.inv_i != 0.0; }
 
 /// The strips of a box `width` wide for grains of largest radius `r_max` (SweepOrder::
 /// strips): as many as fit at least 4 r_max wide, at least 1.
