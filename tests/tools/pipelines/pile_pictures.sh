@@ -1,4 +1,5 @@
 # The pile's pictures (pipelines/pile.py), drawn offscreen and looked at pixel by pixel: the figure at three angles has every contact's segment with f_n >= <f_n> drawn black and every critical one red at its midpoint, the last panel is the last frame before theta_c with its tilt angle in its title, the box is turned by the tilt (lab frame); make movie writes a small H.264 video of every frame; an existing output is not replaced.
+# ctest: slow, timeout 120
 deposit --grains 30 --width 6 --seed 2 --quiet -o pile.h5
 tilt-cd pile.h5 --rate 2 --to 6 --frame-every 1 --quiet -o run.h5
 "$PY" - "$CDPILE_SOURCE/pipelines" <<'PY'
