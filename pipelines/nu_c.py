@@ -8,11 +8,12 @@ prints the options that give it: the limit of the envelope over static states
 from states the pile can be in (docs/analysis.md, "Static and moving states"); else nothing,
 and the tools take the critical product's nu_c (every state), if it has one.
 """
+import os
 import sys
 
-import h5py
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdpile_py.runfile import Product  # noqa: E402
 
-with h5py.File(sys.argv[1], "r") as f:
-    r = f["results"].attrs
-    if "nu_c_static" in r:
-        print(f"--nu-c {float(r['nu_c_static']):.17g} --nu-c-se {float(r.get('nu_c_static_se', 0.0)):.17g}")
+r = Product(sys.argv[1], tables=False).results
+if "nu_c_static" in r:
+    print(f"--nu-c {float(r['nu_c_static']):.17g} --nu-c-se {float(r.get('nu_c_static_se', 0.0)):.17g}")
