@@ -1,10 +1,8 @@
 """The tools' rules, for the scripts that apply them to what no tool table gives (the
-critical set of one frame's contacts, a branch's static steps, the agitation of a partial
-run). Each mirrors the C++ it names and must change with it; a script takes the tools'
-tables and observables (critical_grain, contacts_grain, results/avalanche_angle_deg)
+critical set of one frame's contacts, the agitation of a partial run). Each mirrors the
+C++ it names and must change with it; a script takes the tools' tables and observables
+(critical's steps table, critical_grain, contacts_grain, results/avalanche_angle_deg)
 where they have what it needs."""
-import math
-
 import numpy as np
 
 
@@ -29,26 +27,6 @@ def agitation_scale(run):
     (libcommon/src/sim/common.cpp), the quantity of tilt-cd's avalanche rule."""
     free = run.free
     return float(np.sum(run.mass[free])) * run.gravity * float(np.mean(2.0 * run.radius[free]))
-
-
-# analysis::RestRule's defaults (libcommon/include/cdpile/analysis/studies.hpp): (Ek + Erot)
-# per free grain below 1e-6 m g D, the fastest grain below 1e-2 sqrt(g D).
-REST_ENERGY, REST_SPEED = 1e-6, 1e-2
-
-
-def static_steps(run):
-    """Whether each step is static (converged, at rest, no free grain without a contact),
-    as critical's static_steps (libcommon/src/analysis/critical_study.cpp) with the default
-    RestRule; None when the run lacks an observable the rule needs."""
-    names = ("kinetic_energy", "rotational_energy", "max_speed", "grains_without_contact", "converged")
-    if not run.has_observables(*names):
-        return None
-    free = run.free
-    m, d = float(np.mean(run.mass[free])), float(np.mean(2 * run.radius[free]))
-    grav = run.gravity
-    e = (run.observable("kinetic_energy") + run.observable("rotational_energy")) / int(np.sum(free)) / (m * grav * d)
-    return (run.observable("converged") == 1) & (e < REST_ENERGY) & \
-        (run.observable("max_speed") / math.sqrt(grav * d) < REST_SPEED) & (run.observable("grains_without_contact") == 0)
 
 
 def step_nu(run):

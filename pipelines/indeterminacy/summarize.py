@@ -4,16 +4,16 @@
     summarize.py OUT --seeds "1 2 3" --angles "2 6 10 14" --paths "0 1 2 3 4 5"
                  --rules "1e7 0" --eps 1e-3 --study-rule 1e6 > OUT/summary.md
 
-reads OUT/run-S/theta-A/{path-P,k<K>}.h5 (branches of the same window from the same frame)
-and their nu_bar(r) (path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one
-row per branch), OUT/spread.tsv (one row per run and angle) and OUT/figure.png, and prints
-summary.md. Definitions (docs/reproduction.md, "Systematic error"):
+reads OUT/run-S/theta-A/{path-P,k<K>}.h5 (branches of the same window from the same frame),
+their static steps (path-P.steps.tsv, critical's steps table) and their nu_bar(r)
+(path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one row per branch),
+OUT/spread.tsv (one row per run and angle) and OUT/figure.png, and prints summary.md. Definitions (docs/reproduction.md, "Systematic error"):
 
 - nu of a branch: Nc/N over the contacts between two free grains (observables critical_grain
   and contacts_grain), averaged over the window's steps; nu_static the same over its static
   steps (converged, (Ek + Erot) per free grain below 1e-6 m g D, every grain slower than
-  1e-2 sqrt(g D), no grain without an active contact: critical's rule,
-  pipelines/cdpile_py/rules.py), NA if none.
+  1e-2 sqrt(g D), no grain without an active contact: the column static of critical's steps
+  table, path-P.steps.tsv), NA if none.
 - critical set: the pairs (i, j) of free grains critical at the window's end (last frame),
   |f_t| >= (1 - eps) mu f_n, f_n > 0. Jaccard(A, B) = |A & B| / |A | B|.
 - nu_bar(r): the mean local state around critical contacts, pooled over the frames of the
@@ -38,14 +38,23 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from cdpile_py import rules  # noqa: E402
 from cdpile_py.runfile import Run  # noqa: E402
-from cdpile_py.tables import fmt, read_tsv, write_tsv  # noqa: E402
+from cdpile_py.tables import fmt, read_product_table, read_tsv, write_tsv  # noqa: E402
+
+
+def static_steps(steps_path, n):
+    """Which of a branch's n steps are static, from critical's steps table of it (its rest
+    rule, docs/analysis.md "Static and moving states"); None when the table does not say."""
+    rows = read_product_table(steps_path, "steps") if os.path.exists(steps_path) else []
+    if len(rows) != n or any(r.get("static") not in ("0", "1") for r in rows):
+        return None
+    return np.array([r["static"] == "1" for r in rows])
 
 
 def branch(path, eps):
     """nu over the window, over its static steps, the critical set at its end, cost."""
     with Run(path) as run:
         nu = rules.step_nu(run)
-        static = rules.static_steps(run)
+        static = static_steps(path[:-len(".h5")] + ".steps.tsv", nu.size)
         c = run.contacts(-1)
         i, j, fn, ft = c["i"], c["j"], c["fn"], c["ft"]
         free = run.free
