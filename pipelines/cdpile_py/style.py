@@ -17,14 +17,15 @@ def save_png(fig, path):
     os.replace(tmp, path)
 
 
-def save(fig, folder, stem):
-    """The figure laid out tight as folder/stem.png and folder/stem.pdf, then closed; returns
-    the PNG's path."""
+def save(fig, folder, stem, pdf=True):
+    """The figure laid out tight as folder/stem.png and, with pdf, folder/stem.pdf, then
+    closed; returns the PNG's path."""
     fig.tight_layout()
     png = os.path.join(folder, stem + ".png")
     save_png(fig, png)
-    pdf = os.path.join(folder, stem + ".pdf")
-    fig.savefig(pdf + ".tmp.pdf")
-    os.replace(pdf + ".tmp.pdf", pdf)
+    if pdf:
+        path = os.path.join(folder, stem + ".pdf")
+        fig.savefig(path + ".tmp.pdf")
+        os.replace(path + ".tmp.pdf", path)
     plt.close(fig)
     return png

@@ -216,7 +216,7 @@ def rms_sd(values):
 def draw(out, spread_rows, curves, rules):
     if not spread_rows:
         return
-    from cdpile_py.style import plt, save_png
+    from cdpile_py.style import plt, save
     fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
     for s in sorted(set(r[0] for r in spread_rows)):
         rr = [r for r in spread_rows if r[0] == s]
@@ -239,9 +239,7 @@ def draw(out, spread_rows, curves, rules):
         ax[2].set_ylabel("nu_bar(r)")
         ax[2].set_title(f"run {key[0]}, {key[1]} deg", fontsize=9)
         ax[2].legend(fontsize=7)
-    fig.tight_layout()
-    save_png(fig, os.path.join(out, "figure.png"))
-    plt.close(fig)
+    save(fig, out, "figure", pdf=False)
 
 
 if __name__ == "__main__":

@@ -272,7 +272,7 @@ def main():
 
 
 def chart(out, summary, nu_angles):
-    from cdpile_py.style import plt, save_png
+    from cdpile_py.style import plt, save
     stiff = sorted([r for r in summary if r["k_mgD"] > 0], key=lambda r: r["k_mgD"])
     rigid = [r for r in summary if r["k_mgD"] <= 0]
     ks = [r["k_mgD"] for r in stiff]
@@ -337,9 +337,7 @@ def chart(out, summary, nu_angles):
     axes[0, 0].legend(fontsize=7)
     fig.suptitle(f"{os.path.basename(os.path.normpath(out))}: rules against the contact stiffness k "
                  "(rigid rules as horizontal lines)")
-    fig.tight_layout()
-    save_png(fig, os.path.join(out, "chart.png"))
-    plt.close(fig)
+    save(fig, out, "chart", pdf=False)
 
 
 if __name__ == "__main__":
