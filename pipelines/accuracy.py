@@ -24,77 +24,26 @@ import math
 import os
 import sys
 
-import h5py
 import numpy as np
 
-
-def read_times(folder, script):
-    """The runs of FOLDER/times.tsv (written by SCRIPT.sh) by file name; exits with a one-line
-    error if the table is missing or empty."""
-    path = os.path.join(folder, "times.tsv")
-    if not os.path.exists(path):
-        sys.exit(f"{script}.py: {path}: missing (run pipelines/{script}.sh first)")
-    rows = {}
-    with open(path) as f:
-        header = None
-        for line in f:
-            if line.startswith("#"):
-                continue
-            cells = line.rstrip("\n").split("\t")
-            if header is None:
-                header = cells
-                continue
-            rows[cells[0]] = dict(zip(header, cells))
-    if not rows:
-        sys.exit(f"{script}.py: {path}: no runs")
-    return rows
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdpile_py import rules  # noqa: E402
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tables import read_times, write_tsv  # noqa: E402
 
 
-def write_tsv(path, comment, columns, rows):
-    """A table for people and awk: one comment line, the header, a row per dict (floats to 4
-    significant digits); written to a temporary and renamed, so no partial table is left."""
-    with open(path + ".tmp", "w") as f:
-        f.write(f"# {comment}\n")
-        f.write("\t".join(columns) + "\n")
-        for r in rows:
-            f.write("\t".join(f"{r[c]:.4g}" if isinstance(r[c], float) else str(r[c]) for c in columns) + "\n")
-    os.replace(path + ".tmp", path)
+class Branch(Run):
+    """A branch of accuracy.sh: its nu per step and, at its frames, its critical pairs and
+    its grains' force balance."""
 
-
-def save(fig, outdir, stem):
-    """The figure as PNG and PDF in outdir."""
-    fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(outdir, f"{stem}.{ext}"), dpi=110)
-
-
-class Branch:
     def __init__(self, path):
-        self.f = h5py.File(path, "r")
-        p = self.f["parameters"].attrs
-        self.mu = float(p["mu_grain"])
-        self.eps = float(p["critical_eps"])
-        self.g = float(p["gravity_m_s2"])
-        o = self.f["observables"]
-        self.theta = o["tilt_angle/value"][:]
-        n = o["contacts_grain/value"][:].astype(float)
-        nc = o["critical_grain/value"][:].astype(float)
-        self.nu = np.where(n > 0, nc / np.maximum(n, 1), np.nan)
-        self.sweeps = o["sweeps/value"][:]
-        self.converged = o["converged/value"][:]
-        g = self.f["particles/grains"]
-        self.radius = g["radius"][:]
-        self.mass = g["mass"][:]
-        self.free = g["species"][:] == 0
-        c = self.f["contacts"]
-        self.frame_theta = c["tilt_angle"][:]
-        self.offset = c["offset"][:]
-        self.count = c["count"][:]
-
-    def contacts(self, k):
-        c = self.f["contacts"]
-        rows = slice(int(self.offset[k]), int(self.offset[k] + self.count[k]))
-        return {key: c[key][rows] for key in ("i", "j", "point", "normal", "fn", "ft")}
+        super().__init__(path)
+        self.mu = float(self.parameters["mu_grain"])
+        self.eps = float(self.parameters["critical_eps"])
+        self.theta = self.observable("tilt_angle")
+        self.nu = rules.step_nu(self)
+        self.sweeps = self.observable("sweeps")
+        self.converged = self.observable("converged")
 
     def critical_pairs(self, k):
         """Active and critical grain-grain contacts between free grains, as sets of pairs."""
@@ -103,15 +52,15 @@ class Branch:
         grain = j >= 0
         grain[grain] &= self.free[i[grain]] & self.free[j[grain]]
         active = grain & (fn > 0)
-        crit = active & (np.abs(ft) >= (1 - self.eps) * self.mu * fn)
+        crit = active & rules.critical(fn, ft, self.mu, self.eps)
         key = i.astype(np.int64) * (1 << 32) + np.where(j >= 0, j, 0)
         return set(key[active].tolist()), set(key[crit].tolist())
 
     def balance(self, k):
         """Force and torque residuals of the free grains at frame k (see the module doc)."""
-        c = self.contacts(k)
-        pos = self.f["particles/grains/position/value"][k]
-        theta = math.radians(self.frame_theta[k])
+        c = self.contacts(k, ("i", "j", "point", "normal", "fn", "ft"))
+        pos = self.positions(k)
+        theta = math.radians(self.frame_tilt[k])
         n, t = c["normal"], np.stack([-c["normal"][:, 1], c["normal"][:, 0]], axis=1)
         f = c["fn"][:, None] * n + c["ft"][:, None] * t
         force = np.zeros_like(pos)
@@ -124,8 +73,8 @@ class Branch:
         np.add.at(force, j[g], -f[g])
         arm_j = c["point"][g] - pos[j[g]]
         np.add.at(torque, j[g], -(arm_j[:, 0] * f[g][:, 1] - arm_j[:, 1] * f[g][:, 0]))
-        weight = self.mass[:, None] * self.g * np.array([math.sin(theta), -math.cos(theta)])
-        mg = self.mass * self.g
+        weight = self.mass[:, None] * self.gravity * np.array([math.sin(theta), -math.cos(theta)])
+        mg = self.mass * self.gravity
         fres = np.linalg.norm(force + weight, axis=1)[self.free] / mg[self.free]
         tres = np.abs(torque)[self.free] / (mg * self.radius)[self.free]
         return np.percentile(fres, 99), fres.max(), np.percentile(tres, 99)
@@ -140,8 +89,8 @@ def compare(b, ref):
     nu_ref_here = np.interp(b.theta, ref.theta, ref.nu)
     out["nu_err"] = float(np.nanmean(np.abs(b.nu - nu_ref_here)))
     mis = []
-    for k, th in enumerate(b.frame_theta):
-        m = np.nonzero(np.abs(ref.frame_theta - th) < 1e-9)[0]
+    for k, th in enumerate(b.frame_tilt):
+        m = np.nonzero(np.abs(ref.frame_tilt - th) < 1e-9)[0]
         if len(m) == 0 or k == 0:  # frame 0 is the common start
             continue
         act_r, crit_r = ref.critical_pairs(int(m[0]))
@@ -149,7 +98,7 @@ def compare(b, ref):
         if act_r:
             mis.append(len(crit_r ^ crit_b) / len(act_r))
     out["misclassified"] = float(np.mean(mis)) if mis else float("nan")
-    out["imbalance_p99"], out["imbalance_max"], out["torque_p99"] = b.balance(len(b.frame_theta) - 1)
+    out["imbalance_p99"], out["imbalance_max"], out["torque_p99"] = b.balance(len(b.frame_tilt) - 1)
     return out
 
 
@@ -178,8 +127,8 @@ def main():
         rows.append(row)
     rows.sort(key=lambda r: (float(r["angle_deg"]), -int(r["reference"]), float(r["tolerance"]), int(r["max_sweeps"])))
     tsv = os.path.join(a.dir, "accuracy.tsv")
-    write_tsv(tsv, "speed-accuracy chart: each branch against the reference branch from the same frame "
-              "(pipelines/accuracy.py)", COLUMNS, rows)
+    write_tsv(tsv, COLUMNS, rows, "speed-accuracy chart: each branch against the reference branch from the same "
+              "frame (pipelines/accuracy.py)", missing=None)
     print(f"accuracy.py: {tsv}")
     figures(rows, a.figures or os.path.join(a.dir, "figures"))
 
@@ -190,9 +139,7 @@ def figures(rows, outdir):
     joined by a line and labelled by tolerance/cap; other time steps or rates as open
     triangles labelled by h; the branch with the reference's own setting (zero error by
     construction, a check of the comparison) is left out of the error panels."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from cdpile_py.style import plt, save
     os.makedirs(outdir, exist_ok=True)
     angles = sorted({float(r["angle_deg"]) for r in rows})
     ref_rows = {r["angle_deg"]: r for r in rows if r["reference"] == "1"}

@@ -15,8 +15,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figures import Product  # noqa: E402
-from report import ENVELOPE_REASONS  # noqa: E402
+from cdpile_py.runfile import ENVELOPE_REASONS, Product  # noqa: E402
 
 READINGS = (("nu_c", "", ""), ("nu_c_static", "_static", "static states: "),
             ("nu_c_rest", "_rest", "contacts at rest: "))
@@ -41,7 +40,7 @@ def main():
         sys.exit("usage: envelope_ends.py [--by end|eps] CRITICAL.h5...")
     rows = []
     for path in args:
-        c = Product(path)
+        c = Product(path, tables=False)
         if by == "eps":
             key = c.parameters["eps"]
             label = f"{key:g} ({c.parameters.get('series', '?')})"

@@ -14,76 +14,17 @@ import glob
 import os
 import sys
 
-import h5py
-import matplotlib
-
-matplotlib.use("Agg")  # files only, no display needed
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import pile  # noqa: E402  (pipelines/pile.py: pictures of the pile)
-
-
-class Product:
-    """One analysis product: tables of columns (NaN where a value is missing) and results."""
-
-    def __init__(self, path):
-        self.path = path
-        with h5py.File(path, "r") as f:
-            self.results = {k: _scalar(v) for k, v in f["results"].attrs.items()} if "results" in f else {}
-            self.parameters = {k: _scalar(v) for k, v in f["parameters"].attrs.items()} if "parameters" in f else {}
-            notes = f["tables"].attrs.get("notes", []) if "tables" in f else []
-            self.notes = [_text(n) for n in np.atleast_1d(notes)]
-            self.tables = {}
-            for name, group in f["tables"].items():
-                cols = {}
-                for col, ds in group.items():
-                    if col.endswith("_defined"):
-                        continue
-                    v = ds[()]
-                    if "labels" in ds.attrs:
-                        labels = [_text(s) for s in ds.attrs["labels"]]
-                        v = np.array([labels[c] for c in v], dtype=object)
-                    else:
-                        v = v.astype(float)
-                        if col + "_defined" in group:
-                            v[group[col + "_defined"][()] == 0] = np.nan
-                    cols[col] = v
-                self.tables[name] = cols
-
-    def table(self, name):
-        if name not in self.tables:
-            raise SystemExit(f"figures.py: {self.path}: no table '{name}'")
-        return self.tables[name]
-
-
-def _text(s):
-    return s.decode() if isinstance(s, bytes) else str(s)
-
-
-def _scalar(v):
-    if isinstance(v, bytes):
-        return v.decode()
-    if isinstance(v, np.ndarray) and v.size == 1:
-        return v.item()
-    return v
-
-
-def load(study, name):
-    path = os.path.join(study, name)
-    if not os.path.exists(path):
-        print(f"figures.py: {path}: missing, its figures are skipped", file=sys.stderr)
-        return None
-    return Product(path)
+from cdpile_py import pictures  # noqa: E402
+from cdpile_py.runfile import Product, Run, load, text  # noqa: E402
+from cdpile_py.style import plt  # noqa: E402
+from cdpile_py.style import save as save_files  # noqa: E402
 
 
 def save(fig, out, name):
-    fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=110 if ext == "png" else None)
-    plt.close(fig)
-    print(os.path.join(out, name + ".png"))
+    print(save_files(fig, out, name))
 
 
 def runs_label(n):
@@ -93,7 +34,7 @@ def runs_label(n):
 def first_run(crit):
     """The file name of the study's first run (row 0 of critical's runs table), for titles."""
     names = crit.tables.get("runs", {}).get("name")
-    return os.path.basename(_text(names[0])) if names is not None and len(names) else "the first run"
+    return os.path.basename(text(names[0])) if names is not None and len(names) else "the first run"
 
 
 def fig1(crit, out):
@@ -402,13 +343,13 @@ def main():
 
 def fig_pile(study, crit, out):
     """The pile itself at three angles, with its force network and critical contacts
-    (pipelines/pile.py), from the study's first run, at the theta_c critical found for it."""
+    (pipelines/cdpile_py/pictures.py), from the study's first run, at the theta_c critical found for it."""
     if crit is None:
         return
     names = crit.tables.get("runs", {}).get("name")
     if names is None or not len(names):
         return
-    name = _text(names[0])
+    name = text(names[0])
     # critical names a run as it was given; the study's runs are beside its analysis folder
     candidates = [name] + [os.path.join(d, os.path.basename(name)) for d in (study, os.path.dirname(study))]
     path = next((c for c in candidates if os.path.exists(c)), None)
@@ -418,7 +359,7 @@ def fig_pile(study, crit, out):
     theta_c = crit.tables["runs"].get("theta_c", [np.nan])[0]
     theta_c = None if np.isnan(theta_c) else float(theta_c)
     png = os.path.join(out, "pile.png")
-    ks = pile.figure(pile.Run(path), png, theta_c)
+    ks = pictures.figure(Run(path), png, theta_c)
     print(f"{png} (frames {ks} of {os.path.basename(path)})")
 
 

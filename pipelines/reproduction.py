@@ -7,10 +7,11 @@ two preparations), each with its statistical and systematic errors and a verdict
 
 A study folder without its analysis (no critical.h5) gets a column that says so.
 
-Each study's rows come from report.py (its products and, when made, its solver-path
-ensemble). The verdict of a number v with statistical error s and systematic error y
-against the paper's p, whose own precision is half a unit of its last digit (d: 0.005 for
-"about 0.08", 0.05 for 3.6, 0.5 for "about 10"; the paper states no error bars), is
+Each study's rows are report.py's (pipelines/cdpile_py/paper.py: its products and, when
+made, its solver-path ensemble). The verdict of a number v with statistical error s and
+systematic error y against the paper's p, whose own precision is half a unit of its last
+digit (d: 0.005 for "about 0.08", 0.05 for 3.6, 0.5 for "about 10"; the paper states no
+error bars), is
 
 - "reproduced" when |v - p| <= 2 sqrt(s^2 + d^2),
 - "within the systematic error" when, failing that, |v - p| <= 2 sqrt(s^2 + y^2 + d^2),
@@ -25,7 +26,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from report import rows_of  # noqa: E402
+from cdpile_py.paper import rows_of  # noqa: E402
 
 PRECISION = {19.96: 0.005, 0.36: 0.005, 3.6: 0.05, 0.08: 0.005, 2.5: 0.05, -1.5: 0.05, 10.0: 0.5, 0.5: 0.05}
 

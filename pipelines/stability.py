@@ -31,10 +31,11 @@ import math
 import os
 import sys
 
-import h5py
 import numpy as np
 
-from accuracy import read_times, save, write_tsv
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tables import read_times, write_tsv  # noqa: E402
 
 OUTCOMES = ["failed", "overlap", "early", "late", "unconverged", "ok"]
 COLOURS = {"failed": "#222222", "overlap": "#d62728", "early": "#ff7f0e", "late": "#9467bd",
@@ -45,19 +46,19 @@ CAP_LIMIT = 0.01        # tilt-cd's sweep-cap warning
 
 def read_run(path):
     """The numbers of one run that the outcome needs."""
-    with h5py.File(path, "r") as f:
-        p, r = f["parameters"].attrs, f["results"].attrs
+    with Run(path) as run:
+        p, r = run.parameters, run.results
         steps = int(r["steps"])
         return {
             "diameter_m": float(p["diameter_mean_m"]),
-            "gravity": float(p["gravity_m_s2"]),
+            "gravity": run.gravity,
             "steps": steps,
-            "avalanche": bool(r["avalanche_detected"]),
-            "theta_c": float(r["avalanche_angle_deg"]) if r["avalanche_detected"] else float("nan"),
+            "avalanche": run.avalanche_angle is not None,
+            "theta_c": run.avalanche_angle if run.avalanche_angle is not None else float("nan"),
             "final_deg": float(r["final_angle_deg"]),
             "unconverged": int(r["unconverged_steps"]) / max(steps, 1),
             "max_overlap_D": float(r["max_overlap_m"]) / float(p["diameter_mean_m"]),
-            "sweeps": float(np.mean(f["observables/sweeps/value"][:])),
+            "sweeps": float(np.mean(run.observable("sweeps"))),
         }
 
 
@@ -109,8 +110,8 @@ def main():
     rows.sort(key=lambda r: (-int(r["grid"]), float(r["time_step_s"]), -float(r["tolerance"]),
                              int(r["max_sweeps"])))
     tsv = os.path.join(a.dir, "stability.tsv")
-    write_tsv(tsv, f"stability map (pipelines/stability.py): reference {ref}, theta_c {theta_ref:.3f} deg, "
-              f"delta {a.delta:g} deg", COLUMNS, rows)
+    write_tsv(tsv, COLUMNS, rows, f"stability map (pipelines/stability.py): reference {ref}, theta_c "
+              f"{theta_ref:.3f} deg, delta {a.delta:g} deg", missing=None)
     print(f"stability.py: {tsv}")
     figure(rows, ref, theta_ref, a.delta, a.figures or os.path.join(a.dir, "figures"))
 
@@ -126,10 +127,9 @@ def reference(times, runs):
 
 
 def figure(rows, ref, theta_ref, delta, outdir):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
+
+    from cdpile_py.style import plt, save
     os.makedirs(outdir, exist_ok=True)
     grid = [r for r in rows if r["grid"] == "1"]
     extra = [r for r in rows if r["grid"] != "1"]

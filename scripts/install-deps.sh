@@ -10,7 +10,7 @@ packages=(
   libboost-program-options-dev       # the command-line layer
   libgtest-dev                       # unit tests
   libbenchmark-dev                   # micro-benchmarks
-  python3 python3-numpy python3-h5py python3-matplotlib  # figures
+  python3 python3-numpy python3-h5py python3-matplotlib python3-scipy  # the pipelines' scripts (pipelines/cdpile_py)
   ffmpeg                             # make -C pipelines movie: a video of a run (pipelines/pile.py)
   util-linux                         # script(1), used by one test of terminal output
   python3-paraview xvfb              # ParaView's Python and a virtual X display: the to-xdmf test

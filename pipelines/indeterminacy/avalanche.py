@@ -20,30 +20,29 @@ import os
 import statistics
 import sys
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tables import fmt, write_tsv  # noqa: E402
 
 
 def avalanche(path):
     """(theta_c or NaN, the tilt the file starts from, steps, steps at the sweep cap)."""
-    with h5py.File(path, "r") as f:
-        res, par = f["results"].attrs, f["parameters"].attrs
-        tc = float(res["avalanche_angle_deg"]) if int(res.get("avalanche_detected", 0)) else math.nan
-        start = float(par.get("tilt_from_deg", 0.0))
-        return tc, start, int(res.get("steps", 0)), int(res.get("unconverged_steps", 0))
+    with Run(path) as run:
+        tc = run.avalanche_angle
+        res = run.results
+        return (tc if tc is not None else math.nan, float(run.parameters.get("tilt_from_deg", 0.0)),
+                int(res.get("steps", 0)), int(res.get("unconverged_steps", 0)))
 
 
 def branch_options(run, lead):
     tc, _, _, _ = avalanche(run)
     if not math.isfinite(tc):
-        with h5py.File(run, "r") as f:
-            end = float(f["results"].attrs.get("final_angle_deg", math.nan))
+        with Run(run) as r:
+            end = float(r.results.get("final_angle_deg", math.nan))
         return f"skip: the run has no avalanche (it ends at {end:.4g} deg)"
     return f"--branch-at {tc - lead:.6g} --max-angle {tc + 2 * lead + 1:.6g}"
-
-
-def fmt(v, d=4):
-    return "NA" if v is None or not math.isfinite(v) else f"{v:.{d}g}"
 
 
 def main():
@@ -77,10 +76,8 @@ def main():
             got.append(tc)
         v = np.array([round(x, 9) for x in got if math.isfinite(x)])  # step angles: equal stay equal
         per_run.append((s, v, len(got) - v.size))
-    with open(os.path.join(a.out, "avalanche.tsv"), "w") as f:
-        f.write("seed\tpath\ttheta_c_deg\tfrom_deg\tsteps\tcapped\n")
-        for r in rows:
-            f.write("\t".join(fmt(x, 8) if isinstance(x, float) else str(x) for x in r) + "\n")
+    write_tsv(os.path.join(a.out, "avalanche.tsv"), ["seed", "path", "theta_c_deg", "from_deg", "steps", "capped"],
+              rows, digits=8)
     print("# theta_c along other solver paths\n")
     starts = sorted({f"{r[3]:.4g}" for r in rows if math.isfinite(r[3])})
     print("Each run's tilt redone from its last frame at or below a lead before its avalanche "

@@ -4,15 +4,16 @@
     summarize.py OUT --seeds "1 2 3" --angles "2 6 10 14" --paths "0 1 2 3 4 5"
                  --rules "1e7 0" --eps 1e-3 --study-rule 1e6 > OUT/summary.md
 
-reads OUT/run-S/theta-A/{path-P,k<K>}.h5 (branches of the same window from the same frame)
-and their nu_bar(r) (path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one
-row per branch), OUT/spread.tsv (one row per run and angle) and OUT/figure.png, and prints
-summary.md. Definitions (docs/reproduction.md, "Systematic error"):
+reads OUT/run-S/theta-A/{path-P,k<K>}.h5 (branches of the same window from the same frame),
+their static steps (path-P.steps.tsv, critical's steps table) and their nu_bar(r)
+(path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one row per branch),
+OUT/spread.tsv (one row per run and angle) and OUT/figure.png, and prints summary.md. Definitions (docs/reproduction.md, "Systematic error"):
 
 - nu of a branch: Nc/N over the contacts between two free grains (observables critical_grain
   and contacts_grain), averaged over the window's steps; nu_static the same over its static
   steps (converged, (Ek + Erot) per free grain below 1e-6 m g D, every grain slower than
-  1e-2 sqrt(g D), no grain without an active contact: critical's rule), NA if none.
+  1e-2 sqrt(g D), no grain without an active contact: the column static of critical's steps
+  table, path-P.steps.tsv), NA if none.
 - critical set: the pairs (i, j) of free grains critical at the window's end (last frame),
   |f_t| >= (1 - eps) mu f_n, f_n > 0. Jaccard(A, B) = |A & B| / |A | B|.
 - nu_bar(r): the mean local state around critical contacts, pooled over the frames of the
@@ -27,76 +28,62 @@ summary.md. Definitions (docs/reproduction.md, "Systematic error"):
   against the study's 1-degree windows of every run, so it holds the fit's noise too).
 """
 import argparse
-import csv
 import itertools
 import math
 import os
 import sys
 
-import h5py
 import numpy as np
 
-REST_ENERGY, REST_SPEED = 1e-6, 1e-2
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from cdpile_py import rules  # noqa: E402
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tables import fmt, read_product_table, read_tsv, write_tsv  # noqa: E402
 
 
-def fmt(v, digits=4):
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "NA"
-    if isinstance(v, float):
-        return f"{v:.{digits}g}"
-    return str(v)
+def static_steps(steps_path, n):
+    """Which of a branch's n steps are static, from critical's steps table of it (its rest
+    rule, docs/analysis.md "Static and moving states"); None when the table does not say."""
+    rows = read_product_table(steps_path, "steps") if os.path.exists(steps_path) else []
+    if len(rows) != n or any(r.get("static") not in ("0", "1") for r in rows):
+        return None
+    return np.array([r["static"] == "1" for r in rows])
 
 
 def branch(path, eps):
     """nu over the window, over its static steps, the critical set at its end, cost."""
-    with h5py.File(path, "r") as f:
-        obs = f["observables"]
-        n = obs["contacts_grain/value"][:].astype(float)
-        nc = obs["critical_grain/value"][:].astype(float)
-        nu = np.where(n > 0, nc / np.maximum(n, 1), np.nan)
-        g = f["particles/grains"]
-        free = g["species"][:] == 0
-        m, d = float(np.mean(g["mass"][:][free])), float(np.mean(2 * g["radius"][:][free]))
-        grav = float(f["parameters"].attrs["gravity_m_s2"])
-        np_free = int(np.sum(free))
-        static = None
-        names = ("kinetic_energy", "rotational_energy", "max_speed", "grains_without_contact", "converged")
-        if all(k in obs for k in names):
-            e = (obs["kinetic_energy/value"][:] + obs["rotational_energy/value"][:]) / np_free / (m * grav * d)
-            static = (obs["converged/value"][:] == 1) & (e < REST_ENERGY) & \
-                (obs["max_speed/value"][:] / math.sqrt(grav * d) < REST_SPEED) & (obs["grains_without_contact/value"][:] == 0)
-        c = f["contacts"]
-        off, cnt = int(c["offset"][-1]), int(c["count"][-1])
-        rows = slice(off, off + cnt)
-        i, j = c["i"][rows], c["j"][rows]
-        fn, ft = c["fn"][rows], c["ft"][rows]
-        mu = float(f["parameters"].attrs["mu_grain"])
-        species = g["species"][:]
-        crit = set()
-        for a, b, x, y in zip(i, j, fn, ft):
-            if b < 0 or species[a] != 0 or species[b] != 0:
-                continue
-            if x > 0 and abs(y) >= (1 - eps) * mu * x:
-                crit.add((int(a), int(b)))
+    with Run(path) as run:
+        nu = rules.step_nu(run)
+        static = static_steps(path[:-len(".h5")] + ".steps.tsv", nu.size)
+        c = run.contacts(-1)
+        i, j, fn, ft = c["i"], c["j"], c["fn"], c["ft"]
+        free = run.free
+        grain = j >= 0
+        grain[grain] &= free[i[grain]] & free[j[grain]]
+        crit = grain & rules.critical(fn, ft, float(run.parameters["mu_grain"]), eps)
+        sweeps, converged = run.observable("sweeps"), run.observable("converged")
         return {
             "nu": float(np.nanmean(nu)) if nu.size else math.nan,
             "nu_end": float(nu[-1]) if nu.size else math.nan,
             "nu_static": float(np.nanmean(nu[static])) if static is not None and np.any(static) else math.nan,
             "static_fraction": float(np.mean(static)) if static is not None else math.nan,
-            "critical": crit,
-            "steps": int(n.size),
-            "sweeps": int(np.sum(obs["sweeps/value"][:])),
-            "capped": int(np.sum(obs["converged/value"][:] == 0)),
+            "critical": set(zip(i[crit].tolist(), j[crit].tolist())),
+            "steps": int(nu.size),
+            "sweeps": int(np.sum(sweeps)),
+            "capped": int(np.sum(converged == 0)),
         }
+
+
+def frame_rows(path):
+    """The rows of a one-table TSV (localnu's states, clusterfit's fits), '#' lines skipped;
+    none when the file is empty."""
+    return read_tsv(path)[1]
 
 
 def nu_bar(states_path):
     """{r: nu_bar} pooled over the frames after the first."""
-    rows = [l for l in open(states_path) if l.strip() and not l.startswith("#")]
-    if not rows:
-        return {}
     sums = {}
-    for r in csv.DictReader(rows, delimiter="\t"):
+    for r in frame_rows(states_path):
         if r["frame"] == "0" or r["n"] in ("NA", "0"):
             continue
         rr = float(r["r"])
@@ -109,8 +96,7 @@ def alpha_of(fit_path):
     """alpha of the one window of clusterfit's fits table, or NaN (no fit, not converged)."""
     if not os.path.exists(fit_path):
         return math.nan
-    rows = [l for l in open(fit_path) if l.strip() and not l.startswith("#")]
-    for r in csv.DictReader(rows, delimiter="\t"):
+    for r in frame_rows(fit_path):
         if r["converged"] == "1" and r["alpha"] != "NA":
             return float(r["alpha"])
     return math.nan
@@ -192,10 +178,7 @@ def main():
                    "nu_bar_cv_6D", "nu_bar_cv_max", "alpha_mean", "alpha_sd"] + \
         [c for k in rules for c in (f"nu_k{k}", f"jaccard_k{k}", f"alpha_k{k}")]
     for name, cols, rows in (("paths.tsv", path_cols, path_rows), ("spread.tsv", spread_cols, spread_rows)):
-        with open(os.path.join(a.out, name), "w") as f:
-            f.write("\t".join(cols) + "\n")
-            for r in rows:
-                f.write("\t".join(fmt(v, 6) for v in r) + "\n")
+        write_tsv(os.path.join(a.out, name), cols, rows, digits=6)
 
     print("# The force indeterminacy at fixed packings\n")
     print(f"Branches of the same window along {len(paths)} paths at the study's rule (k = {a.study_rule} m g/D;"
@@ -231,14 +214,9 @@ def rms_sd(values):
 
 
 def draw(out, spread_rows, curves, rules):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        return
     if not spread_rows:
         return
+    from cdpile_py.style import plt, save
     fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
     for s in sorted(set(r[0] for r in spread_rows)):
         rr = [r for r in spread_rows if r[0] == s]
@@ -261,8 +239,7 @@ def draw(out, spread_rows, curves, rules):
         ax[2].set_ylabel("nu_bar(r)")
         ax[2].set_title(f"run {key[0]}, {key[1]} deg", fontsize=9)
         ax[2].legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "figure.png"), dpi=110)
+    save(fig, out, "figure", pdf=False)
 
 
 if __name__ == "__main__":

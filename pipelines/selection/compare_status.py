@@ -17,7 +17,7 @@ the solver tolerance changes (pipelines/selection/Makefile runs it).
 Contacts are matched by their pair (i, j) (j < 0 a wall). A contact is counted when it is
 active (f_n > 0) in either branch; one absent from a frame has f_n = 0 there. Critical:
 f_n > 0 and |f_t| >= (1 - eps) mu f_n, mu the run's mu_grain, mu_wall when j < 0 (glued
-floor grains are grains). A disagreement is a counted contact critical in one branch and not
+floor grains are grains; pipelines/cdpile_py/rules.py). A disagreement is a counted contact critical in one branch and not
 in the other; fraction = disagreements / counted contacts. The *_grain columns repeat the
 count over contacts between two free grains (the N of nu). sliding_disagree counts the
 contacts whose solver status is slide (2) in exactly one branch. capped = 1 when a branch hit
@@ -30,12 +30,15 @@ capped_near counts the run's steps in that window that hit the sweep cap (report
 used in the classification).
 """
 import argparse
-import math
 import os
 import sys
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from cdpile_py import rules  # noqa: E402
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tables import fmt, read_tsv, write_tsv  # noqa: E402
 
 COLUMNS = ["rule", "seed", "angle_deg", "start_deg", "end_deg", "tol_loose", "tol_tight", "window",
            "agitation_max", "capped_near", "active", "critical_loose", "critical_tight", "disagree",
@@ -45,39 +48,24 @@ COLUMNS = ["rule", "seed", "angle_deg", "start_deg", "end_deg", "tol_loose", "to
 FRAME_MATCH_DEG = 1e-9  # tilt-cd's --branch-at picks the last frame at or below the angle + 1e-9
 
 
-def fmt(v):
-    if v is None or (isinstance(v, float) and not math.isfinite(v)):
-        return "NA"
-    if isinstance(v, float):
-        return f"{v:.6g}"
-    return str(v)
-
-
-def frame_angles(f):
-    return f["contacts/tilt_angle"][:]
-
-
-def pick_frame(f, angle):
+def pick_frame(run, angle):
     """The index of the last frame at or below ANGLE (tilt-cd's --branch-at rule), or None."""
-    ok = np.nonzero(frame_angles(f) <= angle + FRAME_MATCH_DEG)[0]
+    ok = np.nonzero(run.frame_tilt <= angle + FRAME_MATCH_DEG)[0]
     return int(ok[-1]) if ok.size else None
 
 
-def avalanche_limit(f):
-    r = f["results"].attrs
-    if int(r.get("avalanche_detected", 0)):
-        return float(r["avalanche_angle_deg"])
-    return float(r["final_angle_deg"])
+def avalanche_limit(run):
+    return run.avalanche_angle if run.avalanche_angle is not None else float(run.results["final_angle_deg"])
 
 
 def cmd_to(a):
-    with h5py.File(a.run, "r") as f:
-        k = pick_frame(f, a.angle)
-        if a.angle >= avalanche_limit(f) or k is None:
+    with Run(a.run) as run:
+        k = pick_frame(run, a.angle)
+        if a.angle >= avalanche_limit(run) or k is None:
             print("skip")
             return
-        start = float(frame_angles(f)[k])
-        if start + a.rate > float(f["results"].attrs["final_angle_deg"]) + FRAME_MATCH_DEG:
+        start = float(run.frame_tilt[k])
+        if start + a.rate > float(run.results["final_angle_deg"]) + FRAME_MATCH_DEG:
             print("skip")
             return
         print(f"{start + a.rate:.12g}")
@@ -86,43 +74,35 @@ def cmd_to(a):
 def last_frame(path):
     """Contacts of the last frame by pair: {(i, j): (fn, ft, status)}, with the branch's
     start and end tilt and its solver record."""
-    with h5py.File(path, "r") as f:
-        c = f["contacts"]
-        off, cnt = int(c["offset"][-1]), int(c["count"][-1])
-        rows = slice(off, off + cnt)
-        i, j = c["i"][rows], c["j"][rows]
-        fn, ft, st = c["fn"][rows], c["ft"][rows], c["status"][rows]
-        p = f["parameters"].attrs
-        obs = f["observables"]
+    with Run(path) as run:
+        c = run.contacts(-1, ("i", "j", "fn", "ft", "status"))
+        p = run.parameters
+        converged = run.observable("converged")
         info = {
             "mu_grain": float(p["mu_grain"]), "mu_wall": float(p["mu_wall"]),
-            "start": float(p["branch_tilt_deg"]) if "branch_tilt_deg" in p else float(c["tilt_angle"][0]),
-            "end": float(c["tilt_angle"][-1]),
-            "steps": int(obs["sweeps/value"].shape[0]),
-            "sweeps": int(np.sum(obs["sweeps/value"][:])),
-            "converged": int(np.min(obs["converged/value"][:])) if obs["converged/value"].shape[0] else 1,
-            "species": f["particles/grains/species"][:],
+            "start": float(p["branch_tilt_deg"]) if "branch_tilt_deg" in p else float(run.frame_tilt[0]),
+            "end": float(run.frame_tilt[-1]),
+            "steps": run.steps_recorded("sweeps"),
+            "sweeps": int(np.sum(run.observable("sweeps"))),
+            "converged": int(np.min(converged)) if converged.shape[0] else 1,
+            "species": run.species,
         }
-    contacts = {(int(a), int(b)): (float(x), float(y), int(s)) for a, b, x, y, s in zip(i, j, fn, ft, st)}
+    contacts = {(int(a), int(b)): (float(x), float(y), int(s))
+                for a, b, x, y, s in zip(c["i"], c["j"], c["fn"], c["ft"], c["status"])}
     return contacts, info
 
 
-def window_state(run, start, rate, width, quiet_ek):
+def window_state(path, start, rate, width, quiet_ek):
     """(rearranging?, max agitation, capped steps) of the run within WIDTH deg of START."""
-    with h5py.File(run, "r") as f:
-        g = f["particles/grains"]
-        free = g["species"][:] == 0
-        mass = g["mass"][:][free]
-        diameter = 2.0 * g["radius"][:][free]
-        gravity = float(f["parameters"].attrs["gravity_m_s2"])
-        obs = f["observables"]
-        theta = obs["tilt_angle/value"][:]
-        ek = obs["kinetic_energy/value"][:]
-        conv = obs["converged/value"][:]
+    with Run(path) as run:
+        scale = rules.agitation_scale(run)
+        theta = run.observable("tilt_angle")
+        ek = run.observable("kinetic_energy")
+        conv = run.observable("converged")
     near = (theta >= start - width - FRAME_MATCH_DEG) & (theta <= start + rate + width + FRAME_MATCH_DEG)
     if not near.any():
         return None, float("nan"), 0
-    a = ek[near] / (free.sum() * mass.mean() * gravity * diameter.mean())
+    a = ek[near] / scale
     amax = float(a.max())
     return amax > quiet_ek, amax, int(np.sum(conv[near] == 0))
 
@@ -146,9 +126,7 @@ def cmd_compare(a):
     free = il["species"] == 0
 
     def critical(v, j):
-        fn, ft, _ = v
-        mu = il["mu_wall"] if j < 0 else il["mu_grain"]
-        return fn > 0 and abs(ft) >= (1 - a.eps) * mu * fn
+        return bool(rules.critical(v[0], v[1], il["mu_wall"] if j < 0 else il["mu_grain"], a.eps))
 
     none = (0.0, 0.0, 0)
     n = n_grain = crit_l = crit_t = dis = dis_grain = changed = slide = 0
@@ -180,26 +158,20 @@ def cmd_compare(a):
     write_rows(a.output, [row])
     print(f"compare_status.py: {a.rule} seed {a.seed} at {il['start']:g} deg ({row['window']}): "
           f"{dis} of {n} contacts change critical status between tolerances {a.tolerances[0]:g} and "
-          f"{a.tolerances[1]:g} ({fmt(row['fraction'])})" + ("; a branch hit its sweep cap" if row["capped"] else ""))
+          f"{a.tolerances[1]:g} ({fmt(row['fraction'], 6)})" + ("; a branch hit its sweep cap" if row["capped"] else ""))
 
 
 def write_rows(path, rows):
-    with open(path + ".tmp", "w") as f:
-        f.write("\t".join(COLUMNS) + "\n")
-        for r in rows:
-            f.write("\t".join(fmt(r.get(c)) for c in COLUMNS) + "\n")
-    os.replace(path + ".tmp", path)
+    write_tsv(path, COLUMNS, rows, digits=6)
 
 
 def cmd_merge(a):
     rows = []
     for p in a.rows:
-        with open(p) as f:
-            lines = [ln.rstrip("\n").split("\t") for ln in f if ln.strip()]
-        header = lines[0]
+        header, got = read_tsv(p)
         if header != COLUMNS:
             sys.exit(f"compare_status.py: {p}: not a comparison row of this version (remake it)")
-        rows += [dict(zip(header, cells)) for cells in lines[1:]]
+        rows += got
     write_rows(a.output, rows)
 
 

@@ -19,8 +19,8 @@ Definitions (pipelines/selection/README.md says more):
                    s.e. = sd/sqrt(runs).
   welch_p          Welch's two-sample t test of the rule's theta_c against the reference's,
                    two-sided, Student t with Welch-Satterthwaite degrees of freedom.
-  ks_p             two-sample Kolmogorov-Smirnov, two-sided: exact (lattice-path count) when
-                   both samples have at most 100 runs, else the asymptotic Kolmogorov law.
+  ks_p             two-sample Kolmogorov-Smirnov, two-sided: exact when both samples have at
+                   most 100 runs, else the asymptotic law (scipy; pipelines/cdpile_py/stats.py).
   paired_p         the paired t test over seeds both rules have (the piles are shared, so this
                    one removes the pile-to-pile spread).
   sweeps_per_step  mean of the observable sweeps over every step of every run (whole runs,
@@ -46,171 +46,41 @@ import math
 import os
 import sys
 
-import h5py
 import numpy as np
 
-
-# --- statistics without scipy -------------------------------------------------------------
-def betainc(a, b, x):
-    """Regularised incomplete beta I_x(a, b) (continued fraction, Numerical Recipes' betacf)."""
-    if x <= 0:
-        return 0.0
-    if x >= 1:
-        return 1.0
-    lbeta = math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b) + a * math.log(x) + b * math.log1p(-x)
-    if x > (a + 1) / (a + b + 2):
-        return 1.0 - betainc(b, a, 1 - x)
-    tiny = 1e-300
-    c, d = 1.0, 1.0 - (a + b) * x / (a + 1)
-    d = 1.0 / (d if abs(d) > tiny else tiny)
-    h = d
-    for m in range(1, 400):
-        m2 = 2 * m
-        for num in (m * (b - m) * x / ((a + m2 - 1) * (a + m2)),
-                    -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1))):
-            d = 1.0 + num * d
-            d = 1.0 / (d if abs(d) > tiny else tiny)
-            c = 1.0 + num / c
-            c = c if abs(c) > tiny else tiny
-            h *= d * c
-        if abs(d * c - 1.0) < 1e-15:
-            break
-    return math.exp(lbeta) * h / a
-
-
-def student_two_sided(t, df):
-    """P(|T| >= |t|) for Student's t with df degrees of freedom."""
-    if not math.isfinite(t):
-        return 0.0
-    return betainc(df / 2.0, 0.5, df / (df + t * t))
-
-
-def welch(x, y):
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    if x.size < 2 or y.size < 2:
-        return float("nan")
-    vx, vy = x.var(ddof=1) / x.size, y.var(ddof=1) / y.size
-    if vx + vy == 0:
-        return 1.0 if x.mean() == y.mean() else 0.0
-    t = (x.mean() - y.mean()) / math.sqrt(vx + vy)
-    df = (vx + vy) ** 2 / (vx ** 2 / (x.size - 1) + vy ** 2 / (y.size - 1))
-    return student_two_sided(t, df)
-
-
-def paired(x, y):
-    d = np.asarray(x, float) - np.asarray(y, float)
-    if d.size < 2:
-        return float("nan")
-    sd = d.std(ddof=1)
-    if sd == 0:
-        return 1.0 if d.mean() == 0 else 0.0
-    return student_two_sided(d.mean() / (sd / math.sqrt(d.size)), d.size - 1)
-
-
-def kolmogorov_q(lam):
-    """Q_KS(lambda) = 2 sum (-1)^(k-1) exp(-2 k^2 lambda^2)."""
-    if lam < 1e-3:
-        return 1.0
-    s = sum(2 * (-1) ** (k - 1) * math.exp(-2 * k * k * lam * lam) for k in range(1, 101))
-    return min(max(s, 0.0), 1.0)
-
-
-def ks_two_sample(x, y):
-    """(D, two-sided p): exact for samples up to 100 (ties: the count is conservative), else
-    the asymptotic law with Stephens' correction."""
-    x, y = np.sort(np.asarray(x, float)), np.sort(np.asarray(y, float))
-    n, m = x.size, y.size
-    if n == 0 or m == 0:
-        return float("nan"), float("nan")
-    allv = np.concatenate([x, y])
-    cdf_x = np.searchsorted(x, allv, side="right") / n
-    cdf_y = np.searchsorted(y, allv, side="right") / m
-    d = float(np.max(np.abs(cdf_x - cdf_y)))
-    if n <= 100 and m <= 100:
-        # paths from (0,0) to (n,m) staying strictly inside |i/n - j/m| < d
-        limit = round(d * n * m)  # d n m is an integer: |i m - j n| at the largest gap
-        ways = [[0.0] * (m + 1) for _ in range(n + 1)]
-        for i in range(n + 1):
-            for j in range(m + 1):
-                if abs(i * m - j * n) >= limit:
-                    continue
-                ways[i][j] = 1.0 if i == j == 0 else (ways[i - 1][j] if i else 0.0) + (ways[i][j - 1] if j else 0.0)
-        total = math.comb(n + m, n)
-        return d, min(1.0, max(0.0, 1.0 - ways[n][m] / total))
-    ne = n * m / (n + m)
-    return d, kolmogorov_q((math.sqrt(ne) + 0.12 + 0.11 / math.sqrt(ne)) * d)
-
-
-def mean_sd_se(v):
-    v = np.asarray([x for x in v if math.isfinite(x)], float)
-    if v.size == 0:
-        return float("nan"), float("nan"), float("nan")
-    if v.size == 1:
-        return float(v[0]), float("nan"), float("nan")
-    sd = float(v.std(ddof=1))
-    return float(v.mean()), sd, sd / math.sqrt(v.size)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.stats import ks_two_sample, mean_sd_se, paired, welch  # noqa: E402
+from cdpile_py.tables import fmt, number, read_product_table, read_tsv, write_tsv  # noqa: E402
 
 
 # --- reading ------------------------------------------------------------------------------
-def read_table(path, name):
-    """Rows of the TSV block '# table: NAME' of a cdpile TSV product, as dicts of strings."""
-    rows, header, inside = [], None, False
-    with open(path) as f:
-        for line in f:
-            line = line.rstrip("\n")
-            if line.startswith("# table:"):
-                inside = line.split(":", 1)[1].strip() == name
-                header = None
-                continue
-            if not inside or not line or line.startswith("#"):
-                continue
-            cells = line.split("\t")
-            if header is None:
-                header = cells
-            else:
-                rows.append(dict(zip(header, cells)))
-    return rows
-
-
-def number(s):
-    try:
-        return float(s)
-    except (TypeError, ValueError):
-        return float("nan")
-
-
 def read_run(path, bin_deg):
-    with h5py.File(path, "r") as f:
-        p, r = f["parameters"].attrs, f["results"].attrs
-        g = f["particles/grains"]
-        free = g["species"][:] == 0
-        obs = f["observables"]
-        get = lambda n: obs[n + "/value"][:] if n in obs else None
+    with Run(path) as run:
+        p = run.parameters
+        free = run.free
+        get = run.observable
         diameter = float(p["diameter_mean_m"])
         k_si = float(p.get("contact_stiffness_N_m2", 0.0))
-        mass = float(g["mass"][:][free].mean())
-        gravity = float(p["gravity_m_s2"])
-        run = {
+        mass = float(run.mass[free].mean())
+        gravity = run.gravity
+        return {
             "theta": get("tilt_angle"), "sweeps": get("sweeps"), "converged": get("converged"),
-            "max_overlap_D": float(np.max(get("max_overlap"))) / diameter if obs["max_overlap/value"].shape[0] else float("nan"),
+            "max_overlap_D": float(np.max(get("max_overlap"))) / diameter if run.steps_recorded("max_overlap") else float("nan"),
             "law_residual": get("law_residual"),
             "critical_grain": get("critical_grain"), "contacts_grain": get("contacts_grain"),
             # tilt-cd converts --stiffness with diameter_mean_m and the free grains' mean mass
             "k_mgD": k_si * diameter / (mass * gravity),
-            "theta_c_recorded": float(r["avalanche_angle_deg"]) if int(r.get("avalanche_detected", 0)) else float("nan"),
+            "theta_c_recorded": run.avalanche_angle if run.avalanche_angle is not None else float("nan"),
             "description": describe(p),
-            "steps": int(r["steps"]),
+            "steps": int(run.results["steps"]),
         }
-    return run
 
 
 def describe(p):
-    def g(k, default=None):
-        v = p.get(k, default)
-        return v.decode() if isinstance(v, bytes) else v
-    s = f"{g('criterion')} {float(g('tolerance')):g}, cap {int(g('max_sweeps'))}"
-    if int(g("check_every", 1)) != 1:
-        s += f", check every {int(g('check_every'))}"
+    s = f"{p.get('criterion')} {float(p.get('tolerance')):g}, cap {int(p.get('max_sweeps'))}"
+    if int(p.get("check_every", 1)) != 1:
+        s += f", check every {int(p.get('check_every'))}"
     return s
 
 
@@ -237,26 +107,6 @@ def nu_bins(run, theta_c, bin_deg):
 
 
 # --- output -------------------------------------------------------------------------------
-def fmt(v, digits=4):
-    if v is None:
-        return "NA"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, float) and not math.isfinite(v):
-        return "NA"
-    if isinstance(v, float):
-        return f"{v:.{digits}g}"
-    return str(v)
-
-
-def write_tsv(path, columns, rows, comment):
-    with open(path + ".tmp", "w") as f:
-        f.write(f"# {comment}\n" + "\t".join(columns) + "\n")
-        for r in rows:
-            f.write("\t".join(fmt(r.get(c)) for c in columns) + "\n")
-    os.replace(path + ".tmp", path)
-
-
 def md_table(columns, headers, rows):
     out = ["| " + " | ".join(headers) + " |", "|" + "|".join("---" if c == "rule" else "---:" for c in columns) + "|"]
     for r in rows:
@@ -279,7 +129,7 @@ def main():
 
     runs, per_rule = [], {}
     for rule in rules:
-        table = read_table(os.path.join(out, rule, "runs.tsv"), "runs")
+        table = read_product_table(os.path.join(out, rule, "runs.tsv"), "runs")
         by_name = {os.path.basename(row["name"]): row for row in table}
         rr = []
         for s in seeds:
@@ -322,9 +172,7 @@ def main():
     tol = []
     tol_path = os.path.join(out, "tolerance.tsv")
     if os.path.exists(tol_path):
-        with open(tol_path) as f:
-            lines = [ln.rstrip("\n").split("\t") for ln in f if ln.strip()]
-        tol = [dict(zip(lines[0], c)) for c in lines[1:]]
+        tol = read_tsv(tol_path)[1]
 
     summary = []
     for rule in rules:
@@ -424,9 +272,7 @@ def main():
 
 
 def chart(out, summary, nu_angles):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from cdpile_py.style import plt, save
     stiff = sorted([r for r in summary if r["k_mgD"] > 0], key=lambda r: r["k_mgD"])
     rigid = [r for r in summary if r["k_mgD"] <= 0]
     ks = [r["k_mgD"] for r in stiff]
@@ -491,10 +337,7 @@ def chart(out, summary, nu_angles):
     axes[0, 0].legend(fontsize=7)
     fig.suptitle(f"{os.path.basename(os.path.normpath(out))}: rules against the contact stiffness k "
                  "(rigid rules as horizontal lines)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "chart.png.tmp.png"), dpi=110)
-    plt.close(fig)
-    os.replace(os.path.join(out, "chart.png.tmp.png"), os.path.join(out, "chart.png"))
+    save(fig, out, "chart", pdf=False)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
 # Damaged files of HDF5's earlier format (which crash or hang libhdf5 1.10.8) give one line and exit 1 in every tool that reads them, from a file or standard input; intact ones are still read.
+# ctest: slow, timeout 180
 src="$CDPILE_SOURCE"
 damaged="$src/tests/fuzz/hdf5-1.10.8"
 prefix="damaged file of HDF5's earlier format (superblock version 0, no checksums): libhdf5 [0-9.]*"

@@ -1,4 +1,5 @@
 # A run of this version's format whose global heap (the units' variable-length strings) is damaged: every tool that reads it exits 1 with one line, no output, no hang.
+# ctest: slow, timeout 180
 src="$CDPILE_SOURCE"
 gunzip -c "$src/tests/fuzz/run/run-unit-global-heap-hang.h5.gz" > bad.h5
 cp "$src/fuzz/corpus/run/run.h5" good-run.h5

@@ -2,6 +2,7 @@
 # against the reference, the figure. A branch with the reference's own setting must have
 # zero error exactly (same state, same solver: the same numbers); the tightly converged
 # reference leaves a static pile in force balance; a second make runs no branch again.
+# ctest: slow, timeout 120
 deposit --grains 60 --width 10 --seed 2 -o pile.h5 --quiet
 tilt-cd pile.h5 --to 2 --rate 0.01 --frame-every 50 -o run.h5 --quiet
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" accuracy ACCURACY_RUN="$PWD/run.h5" \

@@ -1,4 +1,5 @@
 # The study pipeline at its smallest (2 runs of 80 disks): all six tools and every figure; a second make recomputes nothing; a removed product alone is remade.
+# ctest: slow, timeout 300
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" study NAME=tiny GRAINS=80 WIDTH=12 RATE=0.05 \
   FRAME_EVERY_DEG=1 SEEDS="1 2" MAP_THETAS="5 10" STUDIES="$PWD/studies" CDPILE_BIN="$CDPILE_BIN" "$@"; }
 mk > make1.log 2>&1 || { cat make1.log >&2; exit 1; }

@@ -2,6 +2,7 @@
 # the branches start from the last frame at or below theta_c - lead, each stops when its
 # avalanche is confirmed, avalanche.tsv holds the run and every path, a second make redoes
 # nothing, and a run without an avalanche is skipped with its reason.
+# ctest: slow, timeout 120
 B=$CDPILE_BIN
 # the engine of the studies made so far (pipelines/Makefile, STUDY_ENGINE)
 old=(--solver nsgs --max-substeps 1 --tolerance 1e-4)

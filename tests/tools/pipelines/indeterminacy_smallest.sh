@@ -2,6 +2,7 @@
 # two scrambled paths and a rigid branch): the branches start from the run's frames, path 0
 # redoes the run's own steps, the summary reports the window, one past the run's end is
 # skipped with its reason, and a second make redoes nothing.
+# ctest: slow, timeout 120
 B=$CDPILE_BIN
 "$B/deposit" --grains 80 --width 10 --seed 3 --quiet -o pile.h5
 mkdir -p study

@@ -1,4 +1,5 @@
 # MU_DEPOSIT: the piles settle with that friction and are tilted with MU, into a folder of their own.
+# ctest: slow, timeout 120
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" runs NAME=prep GRAINS=40 WIDTH=10 RATE=0.05 TO=0.2 \
   FRAME_EVERY_DEG=0.1 SEEDS=1 STUDIES="$PWD/studies" CDPILE_BIN="$CDPILE_BIN" "$@"; }
 mk MU_DEPOSIT=0 > make.log 2>&1 || { cat make.log >&2; exit 1; }

@@ -1,15 +1,17 @@
 # The pile's pictures (pipelines/pile.py), drawn offscreen and looked at pixel by pixel: the figure at three angles has every contact's segment with f_n >= <f_n> drawn black and every critical one red at its midpoint, the last panel is the last frame before theta_c with its tilt angle in its title, the box is turned by the tilt (lab frame); make movie writes a small H.264 video of every frame; an existing output is not replaced.
+# ctest: slow, timeout 120
 deposit --grains 30 --width 6 --seed 2 --quiet -o pile.h5
 tilt-cd pile.h5 --rate 2 --to 6 --frame-every 1 --quiet -o run.h5
 "$PY" - "$CDPILE_SOURCE/pipelines" <<'PY'
 import sys
 import numpy as np
 sys.path.insert(0, sys.argv[1])
-import pile
+from cdpile_py import pictures
+from cdpile_py.runfile import Run
 
-run = pile.Run("run.h5")
-fig, axes, ks, theta_c = pile.make_figure(run, theta_c=5.0)  # frames at 0, 2, 4 deg; 6 is past it
-assert list(run.tilt[ks]) == [0.0, 2.0, 4.0], run.tilt[ks]
+run = Run("run.h5")
+fig, axes, ks, theta_c = pictures.make_figure(run, theta_c=5.0)  # frames at 0, 2, 4 deg; 6 is past it
+assert list(run.frame_tilt[ks]) == [0.0, 2.0, 4.0], run.frame_tilt[ks]
 fig.canvas.draw()
 img = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(int)
 H = img.shape[0]
@@ -26,11 +28,11 @@ red = lambda b: (b[..., 0] > 150) & (b[..., 1] < 80) & (b[..., 2] < 80)
 black = lambda b: b.sum(axis=-1) < 150
 found = {"critical": 0, "loaded": 0}
 for ax, k in zip(axes, ks):
-    pos, c = run.frame(k)
-    pivot = np.array([run.width / 2, 0.0])
+    pos, c = pictures.frame(run, k)
+    pivot = np.array([pictures.box_width(run) / 2, 0.0])
     pairs = c["j"] >= 0
-    a = pile.to_lab(pos[c["i"][pairs]], run.tilt[k], pivot)
-    b = pile.to_lab(pos[c["j"][pairs]], run.tilt[k], pivot)
+    a = pictures.to_lab(pos[c["i"][pairs]], run.frame_tilt[k], pivot)
+    b = pictures.to_lab(pos[c["j"][pairs]], run.frame_tilt[k], pivot)
     mid = (a + b) / 2
     # a segment's width is proportional to f_n / <f_n>: those at or above the mean are thick
     mean = c["fn"][c["fn"] > 0].mean()
@@ -42,9 +44,9 @@ for ax, k in zip(axes, ks):
     found["critical"] += int(crit.sum())
     found["loaded"] += int(loaded.sum())
     # the box turned by the tilt: the floor's slope in the picture is -tan(theta)
-    floor = pile.to_lab([[0, 0], [run.width, 0]], run.tilt[k], pivot)
+    floor = pictures.to_lab([[0, 0], [pictures.box_width(run), 0]], run.frame_tilt[k], pivot)
     slope = (floor[1, 1] - floor[0, 1]) / (floor[1, 0] - floor[0, 0])
-    assert abs(slope + np.tan(np.radians(run.tilt[k]))) < 1e-12
+    assert abs(slope + np.tan(np.radians(run.frame_tilt[k]))) < 1e-12
 assert found["critical"] > 0 and found["loaded"] > 0, found
 title = axes[2].get_title()
 assert title.startswith("before theta_c: 4.00 deg: "), title

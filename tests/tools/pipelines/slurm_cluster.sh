@@ -1,4 +1,5 @@
 # Under a real Slurm (munged, slurmctld and slurmd on localhost, started here from a temporary configuration): a 2-seed study with its analysis, one task requeued mid-run and one cancelled, completes with one command to resubmit; the requeued run resumes from the checkpoint of the step it was signalled at, both runs equal uninterrupted ones, and report.md is written.
+# ctest: slow, timeout 600
 skip() { echo "skipped: $*" >&2; exit 77; }
 say() { echo "[${SECONDS} s] $*" >&2; }  # where the time goes, in the test's log
 [[ $(id -u) -eq 0 ]] || skip "needs root to start munged, slurmctld and slurmd (CI runs as root)"

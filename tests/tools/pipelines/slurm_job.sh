@@ -1,4 +1,5 @@
 # pipelines/slurm.sh writes a job array mapping task k to the k-th seed with the study's make variables, --name naming the study's folder, logs appended under it with each attempt marked, and an analysis job that names the missing seeds and the command that resubmits them; bad arguments are refused; a folder never mixes two studies or two sets of seeds.
+# ctest: slow, timeout 120
 gen=$CDPILE_SOURCE/pipelines/slurm.sh
 studies=$PWD/studies
 "$gen" --name variant --seeds "3 5 8" --time 1-00:00:00 -- POLYDISPERSITY=10 GRAINS=500 STUDIES="$studies" > job.sbatch 2> gen.log

@@ -1,4 +1,5 @@
 # The stability map at its smallest (60 disks, 2 time steps x 2 tolerances, one low sweep cap): every run classified, the reference is at the smallest h and is ok, the 5-sweep cap is flagged, the figure is drawn, and a second make runs nothing again.
+# ctest: slow, timeout 120
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" stability STABILITY_GRAINS=60 STABILITY_WIDTH=10 \
   STABILITY_STEPS="1e-4 4e-4" STABILITY_TOLERANCES="1e-2 1e-4" STABILITY_EXTRA="1e-4:1e-4:5" \
   STABILITY_RATE=50 STABILITY_MAX_ANGLE=45 STUDIES="$PWD/studies" CDPILE_BIN="$CDPILE_BIN" "$@"; }

@@ -1,5 +1,6 @@
 # Ctrl-C stops after the current step with exit 130, leaving OUTPUT.partial a valid run
 # of every completed step (no final output yet); --resume finishes the same run.
+# ctest: slow, timeout 120
 deposit --grains 100 --width 12 --seed 3 -o pile.h5 --quiet
 opts=(--to 8 --rate 0.001 --checkpoint-every 500 --frame-every 400)
 tilt-cd pile.h5 -o run.h5 "${opts[@]}" 2> stderr.txt & pid=$!

@@ -1,5 +1,6 @@
 # kill -9 at random moments, then --resume, gives the same file as a run never
 # interrupted: h5diff finds every dataset and attribute equal (provenance aside).
+# ctest: slow, timeout 120
 deposit --grains 100 --width 12 --seed 2 -o pile.h5 --quiet
 opts=(--to 3 --rate 0.002 --checkpoint-every 30 --frame-every 40 --quiet)
 tilt-cd pile.h5 -o ref.h5 "${opts[@]}"

@@ -1,4 +1,5 @@
 # A partial written before the residual_rms observable existed still resumes: the run goes on without that column, and every other dataset is the same as a run never interrupted.
+# ctest: slow, timeout 120
 deposit --grains 100 --width 12 --seed 3 -o pile.h5 --quiet
 opts=(--to 8 --rate 0.001 --checkpoint-every 500 --frame-every 400 --quiet)
 tilt-cd pile.h5 -o ref.h5 "${opts[@]}"

@@ -1,4 +1,5 @@
 # A partial written before the solver seam (no solver, check_every or contact_stiffness_N_m2 parameter, no law_residual columns) resumes as the rigid NSGS run it was, and every other dataset is the same as a run never interrupted.
+# ctest: slow, timeout 120
 deposit --grains 100 --width 12 --seed 3 -o pile.h5 --quiet
 # the settings of a run made before the seam: rigid NSGS without sub-steps
 old=(--solver nsgs --max-substeps 1 --substep-after 100)

@@ -1,4 +1,5 @@
 # SIGTERM ends tilt-cd within a second in any phase (reading its input, stepping, writing), and a second signal, or one sent to make's whole process group as a scheduler does, never cuts the checkpoint of the last completed step: exit 143, and --resume gives the uninterrupted run.
+# ctest: slow, timeout 180
 deposit --grains 100 --width 12 --seed 3 -o pile.h5 --quiet
 # Runs of 40 000 steps (seconds) with a periodic checkpoint only at step 0.
 opts=(--to 8 --rate 0.0002 --checkpoint-every 100000 --frame-every 2000)

@@ -1,4 +1,5 @@
 # ParaView opens a small run through to-xdmf: File > Open (OpenDataFile, the Xdmf3 reader ParaView picks) loads one point per grain per frame and the network file one segment per contact; the legacy XDMF Reader of the state reads every frame (time steps, grain count, arrays, contact counts, critical flags against the run's own observable); the state renders the disks at their radii, the force network with the critical contacts in red and the last frame's tilt angle (one offscreen image whose pixels are checked), and a localnu map reads back as its nu field.
+# ctest: slow, timeout 600
 if ! command -v pvpython > /dev/null; then
   echo "skipped: ParaView's Python (pvpython, Debian package python3-paraview) is not installed; scripts/install-deps.sh installs it" >&2
   exit 77
