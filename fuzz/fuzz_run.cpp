@@ -1,8 +1,10 @@
 // libFuzzer harness: the pile and run reader (io::RunReader) on arbitrary bytes, as the
 // tools read a file or standard input: open the HDF5 image, read the header, every
-// frame's grains and contacts (the first 8 frames), the per-step series. A cdpile::Error
+// frame's grains and contacts (the first 8 frames), the per-step series, and the
+// /checkpoint group of a partial run as `tilt-cd --resume` reads it (io::read_checkpoint). A cdpile::Error
 // is the expected outcome of a damaged file; anything else (a crash, a sanitizer report,
 // another exception, a hang past -timeout) is a finding (docs/fuzzing.md).
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -25,6 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const cdpile::io::RunReader r(f);
     for (std::size_t k = 0; k < std::min<std::size_t>(r.frame_count(), 8); ++k) r.frame(k);
     r.series();
+    if (cdpile::io::h5::exists(f, cdpile::io::kCheckpointGroup))
+      cdpile::io::read_checkpoint(f, r.grain_properties());
   } catch (const cdpile::Error&) {
   }
   return 0;

@@ -11,6 +11,11 @@ cd "$scratch"
 export PATH="$bin:$PATH"
 deposit --grains 12 --width 4 -o pile.h5 --quiet
 tilt-cd pile.h5 --to 0.02 --rate 0.01 --frame-every 1 -o run.h5 --quiet
+# A partial run (its /checkpoint group, which --resume reads): the tilt stopped by SIGINT
+# after its first checkpoints.
+timeout -s INT 0.5 tilt-cd pile.h5 --rate 1e-4 --to 90 --frame-every 200 --checkpoint-every 100 \
+  -o partial.h5 --quiet || true
+[[ -f partial.h5.partial ]] || { echo "make_corpus.sh: no partial run was left" >&2; exit 1; }
 critical run.h5 -o critical.h5 --quiet
 critical run.h5 -o critical.tsv --quiet
 localnu run.h5 --radii 1,2 -o localnu.h5 --quiet
@@ -29,6 +34,7 @@ python3 "$corpus/../../tests/tools/from-lammps/make_dumps.py" liggghts plain q
 find "$corpus" -type f ! -name 'old-*' -delete
 mkdir -p "$corpus"/{run,product,table,lammps}
 cp pile.h5 run.h5 "$corpus/run/"
+cp partial.h5.partial "$corpus/run/partial.h5"
 cp critical.h5 critical.tsv localnu.h5 localnu.tsv correlate.h5 correlate.tsv "$corpus/product/"
 # The table harness reads its first byte as the duplicates rule (odd: merge).
 for t in table.tsv table.csv; do

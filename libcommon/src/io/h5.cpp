@@ -753,6 +753,10 @@ void truncate_rows(const File& f, const std::string& path, hsize_t rows) {
   Handle d = open_dataset(f, path);
   Handle space(H5Dget_space(d.id()));
   int rank = H5Sget_simple_extent_ndims(space.id());
+  // A partial run's rows are along the first dimension; a damaged one may have none.
+  if (rank < 1)
+    fail(f, path, "expected rows along a first dimension, found " + std::to_string(std::max(rank, 0)) +
+                      " dimensions");
   std::vector<hsize_t> cur(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id(), cur.data(), nullptr);
   if (rows >= cur[0]) return;

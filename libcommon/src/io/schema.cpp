@@ -658,6 +658,30 @@ Contacts RunReader::contacts(std::size_t k) const {
   return c;
 }
 
+// Magnitudes a pile can have (docs/cli.md, "What is refused"): every centre inside the
+// box enlarged by L = max(width, height) on every side, and no grain faster than
+// 1000 sqrt(g L) (1000 times the speed of a fall through the box), its rim included.
+// Beyond them the engine's cell grid would need more cells than memory holds.
+void RunReader::check_grain_state(const Grains& g, const std::string& path,
+                                  const std::string& velocity_path, const std::string& what) const {
+  const h5::File& f = *f_;
+  const double w = header_.box.width, h = header_.box.height, L = length_scale(),
+               vmax = speed_bound();
+  for (std::size_t q = 0; q < g.size(); ++q) {
+    const Vec2& x = g.position[q];
+    if (x.x() < -L || x.x() > w + L || x.y() < -L || x.y() > h + L)
+      bad(f, path,
+          what + ": grain " + std::to_string(q) + " at (" + number_text(x.x()) + ", " +
+              number_text(x.y()) + ") m is outside the box [0, " + number_text(w) + "] x [0, " +
+              number_text(h) + "] m enlarged by " + number_text(L) + " m");
+    const double v = g.velocity[q].norm() + std::fabs(g.angular_velocity[q]) * g.radius[q];
+    if (!(v <= vmax))
+      bad(f, velocity_path,
+          what + ": grain " + std::to_string(q) + " moves at " + number_text(v) +
+              " m/s (its rim included), more than 1000 sqrt(g L) = " + number_text(vmax) + " m/s");
+  }
+}
+
 Frame RunReader::frame(std::size_t k) const {
   const h5::File& f = *f_;
   if (k >= frame_count()) bad(f, kGrains, "no frame " + std::to_string(k));
@@ -671,28 +695,8 @@ Frame RunReader::frame(std::size_t k) const {
   fr.grains.orientation = h5::read_rows<double>(f, grain_path("orientation") + "/value", k, 1);
   fr.grains.angular_velocity =
       h5::read_rows<double>(f, grain_path("angular_velocity") + "/value", k, 1);
-  // Magnitudes a pile can have (docs/cli.md, "What is refused"): every centre inside the
-  // box enlarged by L = max(width, height) on every side, and no grain faster than
-  // 1000 sqrt(g L) (1000 times the speed of a fall through the box), its rim included.
-  // Beyond them the engine's cell grid would need more cells than memory holds.
-  const double w = header_.box.width, h = header_.box.height, L = length_scale(),
-               vmax = speed_bound();
-  for (std::size_t q = 0; q < n_; ++q) {
-    const Vec2& x = fr.grains.position[q];
-    if (x.x() < -L || x.x() > w + L || x.y() < -L || x.y() > h + L)
-      bad(f, grain_path("position") + "/value",
-          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " at (" +
-              number_text(x.x()) + ", " + number_text(x.y()) + ") m is outside the box [0, " +
-              number_text(w) + "] x [0, " + number_text(h) + "] m enlarged by " + number_text(L) +
-              " m");
-    const double v =
-        fr.grains.velocity[q].norm() + std::fabs(fr.grains.angular_velocity[q]) * grains_.radius[q];
-    if (!(v <= vmax))
-      bad(f, grain_path("velocity") + "/value",
-          "frame " + std::to_string(k) + ": grain " + std::to_string(q) + " moves at " +
-              number_text(v) +
-              " m/s (its rim included), more than 1000 sqrt(g L) = " + number_text(vmax) + " m/s");
-  }
+  check_grain_state(fr.grains, grain_path("position") + "/value",
+                    grain_path("velocity") + "/value", "frame " + std::to_string(k));
   fr.contacts = contacts(k);
   return fr;
 }

@@ -4,6 +4,7 @@
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/common.hpp"
 #include "cdpile/sim/overlap.hpp"
@@ -18,6 +19,43 @@ namespace cdpile::sim {
 namespace h5 = io::h5;
 
 namespace {
+
+// The checkpoint's impulses are a step's solution, written by a run with these settings:
+// each pair names a grain and a grain or a wall, R_n >= 0, |R_t| <= mu R_n (to the
+// rounding of a sub-step's rescaling), and no impulse changes a grain's velocity by more
+// than the speed any grain may have. A damaged partial fails here, in one line, rather
+// than in the engine.
+void check_checkpoint_impulses(const Restored& rs, const cd::Settings& s, double vmax,
+                               const std::string& file) {
+  auto number_text = [](double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", x);
+    return std::string(b);
+  };
+  const auto n = static_cast<std::int64_t>(rs.grains.size());
+  const std::string path = std::string(io::kCheckpointGroup) + "/impulse_rt";
+  for (std::size_t k = 0; k < rs.engine.impulses.size(); ++k) {
+    const cd::StoredImpulse& p = rs.engine.impulses[k];
+    const std::string pair = "impulse " + std::to_string(k) + " of pair (" + std::to_string(p.i) +
+                             ", " + std::to_string(p.j) + ")";
+    if (p.i < 0 || p.i >= n || p.j < wall_right || p.j >= n || p.j == p.i)
+      throw Error(file, std::string(io::kCheckpointGroup) + "/impulse_i",
+                  pair + ": not a grain and a grain or a wall of the " + std::to_string(n) +
+                      " grains");
+    const double mu = p.j < 0 ? s.mu_wall : s.mu_grain;
+    const double m = rs.grains.mass[static_cast<std::size_t>(p.i)];
+    if (!(p.rn >= 0.0) || !(std::fabs(p.rt) <= mu * p.rn * (1.0 + 1e-9)))
+      throw Error(file, path,
+                  pair + ": (R_n, R_t) = (" + number_text(p.rn) + ", " + number_text(p.rt) +
+                      ") N s/m is outside the Coulomb cone of mu = " + number_text(mu));
+    if (!(p.rn <= m * vmax))
+      throw Error(file, std::string(io::kCheckpointGroup) + "/impulse_rn",
+                  pair + ": R_n = " + number_text(p.rn) + " N s/m would move grain " +
+                      std::to_string(p.i) + " faster than 1000 sqrt(g L) = " +
+                      number_text(vmax) + " m/s");
+  }
+}
+
 
 constexpr double kDeg = M_PI / 180.0;
 
@@ -259,6 +297,9 @@ TiltOutcome resume_tilt(const TiltOptions& o, const std::string& output, bool fo
                         " in the interrupted run; resume with the same options");
     }
     rs = read_checkpoint(f, r.grain_properties());
+    r.check_grain_state(rs.grains, std::string(io::kCheckpointGroup) + "/position",
+                        std::string(io::kCheckpointGroup) + "/velocity", "checkpoint");
+    check_checkpoint_impulses(rs, o.settings, r.speed_bound(), partial);
     box = r.header().box;
     if (r.frame_count() > 0) start = r.contacts(0);
   }

@@ -171,6 +171,12 @@ class RunReader {
   /// The fastest a grain may move, rim included: 1000 sqrt(g L) [m/s], g the file's
   /// gravity_m_s2 (9.81 if absent or zero).
   double speed_bound() const;
+  /// Error naming `path` (its grain positions) and `velocity_path` unless every grain of
+  /// `g` lies within the box enlarged by length_scale() and moves slower than
+  /// speed_bound(), rim included: the magnitudes a pile can have, for a frame and for the
+  /// checkpoint of a partial run. `what` starts the message ("frame 3", "checkpoint").
+  void check_grain_state(const Grains& g, const std::string& path,
+                         const std::string& velocity_path, const std::string& what) const;
 
  private:
   const h5::File* f_;
