@@ -57,38 +57,16 @@ void require_table_options(const LocalNuReading& o, const std::string& file) {
 }
 }  // namespace
 
-analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c,
-                                   const std::string& file) {
-  analysis::Friction mu;
-  if (c.grain) {
-    mu.grain = *c.grain;
-  } else if (h) {
-    auto m = real_parameter(h->parameters, "mu_grain", file);
-    if (!m) throw Error(file, "/parameters", "no mu_grain; give " + field("mu"));
-    mu.grain = *m;
-  } else {
-    throw Error(file, "", "a contact table has no friction coefficient; give " + field("mu"));
-  }
-  if (c.wall)
-    mu.wall = *c.wall;
-  else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt)
-    mu.wall = *m;
-  else
-    mu.wall = mu.grain;
-  // mu <= 0 makes every active contact critical: refuse it with the file's name (the
-  // command-line layer already refuses it on the command line).
-  if (!(mu.grain > 0.0) || !std::isfinite(mu.grain))
-    throw Error(file, h ? "/parameters" : "",
-                "mu_grain must be > 0, got " + format_number(mu.grain));
-  if (!(mu.wall > 0.0) || !std::isfinite(mu.wall))
-    throw Error(file, h ? "/parameters" : "", "mu_wall must be > 0, got " + format_number(mu.wall));
-  return mu;
-}
-
 analysis::RecordedRule recorded_rule(const RunHeader& h, const std::string& file) {
   return {real_parameter(h.parameters, "critical_eps", file),
           real_parameter(h.parameters, "mu_grain", file),
           real_parameter(h.parameters, "mu_wall", file)};
+}
+
+analysis::Friction run_friction(const RunHeader& h, const analysis::FrictionChoice& given,
+                                const std::string& file) {
+  const analysis::RecordedRule recorded = recorded_rule(h, file);
+  return analysis::choose_friction(given, &recorded, file);
 }
 
 namespace {
@@ -206,7 +184,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     // Without a status column the solver's status is unknown (the table's `sliding` is NA).
     if (!t.has_status)
       for (auto& f : t.frames) f.contacts.status.clear();
-    const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
+    const analysis::Friction mu = analysis::choose_friction(o.mu, nullptr, file);
     if (o.theta_c) {
       info.theta_c = o.theta_c;
       info.theta_c_from = "option";
@@ -241,7 +219,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   const RunReader rr(in.hdf5());
   info.length_unit = "m";
   rr.check_observables();  // read only for theta_c, but a run without them is damaged
-  const analysis::Friction mu = choose_friction(&rr.header(), o.mu, file);
+  const analysis::Friction mu = run_friction(rr.header(), o.mu, file);
   const double diameter = o.diameter.value_or(analysis::mean_diameter(rr.grain_properties()));
   if (o.theta_c) {
     info.theta_c = o.theta_c;

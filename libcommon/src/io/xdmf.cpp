@@ -2,6 +2,7 @@
 
 #include "cdpile/analysis/local_state.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
@@ -76,9 +77,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     if (h.parameters.find(key) == h.parameters.end()) return std::nullopt;
     return as_real(h.parameters, key, file);
   };
-  analysis::Friction mu;
-  mu.grain = opt.mu ? *opt.mu : param("mu_grain").value_or(0.5);
-  mu.wall = opt.mu_wall ? *opt.mu_wall : opt.mu ? *opt.mu : param("mu_wall").value_or(mu.grain);
+  const analysis::Friction mu = run_friction(h, opt.mu, file);
   analysis::CriticalRule rule;
   rule.eps = opt.eps ? *opt.eps : param("critical_eps").value_or(analysis::default_eps);
   rule.include_walls = opt.walls;

@@ -93,6 +93,22 @@ struct RecordedRule {
   std::optional<double> eps, mu_grain, mu_wall;
 };
 
+/// Friction coefficients the user gave (the command line's --mu and --mu-wall); an empty
+/// one comes from the run.
+struct FrictionChoice {
+  std::optional<double> grain, wall;
+};
+
+/// mu of an analysis, decided in this one place for every tool: mu_grain is `given.grain`
+/// if given, else the run's recorded mu_grain, else an error naming `file` and what is
+/// missing ("FILE: /parameters: no mu_grain; give --mu"). mu_wall is `given.wall` if given,
+/// else the run's mu_wall unless `given.grain` was given, else mu_grain. `run` is null for
+/// an input without parameters (a contact table): then `given.grain` is required. Both
+/// must be > 0 (mu = 0 makes every active contact critical): a value given is refused as a
+/// usage error naming its field, a recorded one as an error naming the file.
+Friction choose_friction(const FrictionChoice& given, const RecordedRule* run,
+                         const std::string& file);
+
 /// How a recorded per-step count departs from the rule asked for.
 struct StepRuleMismatch {
   bool unknown = false;  ///< the run does not record its rule (e.g. no critical_eps)

@@ -31,6 +31,7 @@
 #pragma once
 
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/studies.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <optional>
@@ -42,8 +43,8 @@ namespace cdpile::io::xdmf {
 struct Options {
   double nu_radius = 6.0;     ///< [D] radius of the grains' local state nu
   std::optional<double> eps;  ///< critical tolerance (default: the run's critical_eps, else 1e-3)
-  std::optional<double> mu, mu_wall;  ///< friction (default: the run's mu_grain, mu_wall)
-  bool walls = false;                 ///< nu counts wall contacts too (critical's --walls)
+  analysis::FrictionChoice mu;  ///< friction given (analysis::choose_friction on the run's)
+  bool walls = false;           ///< nu counts wall contacts too (critical's --walls)
 };
 
 struct Summary {
