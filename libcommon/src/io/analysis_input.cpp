@@ -113,44 +113,19 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     double rest_speed) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
-  // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
-  const double slip =
-      r.gravity > 0.0 && r.diameter > 0.0 ? slip_speed * std::sqrt(r.gravity * r.diameter) : 0.0;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
     const Frame fr = rr.frame(k);
-    analysis::FrameRecord f;
-    f.frame = static_cast<std::int64_t>(k);
-    f.step = fr.step;
-    f.theta = fr.tilt_angle * 180.0 / M_PI;
     const analysis::ContactSet set = classify(fr, k, mu, rule, file);
-    f.state = analysis::pile_state(set, fr.grains.species, r.free_grains, r.diameter, rattlers);
-    f.kinetic_energy = analysis::mean_kinetic_energy(fr.grains);
-    const analysis::FrameMotion motion = analysis::frame_motion(fr.grains, fr.contacts);
-    f.agitation = motion.agitation;
-    f.max_speed = motion.max_speed;
-    f.grains_without_contact = motion.grains_without_contact;
-    f.z_paper = motion.contacts_per_grain;
-    if (slip > 0.0 && motion.max_speed) {
-      const std::vector<double> u = analysis::slip_speeds(fr.contacts, set, fr.grains);
-      std::int64_t slipping = 0, critical = 0;
-      for (std::size_t q = 0; q < u.size(); ++q) {
-        if (!(u[q] > slip)) continue;
-        ++slipping;
-        critical += set.critical[q];
-      }
-      f.slipping = slipping;
-      f.critical_slipping = critical;
-      const analysis::RestCount at_rest = analysis::contacts_at_rest(
-          fr.contacts, set, fr.grains, u, rest_speed * std::sqrt(r.gravity * r.diameter), slip);
-      f.contacts_at_rest = at_rest.contacts;
-      f.critical_at_rest = at_rest.critical;
-    }
-    f.mobilisation = analysis::mobilisation_histogram(set, analysis::mobilisation_bins);
+    analysis::FrameRecord f;
     try {
-      f.bound = analysis::static_bound(fr.contacts, fr.grains.species, mu, rule.eps);
+      f = analysis::frame_record(fr.contacts, fr.grains, set, r, rule.eps, rattlers, slip_speed,
+                                 rest_speed);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
+    f.frame = static_cast<std::int64_t>(k);
+    f.step = fr.step;
+    f.theta = fr.tilt_angle * 180.0 / M_PI;
     r.frames.push_back(std::move(f));
   }
   return r;

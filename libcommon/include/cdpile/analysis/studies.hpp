@@ -178,6 +178,18 @@ struct RunRecord {
   std::vector<FrameRecord> frames;
 };
 
+/// One frame of a run as `critical` reads it: the pile state (eqs 1-2) of the counted
+/// contacts `set` (select_contacts of `c`), the static bound (with `eps`), how the grains
+/// `g` move, the contacts slipping faster than `slip_speed` sqrt(g D), those at rest (both
+/// bodies slower than `rest_speed` sqrt(g D), not slipping) and the histogram of the
+/// mobilisation (docs/analysis.md). `run` gives the free grains, D, g and mu; without g or
+/// D nothing is counted as slipping or at rest. frame, step and theta are the caller's.
+/// Throws cdpile::Error as static_bound (a force not finite, mu or eps invalid).
+FrameRecord frame_record(const Contacts& c, const Grains& g, const ContactSet& set,
+                         const RunRecord& run, double eps, RattlerRule rattlers,
+                         double slip_speed = default_slip_speed,
+                         double rest_speed = RestRule{}.speed);
+
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
 
 /// Notes of a product that are warnings start with this; a tool also says them on stderr.

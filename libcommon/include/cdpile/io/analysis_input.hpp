@@ -36,11 +36,11 @@ analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k,
 analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
                                    const analysis::CriticalRule& rule);
 
-/// A run as `critical` reads it: read_run_steps and, for every frame, the pile state (eqs
-/// 1-2), the static bound, how the grains move, the contacts slipping faster than
-/// `slip_speed` sqrt(g D), the contacts between grains slower than `rest_speed` sqrt(g D)
-/// and the histogram of the mobilisation (docs/analysis.md).
-/// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
+/// A run as `critical` reads it: read_run_steps and every frame read and classified by
+/// `rule` and `mu`, then analysis::frame_record (the pile state, the static bound, how the
+/// grains move, the slipping contacts, those at rest, the mobilisation). Every frame is
+/// read whole, so a non-finite grain state is an error naming its dataset; an error of the
+/// analysis names the frame.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,

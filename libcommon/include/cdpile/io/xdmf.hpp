@@ -7,7 +7,8 @@
 /// reader copies the geometry without reading it). So every array an XDMF names here is a
 /// whole dataset: what the run holds, as virtual datasets (HDF5 1.10 VDS) in a small file
 /// beside the XDMF, mapped onto the run's rows and never copied; what is derived, as real
-/// datasets of that file. Both the Xdmf3 reader and the legacy XDMF Reader load them.
+/// datasets of that file (computed by analysis::frame_fields). Both the Xdmf3 reader and the
+/// legacy XDMF Reader load them.
 ///
 ///   pile or run, two XDMF files:
 ///     NAME.xdmf          grains, a temporal collection, one grid per frame (Time = the
