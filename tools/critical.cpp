@@ -181,8 +181,7 @@ static void run(const cli::Args& a) {
     if (const std::string note = io::partial_run_note(rr); !note.empty()) cli::warn(note);
     histories.emplace_back(in.name(), rr.header().provenance);
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    const analysis::Friction mu =
-        io::choose_friction(&rr.header(), cli::friction_choice(a), in.name());
+    const analysis::Friction mu = io::run_friction(rr.header(), cli::friction_choice(a), in.name());
     // --series steps with another rule than the run's: refused before its frames are read
     if (opt.source == analysis::SeriesSource::steps)
       analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule,

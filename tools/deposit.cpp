@@ -2,6 +2,7 @@
 // Contact Dynamics engine (docs/method.md, "Deposit").
 #include "cdpile/sim/deposit.hpp"
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
 #include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
@@ -50,10 +51,9 @@ static void usage(cli::Usage& u) {
   u.real("width", 120.0, "box width", "D", 1.0, 1e7);
   u.real("density", 2600.0, "grain density (2D: mass per unit thickness is rho pi r^2)", "kg/m^3",
          1e-12, 1e12);
-  u.real("mu", 0.5, "grain-grain friction coefficient (also with glued floor grains)", "", 0.0,
-         1e3);
-  u.real("mu-wall", 0.5, "grain-wall friction coefficient (floor plane and side walls)", "", 0.0,
-         1e3);
+  cli::declare_friction(u, "grain-grain friction coefficient (also with glued floor grains)",
+                        "grain-wall friction coefficient (floor plane and side walls)",
+                        analysis::Friction{cd::Settings{}.mu_grain, cd::Settings{}.mu_wall});
   u.real("gravity", 9.81, "gravity", "m/s^2", 1e-12, 1e6);
   u.flag("smooth-floor", "no glued grains on the floor (a bare, frictional plane)");
   u.seed("seed of the random placement and diameters (std::mt19937_64)");

@@ -3,6 +3,7 @@
 // (docs/method.md, "Tilt" and "Checkpoints").
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
 #include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
@@ -120,9 +121,8 @@ static void usage(cli::Usage& u) {
             1000000000000, "steps");
   u.flag("resume", "continue the interrupted run of OUTPUT from OUTPUT.partial");
   u.group("Friction");
-  u.real_opt("mu", "grain-grain friction coefficient (default: the pile's mu_grain)", "", 0.0, 1e3);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the pile's mu_wall)", "", 0.0,
-             1e3);
+  cli::declare_friction(u, "grain-grain friction coefficient (default: the pile's mu_grain)",
+                        "grain-wall friction coefficient (default: the pile's mu_wall)");
   cli::declare_solver_options(u);
   u.alias("avalanche-energy", "avalanche-ek");  // critical's and localnu's name
   u.alias("mu-grain", "mu");

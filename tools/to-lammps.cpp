@@ -81,7 +81,7 @@ static void run(const cli::Args& a) {
                     " frames)");
   const std::size_t n = io::lammps::write_dump(out.text(), r, opt);
   if (contacts) {
-    const analysis::Friction mu = io::choose_friction(&r.header(), {}, in.name());
+    const analysis::Friction mu = io::run_friction(r.header(), {}, in.name());
     const double eps = io::recorded_rule(r.header(), in.name()).eps.value_or(analysis::default_eps);
     io::lammps::write_contacts_dump(contacts->text(), r, opt, mu, eps);
   }

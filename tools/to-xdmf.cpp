@@ -1,6 +1,7 @@
 // to-xdmf: an XDMF description of a pile, run or localnu map, so that ParaView opens it
 // (docs/analysis.md, "Seeing the grains"). The work is in libcommon (io/xdmf.hpp).
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/friction_options.hpp"
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/xdmf.hpp"
@@ -51,10 +52,8 @@ static void usage(cli::Usage& u) {
   u.real("nu-radius", 6.0, "radius of the grains' local state nu", "D", 1e-6, 1e6);
   u.real_opt("eps", "tolerance of the critical test (default: the run's critical_eps, else 0.001)",
              "", 0.0, 0.999999);
-  u.real_opt("mu", "grain-grain friction coefficient (default: the run's mu_grain)", "", 1e-12,
-             1e3);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall)", "", 1e-12,
-             1e3);
+  cli::declare_friction(u, "grain-grain friction coefficient (default: the run's mu_grain)",
+                        "grain-wall friction coefficient (default: the run's mu_wall)");
   u.flag("walls", "nu counts the contacts with walls and glued floor grains too");
   u.example("A run for ParaView", "to-xdmf run.h5",
             "writes run.xdmf, run.xdmf.hdf5 and run.paraview.py; in ParaView: File > Load "
@@ -99,8 +98,7 @@ static void run(const cli::Args& a) {
     io::xdmf::Options opt;
     opt.nu_radius = a.real("nu-radius");
     opt.eps = a.real_opt("eps");
-    opt.mu = a.real_opt("mu");
-    opt.mu_wall = a.real_opt("mu-wall");
+    opt.mu = cli::friction_choice(a);
     opt.walls = a.flag("walls");
     const io::RunReader r(in.hdf5());
     if (const std::string note = io::partial_run_note(r); !note.empty())

@@ -25,7 +25,7 @@ TEST(AnalysisOptions, DefaultsAreTheLibrarys) {
   EXPECT_EQ(r.eps, analysis::default_eps);
   EXPECT_FALSE(r.include_walls);
   EXPECT_TRUE(r.floor_grains_are_walls);
-  const io::FrictionChoice mu = cli::friction_choice(a);
+  const analysis::FrictionChoice mu = cli::friction_choice(a);
   EXPECT_FALSE(mu.grain);
   EXPECT_FALSE(mu.wall);
   EXPECT_EQ(a.text("format"), "auto");
@@ -40,7 +40,7 @@ TEST(AnalysisOptions, GivenValuesReachTheRule) {
   EXPECT_EQ(r.eps, 0.01);
   EXPECT_TRUE(r.include_walls);
   EXPECT_FALSE(r.floor_grains_are_walls);
-  const io::FrictionChoice mu = cli::friction_choice(a);
+  const analysis::FrictionChoice mu = cli::friction_choice(a);
   EXPECT_EQ(mu.grain, 0.3);
   EXPECT_EQ(mu.wall, 0.2);
   EXPECT_EQ(cli::split_list(a.text("table")), (std::vector<std::string>{"a", "b"}));
@@ -49,7 +49,11 @@ TEST(AnalysisOptions, GivenValuesReachTheRule) {
 
 TEST(AnalysisOptions, RangesAreChecked) {
   EXPECT_THROW(parse({"run.h5", "--eps", "1"}), UsageError);
-  EXPECT_THROW(parse({"run.h5", "--mu", "0"}), UsageError);
+  // --mu's one range is [0, 1000] (a frictionless pile is a simulator's choice); an
+  // analysis refuses 0 itself (analysis::choose_friction).
+  EXPECT_THROW(parse({"run.h5", "--mu", "-0.5"}), UsageError);
+  EXPECT_THROW(parse({"run.h5", "--mu-wall", "1001"}), UsageError);
+  EXPECT_EQ(cli::friction_choice(parse({"run.h5", "--mu", "0"})).grain, 0.0);
   EXPECT_THROW(parse({"run.h5", "--floor-grains", "floor"}), UsageError);
   EXPECT_THROW(parse({"run.h5", "--format", "csv"}), UsageError);
   EXPECT_THROW(parse({"run.h5", "--table", "c"}), UsageError);

@@ -69,9 +69,8 @@ void declare_critical_rule(Usage& u, const std::string& mu_help) {
   u.group("Critical contacts");
   u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n",
          "", 0.0, 0.999999);
-  u.real_opt("mu", mu_help, "", 1e-12, 1e6);
-  u.real_opt("mu-wall", "grain-wall friction coefficient (default: the run's mu_wall, else --mu)",
-             "", 1e-12, 1e6);
+  declare_friction(u, mu_help,
+                   "grain-wall friction coefficient (default: the run's mu_wall, else --mu)");
   u.flag("walls", "count contacts with walls (and glued floor grains)");
   u.text("floor-grains", "wall", "contacts with grains glued to the floor count as",
          {"wall", "grain"});
@@ -83,10 +82,6 @@ analysis::CriticalRule critical_rule(const Args& a) {
   r.include_walls = a.flag("walls");
   r.floor_grains_are_walls = a.text("floor-grains") == "wall";
   return r;
-}
-
-io::FrictionChoice friction_choice(const Args& a) {
-  return {a.real_opt("mu"), a.real_opt("mu-wall")};
 }
 
 }  // namespace cdpile::cli

@@ -57,38 +57,16 @@ void require_table_options(const LocalNuReading& o, const std::string& file) {
 }
 }  // namespace
 
-analysis::Friction choose_friction(const RunHeader* h, const FrictionChoice& c,
-                                   const std::string& file) {
-  analysis::Friction mu;
-  if (c.grain) {
-    mu.grain = *c.grain;
-  } else if (h) {
-    auto m = real_parameter(h->parameters, "mu_grain", file);
-    if (!m) throw Error(file, "/parameters", "no mu_grain; give " + field("mu"));
-    mu.grain = *m;
-  } else {
-    throw Error(file, "", "a contact table has no friction coefficient; give " + field("mu"));
-  }
-  if (c.wall)
-    mu.wall = *c.wall;
-  else if (auto m = h && !c.grain ? real_parameter(h->parameters, "mu_wall", file) : std::nullopt)
-    mu.wall = *m;
-  else
-    mu.wall = mu.grain;
-  // mu <= 0 makes every active contact critical: refuse it with the file's name (the
-  // command-line layer already refuses it on the command line).
-  if (!(mu.grain > 0.0) || !std::isfinite(mu.grain))
-    throw Error(file, h ? "/parameters" : "",
-                "mu_grain must be > 0, got " + format_number(mu.grain));
-  if (!(mu.wall > 0.0) || !std::isfinite(mu.wall))
-    throw Error(file, h ? "/parameters" : "", "mu_wall must be > 0, got " + format_number(mu.wall));
-  return mu;
-}
-
 analysis::RecordedRule recorded_rule(const RunHeader& h, const std::string& file) {
   return {real_parameter(h.parameters, "critical_eps", file),
           real_parameter(h.parameters, "mu_grain", file),
           real_parameter(h.parameters, "mu_wall", file)};
+}
+
+analysis::Friction run_friction(const RunHeader& h, const analysis::FrictionChoice& given,
+                                const std::string& file) {
+  const analysis::RecordedRule recorded = recorded_rule(h, file);
+  return analysis::choose_friction(given, &recorded, file);
 }
 
 namespace {
@@ -135,44 +113,19 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     double rest_speed) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
-  // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
-  const double slip =
-      r.gravity > 0.0 && r.diameter > 0.0 ? slip_speed * std::sqrt(r.gravity * r.diameter) : 0.0;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
     const Frame fr = rr.frame(k);
-    analysis::FrameRecord f;
-    f.frame = static_cast<std::int64_t>(k);
-    f.step = fr.step;
-    f.theta = fr.tilt_angle * 180.0 / M_PI;
     const analysis::ContactSet set = classify(fr, k, mu, rule, file);
-    f.state = analysis::pile_state(set, fr.grains.species, r.free_grains, r.diameter, rattlers);
-    f.kinetic_energy = analysis::mean_kinetic_energy(fr.grains);
-    const analysis::FrameMotion motion = analysis::frame_motion(fr.grains, fr.contacts);
-    f.agitation = motion.agitation;
-    f.max_speed = motion.max_speed;
-    f.grains_without_contact = motion.grains_without_contact;
-    f.z_paper = motion.contacts_per_grain;
-    if (slip > 0.0 && motion.max_speed) {
-      const std::vector<double> u = analysis::slip_speeds(fr.contacts, set, fr.grains);
-      std::int64_t slipping = 0, critical = 0;
-      for (std::size_t q = 0; q < u.size(); ++q) {
-        if (!(u[q] > slip)) continue;
-        ++slipping;
-        critical += set.critical[q];
-      }
-      f.slipping = slipping;
-      f.critical_slipping = critical;
-      const analysis::RestCount at_rest = analysis::contacts_at_rest(
-          fr.contacts, set, fr.grains, u, rest_speed * std::sqrt(r.gravity * r.diameter), slip);
-      f.contacts_at_rest = at_rest.contacts;
-      f.critical_at_rest = at_rest.critical;
-    }
-    f.mobilisation = analysis::mobilisation_histogram(set, analysis::mobilisation_bins);
+    analysis::FrameRecord f;
     try {
-      f.bound = analysis::static_bound(fr.contacts, fr.grains.species, mu, rule.eps);
+      f = analysis::frame_record(fr.contacts, fr.grains, set, r, rule.eps, rattlers, slip_speed,
+                                 rest_speed);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
+    f.frame = static_cast<std::int64_t>(k);
+    f.step = fr.step;
+    f.theta = fr.tilt_angle * 180.0 / M_PI;
     r.frames.push_back(std::move(f));
   }
   return r;
@@ -206,7 +159,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     // Without a status column the solver's status is unknown (the table's `sliding` is NA).
     if (!t.has_status)
       for (auto& f : t.frames) f.contacts.status.clear();
-    const analysis::Friction mu = choose_friction(nullptr, o.mu, file);
+    const analysis::Friction mu = analysis::choose_friction(o.mu, nullptr, file);
     if (o.theta_c) {
       info.theta_c = o.theta_c;
       info.theta_c_from = "option";
@@ -241,7 +194,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
   const RunReader rr(in.hdf5());
   info.length_unit = "m";
   rr.check_observables();  // read only for theta_c, but a run without them is damaged
-  const analysis::Friction mu = choose_friction(&rr.header(), o.mu, file);
+  const analysis::Friction mu = run_friction(rr.header(), o.mu, file);
   const double diameter = o.diameter.value_or(analysis::mean_diameter(rr.grain_properties()));
   if (o.theta_c) {
     info.theta_c = o.theta_c;

@@ -1,7 +1,8 @@
 #include "cdpile/io/xdmf.hpp"
 
-#include "cdpile/analysis/local_state.hpp"
+#include "cdpile/analysis/frame_fields.hpp"
 #include "cdpile/error.hpp"
+#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
@@ -76,15 +77,13 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     if (h.parameters.find(key) == h.parameters.end()) return std::nullopt;
     return as_real(h.parameters, key, file);
   };
-  analysis::Friction mu;
-  mu.grain = opt.mu ? *opt.mu : param("mu_grain").value_or(0.5);
-  mu.wall = opt.mu_wall ? *opt.mu_wall : opt.mu ? *opt.mu : param("mu_wall").value_or(mu.grain);
+  const analysis::Friction mu = run_friction(h, opt.mu, file);
   analysis::CriticalRule rule;
   rule.eps = opt.eps ? *opt.eps : param("critical_eps").value_or(analysis::default_eps);
   rule.include_walls = opt.walls;
   analysis::validate(rule, mu);
   const double diameter = analysis::mean_diameter(run.grain_properties());
-  const std::vector<double> radii{opt.nu_radius * diameter};
+  const double nu_radius = opt.nu_radius * diameter;  // [m]
   const std::string cg = "/contacts", gp = "/particles/grains";
   // The run's rows of each frame, and its tilt in degrees as the file holds it.
   const std::vector<std::int64_t> offsets = h5::read<std::int64_t>(data, cg + "/offset", {F});
@@ -123,24 +122,16 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     for (std::size_t g = 0; g < N; ++g)
       top = std::max(top, fr.grains.position[g].y() + fr.grains.radius[g]);
 
-    // nu of every grain: the local state at its centre.
-    std::vector<double> nu(N, nan);
-    analysis::ContactSet set;
+    // nu of every grain, and each contact's critical flag, mobilisation and fn_rel
+    analysis::FrameFields fields;
     try {
-      set = analysis::select_contacts(c, fr.grains.species, mu, rule);
+      fields = analysis::frame_fields(c, fr.grains, mu, rule, nu_radius);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
-    if (set.size() > 0) {
-      const analysis::NeighbourIndex index(set.point);
-      const analysis::LocalStates st =
-          analysis::local_states_at(index, set.critical, fr.grains.position, radii);
-      for (std::size_t g = 0; g < N; ++g)
-        if (auto v = st.nu(g, 0)) nu[g] = *v;
-    }
-    for (double v : nu)
+    for (double v : fields.nu)
       if (!std::isnan(v)) sum.nu_max = std::max(sum.nu_max, v);
-    h5::write(sidecar, fk + "/nu", nu);
+    h5::write(sidecar, fk + "/nu", fields.nu);
     if (nc == 0) continue;
 
     // The force network: a segment per contact, from the centre of i to the centre of j,
@@ -149,26 +140,15 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
                       {{gp + "/position/value", {k, 0, 0}, {1, n, 2}, {0, 0}, {n, 2}},
                        {cg + "/point", {o, 0}, {nc, 2}, {n, 0}, {nc, 2}}});
     std::vector<std::int32_t> lines(2 * nc);
-    std::vector<std::uint8_t> critical(nc);
-    std::vector<double> mob(nc), fn_rel(nc);
-    double fn_sum = 0;
-    std::size_t active = 0;
-    for (std::size_t q = 0; q < nc; ++q)
-      if (c.fn[q] > 0) fn_sum += c.fn[q], ++active;
-    const double fn_mean = active ? fn_sum / static_cast<double>(active) : 0.0;
     for (std::size_t q = 0; q < nc; ++q) {
       lines[2 * q] = c.i[q];
       lines[2 * q + 1] = c.j[q] >= 0 ? c.j[q] : static_cast<std::int32_t>(N + q);
-      const double m = c.j[q] < 0 ? mu.wall : mu.grain;
-      critical[q] = analysis::is_critical(c.fn[q], c.ft[q], m, rule.eps) ? 1 : 0;
-      mob[q] = c.fn[q] > 0 ? std::abs(c.ft[q]) / (m * c.fn[q]) : nan;
-      fn_rel[q] = fn_mean > 0 ? c.fn[q] / fn_mean : 0.0;
-      fn_rel_all.push_back(fn_rel[q]);
     }
+    fn_rel_all.insert(fn_rel_all.end(), fields.fn_rel.begin(), fields.fn_rel.end());
     h5::write(sidecar, fk + "/network/lines", lines.data(), {nc, 2});
-    h5::write(sidecar, fk + "/contacts/critical", critical);
-    h5::write(sidecar, fk + "/contacts/mobilisation", mob);
-    h5::write(sidecar, fk + "/contacts/fn_rel", fn_rel);
+    h5::write(sidecar, fk + "/contacts/critical", fields.critical);
+    h5::write(sidecar, fk + "/contacts/mobilisation", fields.mobilisation);
+    h5::write(sidecar, fk + "/contacts/fn_rel", fields.fn_rel);
     for (const char* name : {"i", "j", "fn", "ft", "gap", "status"})
       vmap(std::string("/contacts/") + name, cg + "/" + name, {nc}, {o}, {nc}, {nc});
     vmap("/contacts/normal", cg + "/normal", {nc, 3}, {o, 0}, {nc, 2}, {nc, 2});

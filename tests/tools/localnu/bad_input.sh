@@ -21,9 +21,9 @@ expect_fail 1 "localnu: crit.tsv: is a 'critical' product, expected a run (HDF5)
 expect_fail 1 "localnu: missing.h5: no such file" localnu missing.h5 -o out.h5
 expect_fail 1 "localnu: stdin: no data on standard input (did the previous tool fail?)" bash -c 'localnu - -o out.h5 < /dev/null'
 # mu <= 0: on the command line a usage error, in a run's parameters a data error
-expect_fail 2 "localnu: --mu: expected a finite number in [1e-12, 1000000], got '0' (out of range) (see 'localnu --help')" \
+expect_fail 2 "localnu: --mu must be > 0 (mu = 0 makes every active contact critical), got 0 (see 'localnu --help')" \
   localnu ok.tsv --mu 0 --diameter 1 -o out.h5
-expect_fail 2 "localnu: --mu: expected a finite number in [1e-12, 1000000], got '-0.5' (out of range) (see 'localnu --help')" \
+expect_fail 2 "localnu: --mu: expected a finite number in [0, 1000], got '-0.5' (out of range) (see 'localnu --help')" \
   localnu run.h5 --mu -0.5 -o out.h5
 expect_fail 1 "localnu: mu0.h5: /parameters: mu_grain must be > 0, got 0" localnu mu0.h5 -o out.h5
 # a contact table has no parameters: --mu and --diameter are required options (usage errors)

@@ -93,6 +93,22 @@ struct RecordedRule {
   std::optional<double> eps, mu_grain, mu_wall;
 };
 
+/// Friction coefficients the user gave (the command line's --mu and --mu-wall); an empty
+/// one comes from the run.
+struct FrictionChoice {
+  std::optional<double> grain, wall;
+};
+
+/// mu of an analysis, decided in this one place for every tool: mu_grain is `given.grain`
+/// if given, else the run's recorded mu_grain, else an error naming `file` and what is
+/// missing ("FILE: /parameters: no mu_grain; give --mu"). mu_wall is `given.wall` if given,
+/// else the run's mu_wall unless `given.grain` was given, else mu_grain. `run` is null for
+/// an input without parameters (a contact table): then `given.grain` is required. Both
+/// must be > 0 (mu = 0 makes every active contact critical): a value given is refused as a
+/// usage error naming its field, a recorded one as an error naming the file.
+Friction choose_friction(const FrictionChoice& given, const RecordedRule* run,
+                         const std::string& file);
+
 /// How a recorded per-step count departs from the rule asked for.
 struct StepRuleMismatch {
   bool unknown = false;  ///< the run does not record its rule (e.g. no critical_eps)
@@ -161,6 +177,18 @@ struct RunRecord {
   RunSteps steps;
   std::vector<FrameRecord> frames;
 };
+
+/// One frame of a run as `critical` reads it: the pile state (eqs 1-2) of the counted
+/// contacts `set` (select_contacts of `c`), the static bound (with `eps`), how the grains
+/// `g` move, the contacts slipping faster than `slip_speed` sqrt(g D), those at rest (both
+/// bodies slower than `rest_speed` sqrt(g D), not slipping) and the histogram of the
+/// mobilisation (docs/analysis.md). `run` gives the free grains, D, g and mu; without g or
+/// D nothing is counted as slipping or at rest. frame, step and theta are the caller's.
+/// Throws cdpile::Error as static_bound (a force not finite, mu or eps invalid).
+FrameRecord frame_record(const Contacts& c, const Grains& g, const ContactSet& set,
+                         const RunRecord& run, double eps, RattlerRule rattlers,
+                         double slip_speed = default_slip_speed,
+                         double rest_speed = RestRule{}.speed);
 
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
 

@@ -5,6 +5,7 @@
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/analysis/table.hpp"
 #include "cdpile/cli/command.hpp"
+#include "cdpile/cli/friction_options.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -36,14 +37,12 @@ void refuse_repeated_inputs(const std::vector<std::string>& paths);
 /// folder), as emit_product would after it, and --table with HDF5 output (a usage error).
 void check_output(const Args& a);
 
-/// The "Critical contacts" group: --eps, --mu, --mu-wall, --walls, --floor-grains.
+/// The "Critical contacts" group: --eps, --mu and --mu-wall (declare_friction), --walls,
+/// --floor-grains.
 /// `mu_help` is --mu's help (what the default is for this tool's inputs).
 void declare_critical_rule(Usage& u, const std::string& mu_help);
 
 /// The rule of declare_critical_rule's options.
 analysis::CriticalRule critical_rule(const Args& a);
-
-/// --mu and --mu-wall as given (empty when not given), for io::choose_friction.
-io::FrictionChoice friction_choice(const Args& a);
 
 }  // namespace cdpile::cli

@@ -16,20 +16,14 @@
 
 namespace cdpile::io {
 
-/// Friction coefficients given on the command line; absent ones come from the run.
-struct FrictionChoice {
-  std::optional<double> grain, wall;
-};
-
-/// mu of a run: `grain` if given, else /parameters mu_grain (error if neither). mu_wall:
-/// `wall` if given, else the run's mu_wall unless `grain` was given, else mu_grain.
-/// A contact table has no parameters: `header` is null and `grain` is required.
-analysis::Friction choose_friction(const RunHeader* header, const FrictionChoice& c,
-                                   const std::string& file);
-
 /// The rule a run recorded its per-step critical counts with: /parameters critical_eps,
 /// mu_grain, mu_wall (each empty when absent).
 analysis::RecordedRule recorded_rule(const RunHeader& header, const std::string& file);
+
+/// mu of an analysis of a run: analysis::choose_friction on the run's recorded mu_grain and
+/// mu_wall.
+analysis::Friction run_friction(const RunHeader& header, const analysis::FrictionChoice& given,
+                                const std::string& file);
 
 /// The contacts that count in frame k of a run, classified by the rule (select_contacts).
 /// The frame's grain state is read and checked too.
@@ -42,11 +36,11 @@ analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k,
 analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
                                    const analysis::CriticalRule& rule);
 
-/// A run as `critical` reads it: read_run_steps and, for every frame, the pile state (eqs
-/// 1-2), the static bound, how the grains move, the contacts slipping faster than
-/// `slip_speed` sqrt(g D), the contacts between grains slower than `rest_speed` sqrt(g D)
-/// and the histogram of the mobilisation (docs/analysis.md).
-/// Every frame is read whole, so a non-finite grain state is an error naming its dataset.
+/// A run as `critical` reads it: read_run_steps and every frame read and classified by
+/// `rule` and `mu`, then analysis::frame_record (the pile state, the static bound, how the
+/// grains move, the slipping contacts, those at rest, the mobilisation). Every frame is
+/// read whole, so a non-finite grain state is an error naming its dataset; an error of the
+/// analysis names the frame.
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,
@@ -56,7 +50,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
 
 /// How `localnu` reads its inputs.
 struct LocalNuReading {
-  FrictionChoice mu;
+  analysis::FrictionChoice mu;
   analysis::CriticalRule rule;
   /// Mean diameter D: required for a contact table (in the table's length unit); for a
   /// run it overrides the mean diameter of the free grains.

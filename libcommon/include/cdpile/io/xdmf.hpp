@@ -7,7 +7,8 @@
 /// reader copies the geometry without reading it). So every array an XDMF names here is a
 /// whole dataset: what the run holds, as virtual datasets (HDF5 1.10 VDS) in a small file
 /// beside the XDMF, mapped onto the run's rows and never copied; what is derived, as real
-/// datasets of that file. Both the Xdmf3 reader and the legacy XDMF Reader load them.
+/// datasets of that file (computed by analysis::frame_fields). Both the Xdmf3 reader and the
+/// legacy XDMF Reader load them.
 ///
 ///   pile or run, two XDMF files:
 ///     NAME.xdmf          grains, a temporal collection, one grid per frame (Time = the
@@ -31,6 +32,7 @@
 #pragma once
 
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/studies.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <optional>
@@ -42,8 +44,8 @@ namespace cdpile::io::xdmf {
 struct Options {
   double nu_radius = 6.0;     ///< [D] radius of the grains' local state nu
   std::optional<double> eps;  ///< critical tolerance (default: the run's critical_eps, else 1e-3)
-  std::optional<double> mu, mu_wall;  ///< friction (default: the run's mu_grain, mu_wall)
-  bool walls = false;                 ///< nu counts wall contacts too (critical's --walls)
+  analysis::FrictionChoice mu;  ///< friction given (analysis::choose_friction on the run's)
+  bool walls = false;           ///< nu counts wall contacts too (critical's --walls)
 };
 
 struct Summary {
