@@ -6,6 +6,7 @@
 #include "cdpile/fields.hpp"
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
+#include "cdpile/io/products.hpp"
 #include "cdpile/sim/common.hpp"
 #include "cdpile/sim/overlap.hpp"
 
@@ -27,11 +28,7 @@ namespace {
 // than in the engine.
 void check_checkpoint_impulses(const Restored& rs, const cd::Settings& s, double vmax,
                                const std::string& file) {
-  auto number_text = [](double x) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.6g", x);
-    return std::string(b);
-  };
+  auto number_text = [](double x) { return io::format_number(x, 6); };
   const auto n = static_cast<std::int64_t>(rs.grains.size());
   const std::string path = std::string(io::kCheckpointGroup) + "/impulse_rt";
   for (std::size_t k = 0; k < rs.engine.impulses.size(); ++k) {
