@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/series.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/io/schema.hpp"
 
@@ -22,8 +23,10 @@ struct TiltOptions {
   std::optional<double> to_deg;  ///< run to this tilt whatever happens [deg]
   double max_deg = 90.0;         ///< without to_deg: stop here if no avalanche [deg]
   double margin_deg = 1.0;       ///< keep tilting this much after the avalanche is confirmed [deg]
-  double avalanche_energy = 1e-3;        ///< threshold of Ek per grain / (m g D)
-  double avalanche_hold_deg = 0.2;       ///< the agitation must stay above it this long [deg]
+  /// The avalanche rule (analysis::AvalancheRule, whose defaults these are): the threshold
+  /// of Ek per grain / (m g D), and how long the agitation must stay above it [deg].
+  double avalanche_energy = analysis::AvalancheRule{}.threshold;
+  double avalanche_hold_deg = analysis::AvalancheRule{}.hold;
   std::int64_t frame_every = 500;        ///< a full frame every this many steps (and the last step)
   std::int64_t checkpoint_every = 2000;  ///< steps between checkpoints (file output)
   double eps = analysis::default_eps;    ///< tolerance of the critical-contact test
