@@ -94,57 +94,56 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
   return n;
 }
 
+using Real = Observable::Real;
+using Integer = Observable::Integer;
+
+const std::vector<Observable>& observables() {
+  using R = const cd::StepReport&;
+  using C = const CriticalCounts&;
+  static const std::vector<Observable> table = {
+      {"tilt_angle", "degree", Real{[](R r, C) { return r.tilt_angle * 180.0 / M_PI; }}},
+      {"kinetic_energy", "J m-1", Real{[](R r, C) { return r.kinetic_energy; }}},
+      {"rotational_energy", "J m-1", Real{[](R r, C) { return r.rotational_energy; }}},
+      {"residual", "", Real{[](R r, C) { return r.residual; }}},
+      {"residual_rms", "", Real{[](R r, C) { return r.residual_rms; }}},
+      {"law_residual", "", Real{[](R r, C) { return r.law_residual; }}},
+      {"law_residual_rms", "", Real{[](R r, C) { return r.law_residual_rms; }}},
+      {"max_overlap", "m", Real{[](R r, C) { return r.max_overlap; }}},
+      {"max_speed", "m s-1", Real{[](R r, C) { return r.max_speed; }}},
+      {"contacts", "", Integer{[](R r, C) { return std::int64_t{r.contacts}; }}},
+      {"contacts_grain", "", Integer{[](R r, C) { return std::int64_t{r.contacts_grain}; }}},
+      {"sliding", "", Integer{[](R r, C) { return std::int64_t{r.sliding}; }}},
+      {"sweeps", "", Integer{[](R r, C) { return std::int64_t{r.sweeps}; }}},
+      {"substeps", "", Integer{[](R r, C) { return std::int64_t{r.substeps}; }}},
+      {"converged", "", Integer{[](R r, C) { return std::int64_t{r.converged ? 1 : 0}; }}},
+      {"critical", "", Integer{[](R, C c) { return c.all; }}},
+      {"critical_grain", "", Integer{[](R, C c) { return c.grain; }}},
+      {"grains_without_contact", "",
+       Integer{[](R r, C) { return std::int64_t{r.grains_without_contact}; }}}};
+  return table;
+}
+
 io::Series observables_series() {
   io::Series s;
-  for (const char* n :
-       {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
-        "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
-    s.real[n] = {};
-  for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "substeps", "converged",
-                        "critical", "critical_grain", "grains_without_contact"})
-    s.integer[n] = {};
-  s.unit = {{"tilt_angle", "degree"},
-            {"kinetic_energy", "J m-1"},
-            {"rotational_energy", "J m-1"},
-            {"residual", ""},
-            {"residual_rms", ""},
-            {"max_overlap", "m"},
-            {"law_residual", ""},
-            {"law_residual_rms", ""},
-            {"contacts", ""},
-            {"contacts_grain", ""},
-            {"sliding", ""},
-            {"sweeps", ""},
-            {"substeps", ""},
-            {"converged", ""},
-            {"critical", ""},
-            {"critical_grain", ""},
-            {"max_speed", "m s-1"},
-            {"grains_without_contact", ""}};
+  for (const Observable& o : observables()) {
+    if (std::holds_alternative<Real>(o.value))
+      s.real[o.name] = {};
+    else
+      s.integer[o.name] = {};
+    s.unit[o.name] = o.unit;
+  }
   return s;
 }
 
 void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCounts& c) {
   s.step.push_back(r.step);
   s.time.push_back(r.time);
-  s.real["tilt_angle"].push_back(r.tilt_angle * 180.0 / M_PI);
-  s.real["kinetic_energy"].push_back(r.kinetic_energy);
-  s.real["rotational_energy"].push_back(r.rotational_energy);
-  s.real["residual"].push_back(r.residual);
-  s.real["residual_rms"].push_back(r.residual_rms);
-  s.real["law_residual"].push_back(r.law_residual);
-  s.real["law_residual_rms"].push_back(r.law_residual_rms);
-  s.real["max_overlap"].push_back(r.max_overlap);
-  s.real["max_speed"].push_back(r.max_speed);
-  s.integer["contacts"].push_back(r.contacts);
-  s.integer["contacts_grain"].push_back(r.contacts_grain);
-  s.integer["sliding"].push_back(r.sliding);
-  s.integer["sweeps"].push_back(r.sweeps);
-  s.integer["substeps"].push_back(r.substeps);
-  s.integer["converged"].push_back(r.converged ? 1 : 0);
-  s.integer["critical"].push_back(c.all);
-  s.integer["critical_grain"].push_back(c.grain);
-  s.integer["grains_without_contact"].push_back(r.grains_without_contact);
+  for (const Observable& o : observables()) {
+    if (const Real* f = std::get_if<Real>(&o.value))
+      s.real[o.name].push_back((*f)(r, c));
+    else
+      s.integer[o.name].push_back(std::get<Integer>(o.value)(r, c));
+  }
 }
 
 Agitation::Agitation(const Grains& g, double gravity) {

@@ -9,6 +9,9 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
+#include <variant>
+#include <vector>
 
 namespace cdpile::sim {
 
@@ -48,6 +51,20 @@ struct CriticalCounts {
 };
 CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
                               double mu_grain, double mu_wall, double eps);
+
+/// One standard observable, declared once: its column, its unit and how a step's value is
+/// computed from the step's report and critical counts; a real or an integer column as the
+/// function returns. observables_series and append_observables derive from the table, so
+/// a new observable is a row of observables() and a row of docs/schema.md's table.
+struct Observable {
+  using Real = double (*)(const cd::StepReport&, const CriticalCounts&);
+  using Integer = std::int64_t (*)(const cd::StepReport&, const CriticalCounts&);
+  std::string name;
+  std::string unit;  ///< "" for none (docs/schema.md)
+  std::variant<Real, Integer> value;
+};
+/// Every standard observable (docs/schema.md, "Standard observables").
+const std::vector<Observable>& observables();
 
 /// An empty series with every standard column and its unit.
 io::Series observables_series();
