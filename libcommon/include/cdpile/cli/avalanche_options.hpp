@@ -13,7 +13,8 @@ namespace cdpile::cli {
 /// Declares --avalanche-ek and --avalanche-hold in the current group, with the tool's help
 /// texts (by default the analysis tools').
 void declare_avalanche_rule(
-    Usage& u, const std::string& threshold_help = "threshold of Ek/(m g D) that marks the avalanche",
+    Usage& u,
+    const std::string& threshold_help = "threshold of Ek/(m g D) that marks the avalanche",
     const std::string& hold_help = "Ek must stay above the threshold this long");
 
 /// The rule of declare_avalanche_rule's options.
