@@ -31,7 +31,8 @@ class Random {
   std::mt19937_64 engine_;
 };
 
-/// The engine settings as parameters (names with unit suffixes, docs/schema.md).
+/// The engine settings as parameters (names with unit suffixes, docs/schema.md), from the
+/// table of run parameters (tilt_options.hpp, run_parameters()), as are the three below.
 io::Values settings_parameters(const cd::Settings& s);
 /// The settings files made before the solver seam hold implicitly: NSGS, a convergence
 /// check every sweep, rigid contacts. Such files are read, resumed and branched as today's.
