@@ -6,7 +6,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 bin=${1:-$here/../build/bin}
 mkdir -p "$here/tools"
-for tool in deposit tilt-cd critical localnu correlate clusterfit to-xdmf to-lammps from-lammps; do
+# The tools are listed once, in tools/LIST: the first word of each line not a comment.
+for tool in $(awk '!/^#/ && NF { print $1 }' "$here/../tools/LIST"); do
   if [[ -x "$bin/$tool" ]]; then
     "$bin/$tool" --help-markdown > "$here/tools/$tool.md"
     echo "docs/tools/$tool.md"

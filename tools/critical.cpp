@@ -3,6 +3,7 @@
 // of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/analysis_options.hpp"
+#include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/checkpoint.hpp"
@@ -123,9 +124,7 @@ static void usage(cli::Usage& u) {
   u.integer("event-hysteresis", 1, "contacts by which N must move back to confirm a turning point",
             1, 1000000);
   u.integer("event-min-drop", 1, "keep events losing at least this many contacts", 1, 1000000000);
-  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300,
-         1e300);
-  u.real("avalanche-hold", 0.2, "Ek must stay above the threshold this long", "deg", 0, 90);
+  cli::declare_avalanche_rule(u);
   u.flag("no-cut", "keep data after each run's theta_c in the ensemble and envelope");
   u.example("One run, the per-frame table for gnuplot",
             "critical run.h5 --table frames > frames.tsv",
@@ -162,8 +161,7 @@ static void run(const cli::Args& a) {
   opt.mobilisation_window = a.real("mobilisation-window");
   opt.events.hysteresis = a.integer("event-hysteresis");
   opt.events.min_drop = a.integer("event-min-drop");
-  opt.avalanche.threshold = a.real("avalanche-ek");
-  opt.avalanche.hold = a.real("avalanche-hold");
+  opt.avalanche = cli::avalanche_rule(a);
   opt.cut_at_avalanche = !a.flag("no-cut");
   opt.step_table = !a.flag("no-steps");
 

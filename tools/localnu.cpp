@@ -3,6 +3,7 @@
 // pdfs P_c and P_nc of nu_i(6D) (Fig 3) and the nu field on a grid (Fig 5).
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/analysis_options.hpp"
+#include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
@@ -84,9 +85,7 @@ static void usage(cli::Usage& u) {
   u.real_opt("pdf-to", "pool the pdfs up to this tilt angle", "deg");
   u.real_opt("theta-c", "end of the loading phase of every input (default: per run, as critical)",
              "deg");
-  u.real("avalanche-ek", 1e-3, "threshold of Ek/(m g D) that marks the avalanche", "", 1e-300,
-         1e300);
-  u.real("avalanche-hold", 0.2, "Ek must stay above the threshold this long", "deg", 0, 90);
+  cli::declare_avalanche_rule(u);
   u.group("Map");
   u.real("map-radius", 6.0, "radius of the local state at the grid nodes", "D", 1e-6, 1e6);
   u.real("map-spacing", 1.0, "spacing of the grid nodes", "D", 1e-6, 1e6);
@@ -136,8 +135,7 @@ static void run(const cli::Args& a) {
   rd.mu = cli::friction_choice(a);
   rd.rule = cli::critical_rule(a);
   rd.diameter = a.real_opt("diameter");
-  rd.avalanche.threshold = a.real("avalanche-ek");
-  rd.avalanche.hold = a.real("avalanche-hold");
+  rd.avalanche = cli::avalanche_rule(a);
   rd.theta_c = a.real_opt("theta-c");
   rd.map_run = a.integer("map-run");
   rd.map_frame = a.integer_opt("map-frame");

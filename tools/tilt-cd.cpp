@@ -2,6 +2,7 @@
 // records every step's observables and full frames; checkpoints and resumes
 // (docs/method.md, "Tilt" and "Checkpoints").
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
@@ -108,9 +109,8 @@ static void usage(cli::Usage& u) {
   u.real("margin", 1.0, "keep tilting this much after the avalanche is confirmed", "deg", 0.0,
          180.0);
   u.group("Avalanche");
-  u.real("avalanche-ek", 1e-3, "threshold of the agitation Ek / (Np m g D)", "", 1e-300, 1e300);
-  u.real("avalanche-hold", 0.2, "the agitation must stay above the threshold this long", "deg", 0.0,
-         90.0);
+  cli::declare_avalanche_rule(u, "threshold of the agitation Ek / (Np m g D)",
+                              "the agitation must stay above the threshold this long");
   u.real("eps", analysis::default_eps,
          "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
   u.group("Recording");
@@ -158,8 +158,9 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   o.to_deg = a.real_opt("to");
   o.max_deg = a.real("max-angle");
   o.margin_deg = a.real("margin");
-  o.avalanche_energy = a.real("avalanche-ek");
-  o.avalanche_hold_deg = a.real("avalanche-hold");
+  const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);
+  o.avalanche_energy = avalanche.threshold;
+  o.avalanche_hold_deg = avalanche.hold;
   o.eps = a.real("eps");
   if (a.given("frame-every") && a.given("frame-every-deg"))
     throw UsageError("give --frame-every or --frame-every-deg, not both");

@@ -149,9 +149,9 @@ std::optional<std::size_t> avalanche_index(std::span<const double> theta,
   // sample below the threshold does it in O(n).
   std::vector<std::size_t> next_below(n + 1, n);
   for (std::size_t k = n; k-- > 0;)
-    next_below[k] = (energy[k] >= rule.threshold) ? next_below[k + 1] : k;
+    next_below[k] = avalanche_agitated(energy[k], rule.threshold) ? next_below[k + 1] : k;
   for (std::size_t k = 0; k < n; ++k) {
-    if (!(energy[k] >= rule.threshold)) continue;
+    if (!avalanche_agitated(energy[k], rule.threshold)) continue;
     const std::size_t b = next_below[k];
     if (b == n || theta[b] > theta[k] + rule.hold) return k;
   }

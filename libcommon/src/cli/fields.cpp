@@ -9,7 +9,9 @@ namespace cdpile::cli {
 
 std::string option_of_field(const std::string& field) {
   // The fields whose option is not their name: sim::TiltOptions' fields carry their unit
-  // (docs/tools/tilt-cd.md lists the options), the output is -o.
+  // (docs/tools/tilt-cd.md lists the options), the output is -o. The run parameters'
+  // options are declared in sim::run_parameters() (cli cannot read sim, a layer of its
+  // level): a unit test (test_sim_run_parameters.cpp) checks these entries against it.
   static const std::map<std::string, std::string> table = {
       {"rate_deg", "--rate"},
       {"from_deg", "--from"},

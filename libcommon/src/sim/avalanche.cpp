@@ -5,7 +5,7 @@ namespace cdpile::sim {
 
 void AvalancheDetector::update(std::int64_t step, double angle, double a) {
   if (detected) return;
-  if (!(a >= threshold)) {  // a NaN agitation breaks the run too
+  if (!analysis::avalanche_agitated(a, threshold)) {  // a NaN agitation breaks the run too
     since = -1;
     return;
   }

@@ -7,77 +7,6 @@
 
 namespace cdpile::sim {
 
-io::Values settings_parameters(const cd::Settings& s) {
-  return {{"time_step_s", s.time_step},
-          {"theta", s.theta},
-          {"gravity_m_s2", s.gravity},
-          {"mu_grain", s.mu_grain},
-          {"mu_wall", s.mu_wall},
-          {"alert_distance_m", s.alert_distance},
-          {"tolerance", s.tolerance},
-          {"max_sweeps", std::int64_t{s.max_sweeps}},
-          {"symmetric_sweeps", std::int64_t{s.symmetric_sweeps ? 1 : 0}},
-          {"criterion", std::string(cd::criterion_name(s.criterion))},
-          {"solver", std::string(cd::solver_name(s.solver))},
-          {"check_every", std::int64_t{s.check_every}},
-          {"contact_stiffness_N_m2", s.contact_stiffness},
-          {"scramble_seed", static_cast<std::int64_t>(s.scramble)},
-          {"max_substeps", std::int64_t{s.max_substeps}},
-          {"substep_after", std::int64_t{s.substep_after}},
-          {"sweep_order", std::string(cd::sweep_order_name(s.sweep_order))}};
-}
-
-io::Values pre_seam_settings() {
-  return {{"solver", std::string("nsgs")},   {"check_every", std::int64_t{1}},
-          {"contact_stiffness_N_m2", 0.0},   {"scramble_seed", std::int64_t{0}},
-          {"max_substeps", std::int64_t{1}}, {"substep_after", std::int64_t{100}},
-          {"sweep_order", std::string("pair")}};
-}
-
-io::Values with_pre_seam_settings(io::Values v) {
-  for (const auto& [k, value] : pre_seam_settings()) v.insert({k, value});  // keeps what v has
-  return v;
-}
-
-cd::Settings settings_from_parameters(const io::Values& given, const std::string& file) {
-  const io::Values v = with_pre_seam_settings(given);
-  cd::Settings s;
-  s.time_step = io::as_real(v, "time_step_s", file);
-  s.theta = io::as_real(v, "theta", file);
-  s.gravity = io::as_real(v, "gravity_m_s2", file);
-  s.mu_grain = io::as_real(v, "mu_grain", file);
-  s.mu_wall = io::as_real(v, "mu_wall", file);
-  s.alert_distance = io::as_real(v, "alert_distance_m", file);
-  s.tolerance = io::as_real(v, "tolerance", file);
-  s.max_sweeps = static_cast<int>(io::as_int(v, "max_sweeps", file));
-  s.symmetric_sweeps = io::as_int(v, "symmetric_sweeps", file) != 0;
-  s.check_every = static_cast<int>(io::as_int(v, "check_every", file));
-  s.contact_stiffness = io::as_real(v, "contact_stiffness_N_m2", file);
-  const std::int64_t scramble = io::as_int(v, "scramble_seed", file);
-  if (scramble < 0) throw Error(file, "/parameters", "scramble_seed must be >= 0");
-  s.scramble = static_cast<std::uint64_t>(scramble);
-  s.max_substeps = static_cast<int>(io::as_int(v, "max_substeps", file));
-  s.substep_after = static_cast<int>(io::as_int(v, "substep_after", file));
-  auto text = [&](const char* key) {
-    const auto c = v.find(key);
-    const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
-    if (!name)
-      throw Error(file, "/parameters", std::string("missing text parameter '") + key + "'");
-    return *name;
-  };
-  const std::string criterion = text("criterion"), solver = text("solver"),
-                    order = text("sweep_order");
-  try {
-    s.criterion = cd::criterion_from_name(criterion);
-    s.solver = cd::solver_from_name(solver);
-    s.sweep_order = cd::sweep_order_from_name(order);
-    cd::validate(s);
-  } catch (const UsageError& e) {
-    throw Error(file, "/parameters", e.what());
-  }
-  return s;
-}
-
 CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
                               double mu_grain, double mu_wall, double eps) {
   CriticalCounts n;
@@ -94,57 +23,56 @@ CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& spe
   return n;
 }
 
+using Real = Observable::Real;
+using Integer = Observable::Integer;
+
+const std::vector<Observable>& observables() {
+  using R = const cd::StepReport&;
+  using C = const CriticalCounts&;
+  static const std::vector<Observable> table = {
+      {"tilt_angle", "degree", Real{[](R r, C) { return r.tilt_angle * 180.0 / M_PI; }}},
+      {"kinetic_energy", "J m-1", Real{[](R r, C) { return r.kinetic_energy; }}},
+      {"rotational_energy", "J m-1", Real{[](R r, C) { return r.rotational_energy; }}},
+      {"residual", "", Real{[](R r, C) { return r.residual; }}},
+      {"residual_rms", "", Real{[](R r, C) { return r.residual_rms; }}},
+      {"law_residual", "", Real{[](R r, C) { return r.law_residual; }}},
+      {"law_residual_rms", "", Real{[](R r, C) { return r.law_residual_rms; }}},
+      {"max_overlap", "m", Real{[](R r, C) { return r.max_overlap; }}},
+      {"max_speed", "m s-1", Real{[](R r, C) { return r.max_speed; }}},
+      {"contacts", "", Integer{[](R r, C) { return std::int64_t{r.contacts}; }}},
+      {"contacts_grain", "", Integer{[](R r, C) { return std::int64_t{r.contacts_grain}; }}},
+      {"sliding", "", Integer{[](R r, C) { return std::int64_t{r.sliding}; }}},
+      {"sweeps", "", Integer{[](R r, C) { return std::int64_t{r.sweeps}; }}},
+      {"substeps", "", Integer{[](R r, C) { return std::int64_t{r.substeps}; }}},
+      {"converged", "", Integer{[](R r, C) { return std::int64_t{r.converged ? 1 : 0}; }}},
+      {"critical", "", Integer{[](R, C c) { return c.all; }}},
+      {"critical_grain", "", Integer{[](R, C c) { return c.grain; }}},
+      {"grains_without_contact", "",
+       Integer{[](R r, C) { return std::int64_t{r.grains_without_contact}; }}}};
+  return table;
+}
+
 io::Series observables_series() {
   io::Series s;
-  for (const char* n :
-       {"tilt_angle", "kinetic_energy", "rotational_energy", "residual", "residual_rms",
-        "law_residual", "law_residual_rms", "max_overlap", "max_speed"})
-    s.real[n] = {};
-  for (const char* n : {"contacts", "contacts_grain", "sliding", "sweeps", "substeps", "converged",
-                        "critical", "critical_grain", "grains_without_contact"})
-    s.integer[n] = {};
-  s.unit = {{"tilt_angle", "degree"},
-            {"kinetic_energy", "J m-1"},
-            {"rotational_energy", "J m-1"},
-            {"residual", ""},
-            {"residual_rms", ""},
-            {"max_overlap", "m"},
-            {"law_residual", ""},
-            {"law_residual_rms", ""},
-            {"contacts", ""},
-            {"contacts_grain", ""},
-            {"sliding", ""},
-            {"sweeps", ""},
-            {"substeps", ""},
-            {"converged", ""},
-            {"critical", ""},
-            {"critical_grain", ""},
-            {"max_speed", "m s-1"},
-            {"grains_without_contact", ""}};
+  for (const Observable& o : observables()) {
+    if (std::holds_alternative<Real>(o.value))
+      s.real[o.name] = {};
+    else
+      s.integer[o.name] = {};
+    s.unit[o.name] = o.unit;
+  }
   return s;
 }
 
 void append_observables(io::Series& s, const cd::StepReport& r, const CriticalCounts& c) {
   s.step.push_back(r.step);
   s.time.push_back(r.time);
-  s.real["tilt_angle"].push_back(r.tilt_angle * 180.0 / M_PI);
-  s.real["kinetic_energy"].push_back(r.kinetic_energy);
-  s.real["rotational_energy"].push_back(r.rotational_energy);
-  s.real["residual"].push_back(r.residual);
-  s.real["residual_rms"].push_back(r.residual_rms);
-  s.real["law_residual"].push_back(r.law_residual);
-  s.real["law_residual_rms"].push_back(r.law_residual_rms);
-  s.real["max_overlap"].push_back(r.max_overlap);
-  s.real["max_speed"].push_back(r.max_speed);
-  s.integer["contacts"].push_back(r.contacts);
-  s.integer["contacts_grain"].push_back(r.contacts_grain);
-  s.integer["sliding"].push_back(r.sliding);
-  s.integer["sweeps"].push_back(r.sweeps);
-  s.integer["substeps"].push_back(r.substeps);
-  s.integer["converged"].push_back(r.converged ? 1 : 0);
-  s.integer["critical"].push_back(c.all);
-  s.integer["critical_grain"].push_back(c.grain);
-  s.integer["grains_without_contact"].push_back(r.grains_without_contact);
+  for (const Observable& o : observables()) {
+    if (const Real* f = std::get_if<Real>(&o.value))
+      s.real[o.name].push_back((*f)(r, c));
+    else
+      s.integer[o.name].push_back(std::get<Integer>(o.value)(r, c));
+  }
 }
 
 Agitation::Agitation(const Grains& g, double gravity) {

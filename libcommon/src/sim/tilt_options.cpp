@@ -1,7 +1,9 @@
 // The tilt protocol's options, as run parameters and back, and a branch's or a resume's
-// (tilt_options.hpp; docs/method.md, "Tilt").
+// (tilt_options.hpp; docs/method.md, "Tilt"); the table of run parameters, from which the
+// engine settings' parameters (common.hpp) derive too.
 #include "cdpile/sim/tilt_options.hpp"
 
+#include "cdpile/cd/schedule.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 #include "cdpile/io/products.hpp"
@@ -11,8 +13,234 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <type_traits>
 
 namespace cdpile::sim {
+
+namespace {
+
+// The object holding a field of class C: the options themselves, or their engine settings
+// (cd::Settings and its bases TimeStepping and SolverSettings).
+template <class C>
+C& owner(TiltOptions& o) {
+  if constexpr (std::is_same_v<C, TiltOptions>) {
+    return o;
+  } else {
+    static_assert(std::is_base_of_v<C, cd::Settings>);
+    return o.settings;
+  }
+}
+template <class C>
+const C& owner(const TiltOptions& o) {
+  return owner<C>(const_cast<TiltOptions&>(o));
+}
+
+const std::string& text_of(const io::Values& v, const std::string& key, const std::string& file) {
+  const auto c = v.find(key);
+  const std::string* name = c == v.end() ? nullptr : std::get_if<std::string>(&c->second);
+  if (!name) throw Error(file, "/parameters", "missing text parameter '" + key + "'");
+  return *name;
+}
+
+// A row's accessors for a field of each recorded kind: a real, an integer (int, int64,
+// the scramble seed, a bool as 0/1), an optional real (-1 for none: tilt_to_deg) and an
+// enum recorded by its name.
+template <class C, class M>
+void bind(RunParameter& p, M C::*field) {
+  p.get = [field](const TiltOptions& o) -> io::Value {
+    const M& x = owner<C>(o).*field;
+    if constexpr (std::is_same_v<M, double>) {
+      return x;
+    } else if constexpr (std::is_same_v<M, std::optional<double>>) {
+      return x ? *x : -1.0;
+    } else if constexpr (std::is_same_v<M, bool>) {
+      return std::int64_t{x ? 1 : 0};
+    } else {
+      return static_cast<std::int64_t>(x);
+    }
+  };
+  p.set = [field](TiltOptions& o, const io::Values& v, const std::string& name,
+                  const std::string& file) {
+    M& x = owner<C>(o).*field;
+    if constexpr (std::is_same_v<M, double>) {
+      x = io::as_real(v, name, file);
+    } else if constexpr (std::is_same_v<M, std::optional<double>>) {
+      const double d = io::as_real(v, name, file);
+      x = d == -1.0 ? std::nullopt : std::optional<double>(d);  // -1: none
+    } else if constexpr (std::is_same_v<M, bool>) {
+      x = io::as_int(v, name, file) != 0;
+    } else if constexpr (std::is_same_v<M, std::uint64_t>) {
+      const std::int64_t i = io::as_int(v, name, file);
+      if (i < 0) throw Error(file, "/parameters", name + " must be >= 0");
+      x = static_cast<std::uint64_t>(i);
+    } else {
+      x = static_cast<M>(io::as_int(v, name, file));
+    }
+  };
+}
+
+template <class C, class E>
+void bind_text(RunParameter& p, E C::*field, const char* (*to_name)(E),
+               E (*from_name)(const std::string&)) {
+  p.text = true;
+  p.get = [=](const TiltOptions& o) -> io::Value {
+    return std::string(to_name(owner<C>(o).*field));
+  };
+  p.set = [=](TiltOptions& o, const io::Values& v, const std::string& name,
+              const std::string& file) { owner<C>(o).*field = from_name(text_of(v, name, file)); };
+}
+
+struct Row {
+  RunParameter p;
+  Row(const char* field, const char* key, const char* unit, const char* option,
+      ParameterGroup group) {
+    p.field = field;
+    p.key = key;
+    p.unit = unit;
+    p.option = option;
+    p.group = group;
+    if (p.key.empty()) p.inherit = Inherit::as_asked;
+  }
+  template <class C, class M>
+  Row&& of(M C::*field) && {
+    bind(p, field);
+    return std::move(*this);
+  }
+  template <class C, class E>
+  Row&& of_text(E C::*field, const char* (*to_name)(E), E (*from_name)(const std::string&)) && {
+    bind_text(p, field, to_name, from_name);
+    return std::move(*this);
+  }
+  Row&& pre_seam(io::Value v) && {
+    p.pre_seam = std::move(v);
+    return std::move(*this);
+  }
+  Row&& also(const char* option) && {
+    p.also_option = option;
+    return std::move(*this);
+  }
+  Row&& shown(io::Value v, const char* word) && {
+    p.shown_as = std::make_pair(std::move(v), std::string(word));
+    return std::move(*this);
+  }
+};
+
+std::vector<RunParameter> make_table() {
+  using O = TiltOptions;
+  using S = cd::Settings;
+  constexpr auto tilt = ParameterGroup::tilt, engine = ParameterGroup::settings;
+  std::vector<Row> rows;
+  // field, file key, unit of the recorded value, tilt-cd's option, group
+  rows.push_back(
+      Row("rate_deg", "tilt_rate_deg_per_step", "degree", "rate", tilt).of(&O::rate_deg));
+  rows.push_back(Row("from_deg", "tilt_from_deg", "degree", "from", tilt).of(&O::from_deg));
+  rows.push_back(
+      Row("to_deg", "tilt_to_deg", "degree", "to", tilt).of(&O::to_deg).shown(-1.0, "none"));
+  rows.push_back(Row("max_deg", "tilt_max_deg", "degree", "max-angle", tilt).of(&O::max_deg));
+  rows.push_back(
+      Row("margin_deg", "avalanche_margin_deg", "degree", "margin", tilt).of(&O::margin_deg));
+  rows.push_back(Row("avalanche_energy", "avalanche_energy", "", "avalanche-ek", tilt)
+                     .of(&O::avalanche_energy));
+  rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
+                     .of(&O::avalanche_hold_deg));
+  rows.push_back(Row("eps", "critical_eps", "", "eps", tilt).of(&O::eps));
+  rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
+                     .of(&O::frame_every)
+                     .also("frame-every-deg"));
+  rows.push_back(Row("mu_grain", "mu_grain", "", "mu", engine).of(&S::mu_grain));
+  rows.push_back(Row("mu_wall", "mu_wall", "", "mu-wall", engine).of(&S::mu_wall));
+  rows.push_back(Row("time_step", "time_step_s", "s", "time-step", engine).of(&S::time_step));
+  rows.push_back(Row("theta", "theta", "", "theta-method", engine).of(&S::theta));
+  rows.push_back(Row("tolerance", "tolerance", "", "tolerance", engine).of(&S::tolerance));
+  rows.push_back(Row("max_sweeps", "max_sweeps", "", "max-sweeps", engine).of(&S::max_sweeps));
+  rows.push_back(Row("criterion", "criterion", "", "criterion", engine)
+                     .of_text(&S::criterion, cd::criterion_name, cd::criterion_from_name));
+  rows.push_back(Row("check_every", "check_every", "", "check-every", engine)
+                     .of(&S::check_every)
+                     .pre_seam(std::int64_t{1}));
+  rows.push_back(Row("solver", "solver", "", "solver", engine)
+                     .of_text(&S::solver, cd::solver_name, cd::solver_from_name)
+                     .pre_seam(std::string("nsgs")));
+  // The option is in m g / D (cli::solver_settings converts); the record in N/m^2.
+  rows.push_back(Row("contact_stiffness", "contact_stiffness_N_m2", "N m-2", "stiffness", engine)
+                     .of(&S::contact_stiffness)
+                     .pre_seam(0.0));
+  rows.push_back(Row("scramble", "scramble_seed", "", "scramble", engine)
+                     .of(&S::scramble)
+                     .pre_seam(std::int64_t{0}));
+  rows.push_back(Row("max_substeps", "max_substeps", "", "max-substeps", engine)
+                     .of(&S::max_substeps)
+                     .pre_seam(std::int64_t{1}));
+  rows.push_back(Row("substep_after", "substep_after", "", "substep-after", engine)
+                     .of(&S::substep_after)
+                     .pre_seam(std::int64_t{100}));
+  rows.push_back(Row("sweep_order", "sweep_order", "", "sweep-order", engine)
+                     .of_text(&S::sweep_order, cd::sweep_order_name, cd::sweep_order_from_name)
+                     .pre_seam(std::string("pair")));
+  // The option is in D (cli::solver_settings converts); the record in m.
+  rows.push_back(
+      Row("alert_distance", "alert_distance_m", "m", "alert", engine).of(&S::alert_distance));
+  // No option: the pile's gravity; the sweeps alternate in every run.
+  rows.push_back(Row("gravity", "gravity_m_s2", "m s-2", "", engine).of(&S::gravity));
+  rows.push_back(
+      Row("symmetric_sweeps", "symmetric_sweeps", "", "", engine).of(&S::symmetric_sweeps));
+  // Not recorded: how fast a run goes, not what it computes (docs/method.md, "Threads").
+  rows.push_back(Row("threads", "", "", "threads", engine).of(&S::threads));
+  rows.push_back(
+      Row("checkpoint_every", "", "", "checkpoint-every", tilt).of(&O::checkpoint_every));
+  std::vector<RunParameter> table;
+  for (Row& r : rows) table.push_back(std::move(r.p));
+  return table;
+}
+
+}  // namespace
+
+const std::vector<RunParameter>& run_parameters() {
+  static const std::vector<RunParameter> table = make_table();
+  return table;
+}
+
+io::Values settings_parameters(const cd::Settings& s) {
+  TiltOptions o;
+  o.settings = s;
+  io::Values v;
+  for (const RunParameter& p : run_parameters())
+    if (p.group == ParameterGroup::settings && !p.key.empty()) v[p.key] = p.get(o);
+  return v;
+}
+
+io::Values pre_seam_settings() {
+  io::Values v;
+  for (const RunParameter& p : run_parameters())
+    if (p.pre_seam) v[p.key] = *p.pre_seam;
+  return v;
+}
+
+io::Values with_pre_seam_settings(io::Values v) {
+  for (const auto& [k, value] : pre_seam_settings()) v.insert({k, value});  // keeps what v has
+  return v;
+}
+
+cd::Settings settings_from_parameters(const io::Values& given, const std::string& file) {
+  const io::Values v = with_pre_seam_settings(given);
+  TiltOptions o;
+  auto recorded = [](const RunParameter& p) {
+    return p.group == ParameterGroup::settings && !p.key.empty();
+  };
+  // The numbers, then the names: every text present before any is interpreted.
+  for (const RunParameter& p : run_parameters())
+    if (recorded(p) && !p.text) p.set(o, v, p.key, file);
+  for (const RunParameter& p : run_parameters())
+    if (recorded(p) && p.text) text_of(v, p.key, file);
+  try {
+    for (const RunParameter& p : run_parameters())
+      if (recorded(p) && p.text) p.set(o, v, p.key, file);
+    cd::validate(o.settings);
+  } catch (const UsageError& e) {
+    throw Error(file, "/parameters", e.what());
+  }
+  return o.settings;
+}
 
 void validate(const TiltOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
@@ -39,67 +267,35 @@ std::int64_t hold_steps(const TiltOptions& o) {
 
 io::Values tilt_parameters(const TiltOptions& o) {
   io::Values v = settings_parameters(o.settings);
-  v.insert({{"tilt_rate_deg_per_step", o.rate_deg},
-            {"tilt_from_deg", o.from_deg},
-            {"tilt_to_deg", o.to_deg ? *o.to_deg : -1.0},
-            {"tilt_max_deg", o.max_deg},
-            {"avalanche_margin_deg", o.margin_deg},
-            {"avalanche_energy", o.avalanche_energy},
-            {"avalanche_hold_deg", o.avalanche_hold_deg},
-            {"frame_every_steps", o.frame_every},
-            {"critical_eps", o.eps}});
+  for (const RunParameter& p : run_parameters())
+    if (p.group == ParameterGroup::tilt && !p.key.empty()) v[p.key] = p.get(o);
   return v;
 }
 
 const std::vector<std::pair<std::string, std::string>>& tilt_option_parameters() {
-  static const std::vector<std::pair<std::string, std::string>> table = {
-      {"rate", "tilt_rate_deg_per_step"},
-      {"from", "tilt_from_deg"},
-      {"to", "tilt_to_deg"},
-      {"max-angle", "tilt_max_deg"},
-      {"margin", "avalanche_margin_deg"},
-      {"avalanche-ek", "avalanche_energy"},
-      {"avalanche-hold", "avalanche_hold_deg"},
-      {"eps", "critical_eps"},
-      {"frame-every", "frame_every_steps"},
-      {"frame-every-deg", "frame_every_steps"},
-      {"mu", "mu_grain"},
-      {"mu-wall", "mu_wall"},
-      {"time-step", "time_step_s"},
-      {"theta-method", "theta"},
-      {"tolerance", "tolerance"},
-      {"max-sweeps", "max_sweeps"},
-      {"criterion", "criterion"},
-      {"check-every", "check_every"},
-      {"solver", "solver"},
-      {"stiffness", "contact_stiffness_N_m2"},
-      {"scramble", "scramble_seed"},
-      {"max-substeps", "max_substeps"},
-      {"substep-after", "substep_after"},
-      {"sweep-order", "sweep_order"},
-      {"alert", "alert_distance_m"}};
+  static const std::vector<std::pair<std::string, std::string>> table = [] {
+    std::vector<std::pair<std::string, std::string>> t;
+    for (const RunParameter& p : run_parameters()) {
+      if (p.key.empty() || p.option.empty()) continue;
+      t.emplace_back(p.option, p.key);
+      if (!p.also_option.empty()) t.emplace_back(p.also_option, p.key);
+    }
+    return t;
+  }();
   return table;
 }
 
 TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string& file) {
   TiltOptions o;
   o.settings = settings_from_parameters(v, file);
-  o.rate_deg = io::as_real(v, "tilt_rate_deg_per_step", file);
-  o.from_deg = io::as_real(v, "tilt_from_deg", file);
-  const double to = io::as_real(v, "tilt_to_deg", file);
-  if (to != -1.0) o.to_deg = to;  // -1: none (tilt_parameters)
-  o.max_deg = io::as_real(v, "tilt_max_deg", file);
-  o.margin_deg = io::as_real(v, "avalanche_margin_deg", file);
-  o.avalanche_energy = io::as_real(v, "avalanche_energy", file);
-  o.avalanche_hold_deg = io::as_real(v, "avalanche_hold_deg", file);
-  o.frame_every = io::as_int(v, "frame_every_steps", file);
-  o.eps = io::as_real(v, "critical_eps", file);
+  for (const RunParameter& p : run_parameters())
+    if (p.group == ParameterGroup::tilt && !p.key.empty()) p.set(o, v, p.key, file);
   return o;
 }
 
 namespace {
-std::string message_text(const std::string& key, const io::Value& v) {
-  if (key == "tilt_to_deg" && v == io::Value(-1.0)) return "none";  // tilt_parameters' "no --to"
+std::string message_text(const RunParameter& p, const io::Value& v) {
+  if (p.shown_as && v == p.shown_as->first) return p.shown_as->second;  // tilt_to_deg -1: "none"
   if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
   if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
   return std::get<std::string>(v);
@@ -113,11 +309,14 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   const io::Values before = tilt_parameters(from_run), want = tilt_parameters(asked);
   io::Values merged = before;
   std::map<std::string, std::string> option_of;  // parameter -> the option that set it
-  for (const auto& [option, key] : tilt_option_parameters())
-    if (given.count(option)) {
-      merged[key] = want.at(key);
-      option_of[key] = option;
-    }
+  for (const RunParameter& p : run_parameters()) {
+    if (p.inherit != Inherit::from_run) continue;
+    for (const std::string& option : {p.option, p.also_option})
+      if (!option.empty() && given.count(option)) {
+        merged[p.key] = want.at(p.key);
+        option_of[p.key] = option;
+      }
+  }
   // The run's frame interval is an interval of tilt: at another rate it stays that many
   // degrees, not that many steps.
   const double rate = std::get<double>(merged.at("tilt_rate_deg_per_step"));
@@ -127,15 +326,15 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   if (start_deg) merged["tilt_from_deg"] = *start_deg;
   InheritedOptions out;
   out.options = tilt_options_from_parameters(merged, file);
-  out.options.checkpoint_every = asked.checkpoint_every;
-  out.options.settings.threads = asked.settings.threads;  // how fast, not what: not a parameter
-  for (const auto& [option, key] : tilt_option_parameters()) {
-    if (option == "frame-every-deg" || (start_deg && key == "tilt_from_deg"))
-      continue;  // one entry per parameter
-    if (merged.at(key) == before.at(key)) continue;
-    const auto by = option_of.find(key);
-    out.changes.push_back({by == option_of.end() ? "" : by->second, key,
-                           message_text(key, before.at(key)), message_text(key, merged.at(key))});
+  for (const RunParameter& p : run_parameters())  // not parameters: the command line's
+    if (p.inherit == Inherit::as_asked)
+      p.set(out.options, {{p.field, p.get(asked)}}, p.field, file);
+  for (const RunParameter& p : run_parameters()) {
+    if (p.key.empty() || p.option.empty() || (start_deg && p.key == "tilt_from_deg")) continue;
+    if (merged.at(p.key) == before.at(p.key)) continue;
+    const auto by = option_of.find(p.key);
+    out.changes.push_back({by == option_of.end() ? "" : by->second, p.key,
+                           message_text(p, before.at(p.key)), message_text(p, merged.at(p.key))});
   }
   return out;
 }

@@ -1,6 +1,6 @@
 # docs/tools/<tool>.md equals the tool's --help-markdown (run docs/generate_tool_docs.sh).
 found=0
-for tool in deposit tilt-cd critical localnu correlate clusterfit to-xdmf to-lammps from-lammps; do
+for tool in $(awk '!/^#/ && NF { print $1 }' "$CDPILE_SOURCE/tools/LIST"); do  # every tool
   [[ -x "$CDPILE_BIN/$tool" ]] || continue
   found=1
   page="$CDPILE_SOURCE/docs/tools/$tool.md"

@@ -74,13 +74,23 @@ std::vector<Summary> across_runs(const std::vector<std::vector<std::optional<dou
 // ---------------------------------------------------------------------------------
 // The avalanche angle
 
-/// theta_c of a run: the first sample where the mean translational kinetic energy per
-/// grain, in units of m g D (m the mean grain mass), reaches `threshold` and stays at or
-/// above it for the next `hold` degrees of tilt (or until the run ends).
+/// The avalanche rule (docs/method.md, "Avalanche"), and its defaults, for every code that
+/// applies it: the simulator as a run goes (sim::AvalancheDetector, tilt-cd's
+/// --avalanche-ek and --avalanche-hold) and the analyses over a recorded series
+/// (avalanche_index; critical and localnu). theta_c of a run is the first sample where the
+/// agitation, the mean translational kinetic energy per grain in units of m g D (m the mean
+/// grain mass), reaches `threshold` and stays at or above it for the next `hold` degrees of
+/// tilt (or, over a recorded series, until the run ends).
 struct AvalancheRule {
   double threshold = 1e-3;  ///< E_k / (m g D)
   double hold = 0.2;        ///< deg
 };
+
+/// The rule's test of one sample: the agitation is at or above the threshold. A NaN
+/// agitation is not, so it breaks a sustained interval.
+inline bool avalanche_agitated(double agitation, double threshold) {
+  return agitation >= threshold;
+}
 
 /// Index of the sample at theta_c, or empty if the run never avalanches by the rule.
 std::optional<std::size_t> avalanche_index(std::span<const double> theta,

@@ -1,7 +1,12 @@
 /// The avalanche rule of the tilt protocol (docs/method.md, "Avalanche"): the first step
 /// from which the agitation a = Ek per grain / (m g D) stays at or above a threshold for
-/// a number of steps in a row.
+/// a number of steps in a row. The rule and its defaults are analysis::AvalancheRule's,
+/// and its test of a step analysis::avalanche_agitated, as the analyses apply it to a
+/// recorded series; here it is decided as the run goes, the hold counted in steps at the
+/// tilt rate (hold_steps), so the run can stop a margin after it.
 #pragma once
+
+#include "cdpile/analysis/series.hpp"
 
 #include <cmath>
 #include <cstdint>

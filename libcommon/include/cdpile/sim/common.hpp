@@ -9,6 +9,9 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
+#include <variant>
+#include <vector>
 
 namespace cdpile::sim {
 
@@ -28,7 +31,8 @@ class Random {
   std::mt19937_64 engine_;
 };
 
-/// The engine settings as parameters (names with unit suffixes, docs/schema.md).
+/// The engine settings as parameters (names with unit suffixes, docs/schema.md), from the
+/// table of run parameters (tilt_options.hpp, run_parameters()), as are the three below.
 io::Values settings_parameters(const cd::Settings& s);
 /// The settings files made before the solver seam hold implicitly: NSGS, a convergence
 /// check every sweep, rigid contacts. Such files are read, resumed and branched as today's.
@@ -48,6 +52,20 @@ struct CriticalCounts {
 };
 CriticalCounts count_critical(const Contacts& c, const std::vector<Species>& species,
                               double mu_grain, double mu_wall, double eps);
+
+/// One standard observable, declared once: its column, its unit and how a step's value is
+/// computed from the step's report and critical counts; a real or an integer column as the
+/// function returns. observables_series and append_observables derive from the table, so
+/// a new observable is a row of observables() and a row of docs/schema.md's table.
+struct Observable {
+  using Real = double (*)(const cd::StepReport&, const CriticalCounts&);
+  using Integer = std::int64_t (*)(const cd::StepReport&, const CriticalCounts&);
+  std::string name;
+  std::string unit;  ///< "" for none (docs/schema.md)
+  std::variant<Real, Integer> value;
+};
+/// Every standard observable (docs/schema.md, "Standard observables").
+const std::vector<Observable>& observables();
 
 /// An empty series with every standard column and its unit.
 io::Series observables_series();

@@ -3,10 +3,12 @@
 #pragma once
 
 #include "cdpile/analysis/critical.hpp"
+#include "cdpile/analysis/series.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
@@ -22,12 +24,60 @@ struct TiltOptions {
   std::optional<double> to_deg;  ///< run to this tilt whatever happens [deg]
   double max_deg = 90.0;         ///< without to_deg: stop here if no avalanche [deg]
   double margin_deg = 1.0;       ///< keep tilting this much after the avalanche is confirmed [deg]
-  double avalanche_energy = 1e-3;        ///< threshold of Ek per grain / (m g D)
-  double avalanche_hold_deg = 0.2;       ///< the agitation must stay above it this long [deg]
+  /// The avalanche rule (analysis::AvalancheRule, whose defaults these are): the threshold
+  /// of Ek per grain / (m g D), and how long the agitation must stay above it [deg].
+  double avalanche_energy = analysis::AvalancheRule{}.threshold;
+  double avalanche_hold_deg = analysis::AvalancheRule{}.hold;
   std::int64_t frame_every = 500;        ///< a full frame every this many steps (and the last step)
   std::int64_t checkpoint_every = 2000;  ///< steps between checkpoints (file output)
   double eps = analysis::default_eps;    ///< tolerance of the critical-contact test
 };
+
+// ---------------------------------------------------------------------------------
+// The run parameters, each declared once: the field of TiltOptions (or of its engine
+// settings) that holds it, the file key it is recorded under in /parameters (docs/schema.md,
+// unit suffixes), its unit, the tilt-cd option that sets it, and whether a branch or a
+// resume takes it from the run it continues. settings_parameters (common.hpp) and its
+// inverse, tilt_parameters and its inverse, tilt_option_parameters and inherit_options
+// all derive from this one table, so a parameter cannot be recorded and yet not inherited
+// (docs/architecture.md, "A new run parameter").
+
+/// Whether a branch or a resume takes a value from the run it continues.
+enum class Inherit {
+  from_run,  ///< recorded: the run's value unless the option is given
+  as_asked,  ///< not recorded (how fast, not what: threads, checkpoints): the command line's
+};
+
+/// Which group of a run's parameters a value belongs to: the engine's settings (deposit
+/// and tilt-cd record them) or the tilt protocol's (tilt-cd only).
+enum class ParameterGroup { settings, tilt };
+
+struct RunParameter {
+  std::string field;        ///< the library's name (cdpile::field() spells it for messages)
+  std::string key;          ///< the /parameters key; empty: not recorded
+  std::string unit;         ///< of the recorded value, SI ("" dimensionless or text)
+  std::string option;       ///< tilt-cd's option without dashes; empty: none (from the pile)
+  std::string also_option;  ///< a second option setting it (frame-every-deg), or empty
+  ParameterGroup group = ParameterGroup::tilt;
+  Inherit inherit = Inherit::from_run;
+  /// The value a file written before the solver seam holds implicitly (pre_seam_settings).
+  std::optional<io::Value> pre_seam;
+  /// A value shown as a word in the messages of a branch (tilt_to_deg -1: "none").
+  std::optional<std::pair<io::Value, std::string>> shown_as;
+  /// The field's value as recorded (an engine setting's from o.settings).
+  std::function<io::Value(const TiltOptions& o)> get;
+  /// Sets the field from `v`'s entry under `name`; throws cdpile::Error naming `file` if
+  /// it is missing or of the wrong kind. A text value (an enum's name) is set by its
+  /// name and throws cdpile::UsageError if the name is unknown.
+  std::function<void(TiltOptions& o, const io::Values& v, const std::string& name,
+                     const std::string& file)>
+      set;
+  bool text = false;  ///< recorded as text (an enum's name)
+};
+
+/// Every run parameter, in the order a branch lists its changes (tilt-cd's options: the
+/// tilt, the avalanche, the recording, the friction, the solver).
+const std::vector<RunParameter>& run_parameters();
 
 /// Checks the options; throws cdpile::UsageError naming the bad one.
 void validate(const TiltOptions& o);
@@ -38,7 +88,8 @@ std::int64_t hold_steps(const TiltOptions& o);
 
 /// Which run parameter each tilt-cd option sets: a branch or a resume takes these from
 /// the run unless they are given (option names without dashes; --frame-every and
-/// --frame-every-deg both set frame_every_steps).
+/// --frame-every-deg both set frame_every_steps). Derived from run_parameters(),
+/// as are tilt_parameters and its inverse.
 const std::vector<std::pair<std::string, std::string>>& tilt_option_parameters();
 
 /// The tilt options a run was made with, read back from its /parameters (the inverse of
@@ -53,13 +104,14 @@ struct OptionChange {
 };
 struct InheritedOptions {
   TiltOptions options;
-  std::vector<OptionChange> changes;  ///< in the order of tilt_option_parameters
+  std::vector<OptionChange> changes;  ///< in the order of run_parameters()
 };
 /// The options of a branch or a resume: the run's (`run`, its /parameters), except those
 /// the user gave (`given`, option names), which are taken from `asked` (the command line's
 /// options). A frame interval not given keeps the run's interval in degrees when the
 /// rate changes. `start_deg`: a branch starts at its frame's tilt, not at the run's
-/// --from (not counted as a change). checkpoint_every is always `asked`'s (not a parameter).
+/// --from (not counted as a change). What is not a parameter (checkpoint_every, threads:
+/// Inherit::as_asked in run_parameters()) is always `asked`'s.
 InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked,
                                  const std::set<std::string>& given,
                                  std::optional<double> start_deg, const std::string& file);
