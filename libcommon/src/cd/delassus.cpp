@@ -1,9 +1,10 @@
-// Delassus-form 2D frictional contact problems: the natural-map residual and NSGS with the
-// engine's exact local solver (delassus.hpp). The files that carry them are io's
-// (io/siconos.hpp).
+// Delassus-form 2D frictional contact problems: the natural-map residual and NSGS, the
+// engine's Gauss-Seidel pass (nsgs.hpp) over W's blocks (delassus.hpp). The files that
+// carry them are io's (io/siconos.hpp).
 #include "cdpile/cd/delassus.hpp"
 
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/cd/nsgs.hpp"
 #include "cdpile/check.hpp"
 
 #include <algorithm>
@@ -101,6 +102,68 @@ double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) 
   return natural_map_residual(p, r, u);
 }
 
+namespace {
+
+/// A contact of a Delassus problem as the NSGS pass sees it (nsgs.hpp, sweep_rows).
+struct DelassusRow {
+  Eigen::Index a;                 ///< the contact: components 2a (normal), 2a + 1 (tangent)
+  double w_nn, w_nt, w_tn, w_tt;  ///< its diagonal block W_aa
+  double mu;
+  double rn, rt;
+  ContactStatus status;
+};
+
+/// A general W's block is full: the 2x2 local solve (local_solver.hpp).
+LocalImpulse local_solve(const DelassusRow& r, double b_n, double b_t) {
+  return cd::local_solve(r.w_nn, r.w_nt, r.w_tn, r.w_tt, r.mu, b_n, b_t);
+}
+
+/// The rows of a problem from the impulses r, the diagonal blocks taken from W's column
+/// blocks (zero where W has none).
+std::vector<DelassusRow> delassus_rows(const DelassusProblem& p, const BlockColumns& columns,
+                                       const Eigen::VectorXd& r) {
+  std::vector<DelassusRow> rows(static_cast<std::size_t>(p.contacts()));
+  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+    DelassusRow& c = rows[static_cast<std::size_t>(a)];
+    c = {a, 0.0, 0.0, 0.0, 0.0, p.mu[a], r[2 * a], r[2 * a + 1], ContactStatus::open};
+    for (Eigen::Index k = columns.start[static_cast<std::size_t>(a)];
+         k < columns.start[static_cast<std::size_t>(a + 1)]; ++k)
+      if (columns.row[static_cast<std::size_t>(k)] == a) {
+        const double* w = &columns.block[static_cast<std::size_t>(4 * k)];
+        c.w_nn = w[0];
+        c.w_nt = w[1];
+        c.w_tn = w[2];
+        c.w_tt = w[3];
+      }
+  }
+  return rows;
+}
+
+/// The velocities side of the pass: u = W r + q, kept current as the engine keeps its
+/// grains' velocities (each change of r_a scattered through its column block), so a sweep
+/// and its residual cost one pass over W.
+struct DelassusVelocities {
+  const BlockColumns& columns;
+  Eigen::VectorXd& u;
+
+  /// b_a = u_a - W_aa r_a: the velocity with the contact's own impulse removed.
+  void free_local_velocity(const DelassusRow& r, double& b_n, double& b_t) const {
+    b_n = u[2 * r.a] - r.w_nn * r.rn - r.w_nt * r.rt;
+    b_t = u[2 * r.a + 1] - r.w_tn * r.rn - r.w_tt * r.rt;
+  }
+  void apply_impulse(const DelassusRow& r, double dn, double dt) {
+    for (Eigen::Index k = columns.start[static_cast<std::size_t>(r.a)];
+         k < columns.start[static_cast<std::size_t>(r.a + 1)]; ++k) {
+      const double* blk = &columns.block[static_cast<std::size_t>(4 * k)];
+      const Eigen::Index b = columns.row[static_cast<std::size_t>(k)];
+      u[2 * b] += blk[0] * dn + blk[1] * dt;
+      u[2 * b + 1] += blk[2] * dn + blk[3] * dt;
+    }
+  }
+};
+
+}  // namespace
+
 NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index m = p.contacts();
@@ -108,35 +171,17 @@ NsgsReport solve_nsgs(const DelassusProblem& p, Eigen::VectorXd& r, const NsgsOp
                      "W is 2m x 2m and q has 2m values for m = " + std::to_string(m) + " contacts");
   if (r.size() != 2 * m) r = Eigen::VectorXd::Zero(2 * m);
   const BlockColumns columns = block_columns(p);
-  // The diagonal 2x2 blocks, kept apart: the sweep needs W_aa to remove a contact's own
-  // impulse from its velocity (b_a = u_a - W_aa r_a).
-  std::vector<double> diagonal(static_cast<std::size_t>(4 * m), 0.0);
-  for (Eigen::Index a = 0; a < m; ++a)
-    for (Eigen::Index k = columns.start[static_cast<std::size_t>(a)];
-         k < columns.start[static_cast<std::size_t>(a + 1)]; ++k)
-      if (columns.row[static_cast<std::size_t>(k)] == a)
-        std::copy_n(&columns.block[static_cast<std::size_t>(4 * k)], 4,
-                    &diagonal[static_cast<std::size_t>(4 * a)]);
+  std::vector<DelassusRow> rows = delassus_rows(p, columns, r);
   Eigen::VectorXd u = p.W * r + p.q;
+  DelassusVelocities velocities{columns, u};
   NsgsReport report;
   for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
-    for (Eigen::Index a = 0; a < m; ++a) {
-      const double* w = &diagonal[static_cast<std::size_t>(4 * a)];  // nn, nt, tn, tt
-      const double rn = r[2 * a], rt = r[2 * a + 1];
-      const double bn = u[2 * a] - w[0] * rn - w[1] * rt;
-      const double bt = u[2 * a + 1] - w[2] * rn - w[3] * rt;
-      const LocalImpulse s = local_solve(w[0], w[1], w[2], w[3], p.mu[a], bn, bt);
-      const double dn = s.rn - rn, dt = s.rt - rt;
-      r[2 * a] = s.rn;
-      r[2 * a + 1] = s.rt;
-      if (dn == 0.0 && dt == 0.0) continue;
-      for (Eigen::Index k = columns.start[static_cast<std::size_t>(a)];
-           k < columns.start[static_cast<std::size_t>(a + 1)]; ++k) {
-        const double* blk = &columns.block[static_cast<std::size_t>(4 * k)];
-        const Eigen::Index b = columns.row[static_cast<std::size_t>(k)];
-        u[2 * b] += blk[0] * dn + blk[1] * dt;
-        u[2 * b + 1] += blk[2] * dn + blk[3] * dt;
-      }
+    // Contacts in file order, every sweep forward, as Siconos' fc2d NSGS sweeps them.
+    sweep_rows(
+        velocities, [&](std::size_t k) -> DelassusRow& { return rows[k]; }, 0, rows.size(), false);
+    for (const DelassusRow& c : rows) {
+      r[2 * c.a] = c.rn;
+      r[2 * c.a + 1] = c.rt;
     }
     report.sweeps = sweep;
     report.residual = natural_map_residual(p, r, u);

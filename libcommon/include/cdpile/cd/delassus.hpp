@@ -42,8 +42,10 @@ struct NsgsReport {
 };
 
 /// Non-smooth Gauss-Seidel on a Delassus problem, from the initial guess in `r` (resized
-/// to 2m and zeroed if it has the wrong size). Contacts in file order; the residual is
-/// evaluated after every sweep. The velocities u = W r + q are kept current through the
+/// to 2m and zeroed if it has the wrong size): the engine's own pass (nsgs.hpp,
+/// sweep_rows) with the full 2x2 local solve, stopped by Siconos' measure instead of a
+/// Criterion of solver.hpp (those measure a ContactSystem's bodies, which a Delassus
+/// problem has not). Contacts in file order; the residual is evaluated after every sweep. The velocities u = W r + q are kept current through the
 /// sweep (each impulse change added through its 2x2 column blocks of W), so a sweep and
 /// its residual cost one pass over W; convergence, and the reported residual, are taken
 /// on u recomputed as W r + q.
