@@ -766,109 +766,158 @@ void add_row(DumpFrame& f, Converting& c, Row row, std::size_t a, std::size_t b,
   f.rows.push_back(std::move(row));
 }
 
-/// The contacts of one dump local snapshot (LAMMPS pairs; LIGGGHTS pairs and mesh walls),
-/// its columns' roles from the script or --columns. `pair_seen` and `wall_seen` refuse a
-/// second snapshot of either kind in one step.
-void add_local_contacts(DumpFrame& f, Converting& c, const Snapshot& E, bool& pair_seen,
-                        bool& wall_seen) {
-  const ConvertOptions& opt = c.opt;
-  const std::int64_t step = f.step;
-  const std::string where = at_line(E.file, E.first_line);
+/// The columns of a dump local snapshot by role (entry_column_roles, from the script or
+/// --columns): the ids, the normal force (fn, its vector, or the total force), the
+/// tangential force (its vector, the total force, or only its magnitude), the positions,
+/// and a wall contact's point.
+struct LocalColumns {
+  bool wall = false;
+  std::optional<std::size_t> id1, id2, fn, fnx, fny, ftx, fty, ftmag, fx, fy, x1, y1, x2, y2, px,
+      py;
+  bool normal_vec() const { return fnx && fny; }
+  bool tangent_vec() const { return ftx && fty; }
+  bool total() const { return fx && fy; }
+};
+
+LocalColumns local_columns(const Snapshot& E, const ConvertOptions& opt, const std::string& where) {
   const auto roles = entry_column_roles(E.columns, opt.script, opt.columns, where);
   auto col = [&](const char* role) -> std::optional<std::size_t> {
     for (std::size_t k = 0; k < roles.size(); ++k)
       if (roles[k] == role) return k;
     return std::nullopt;
   };
-  const bool wall = col("wall").has_value();
-  if ((wall && wall_seen) || (!wall && pair_seen))
-    throw Error(where, "",
-                std::string("a second ") + (wall ? "wall" : "pair") +
-                    " contacts snapshot of step " + std::to_string(step));
-  (wall ? wall_seen : pair_seen) = true;
+  LocalColumns k;
+  k.wall = col("wall").has_value();
+  k.id1 = col("id1");
+  k.id2 = col("id2");
+  k.fn = col("fn");
+  k.fnx = col("fnx");
+  k.fny = col("fny");
+  k.ftx = col("ftx");
+  k.fty = col("fty");
+  k.ftmag = col("ftmag");
+  k.fx = col("fx");
+  k.fy = col("fy");
+  k.x1 = col("x1");
+  k.y1 = col("y1");
+  k.x2 = col("x2");
+  k.y2 = col("y2");
+  k.px = col("px");
+  k.py = col("py");
+  return k;
+}
+
+/// Refuses a snapshot whose contacts lack a column they need, naming what it could be.
+void require_local_columns(const LocalColumns& k, const Snapshot& E, std::int64_t step,
+                           const std::string& where) {
   auto explain = [&](const std::string& what) {
     return "contacts of step " + std::to_string(step) + " have no " + what +
            " (the header has: " + header_of(E) + "; name the computes with " + field("script") +
            " or the columns with " + field("columns") + " NAME=ROLE)";
   };
-  const auto c1 = col("id1"), c2 = col("id2");
-  if (!c1 || (!wall && !c2))
-    throw Error(where, "", explain(wall ? "particle id (id1)" : "atom ids (id1, id2)"));
-  const auto cfn = col("fn"), cfnx = col("fnx"), cfny = col("fny"), cftx = col("ftx"),
-             cfty = col("fty"), cftm = col("ftmag"), cfx = col("fx"), cfy = col("fy"),
-             cx1 = col("x1"), cy1 = col("y1"), cx2 = col("x2"), cy2 = col("y2"), cpx = col("px"),
-             cpy = col("py");
-  const bool normal_vec = cfnx && cfny, tangent_vec = cftx && cfty, total = cfx && cfy;
-  if (!cfn && !normal_vec && !total)
+  if (!k.id1 || (!k.wall && !k.id2))
+    throw Error(where, "", explain(k.wall ? "particle id (id1)" : "atom ids (id1, id2)"));
+  if (!k.fn && !k.normal_vec() && !k.total())
     throw Error(where, "", explain("normal force (fn, fnx fny, or the total force fx fy)"));
-  if (!tangent_vec && !total && !cftm)
+  if (!k.tangent_vec() && !k.total() && !k.ftmag)
     throw Error(where, "", explain("tangential force (ftx fty, ftmag, or the total force fx fy)"));
-  if (wall && !(cpx && cpy))
+  if (k.wall && !(k.px && k.py))
     throw Error(where, "", explain("contact point of the wall contacts (px py: pos)"));
-  const bool signed_ft = tangent_vec || total;
+}
+
+/// One contact of a dump local snapshot: its row, its atoms' rows a and b (b = a for a
+/// wall) and its unit normal from j to i.
+struct LocalContact {
+  Row row;
+  std::size_t a, b;
+  Vec nrm;
+};
+
+/// Row r of a dump local snapshot as a contact: the normal along the branch vector (to the
+/// wall's contact point, or between the centres), the contact point, and the forces
+/// projected on (n, t).
+LocalContact local_contact(const DumpFrame& f, const Snapshot& E, const LocalColumns& k,
+                           std::size_t r) {
+  auto v = [&](std::optional<std::size_t> c) {
+    const double x = E.values[*c][r];
+    if (!std::isfinite(x))
+      throw Error(at_line(E.file, E.line[r]), "",
+                  "column " + E.columns[*c] + " is not a finite number");
+    return x;
+  };
+  const std::size_t a = atom_row(f, v(k.id1), E, r);
+  Row row;
+  row.frame = f.step;
+  row.theta = f.theta;
+  row.where = at_line(E.file, E.line[r]);
+  row.i = static_cast<std::int64_t>(v(k.id1));
+  const Vec p1 = k.x1 && k.y1 ? Vec{v(k.x1), v(k.y1)} : f.pos[a];
+  Vec nrm, point;
+  std::size_t b = a;
+  if (k.wall) {
+    const Vec pt{v(k.px), v(k.py)};
+    const Vec d = branch(f, p1, pt);
+    const double len = std::hypot(d.x, d.y);
+    if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
+    nrm = {d.x / len, d.y / len};
+    point = pt;
+    row.j = wall_id(nrm.x, nrm.y);
+    row.wall = true;
+  } else {
+    b = atom_row(f, v(k.id2), E, r);
+    row.j = static_cast<std::int64_t>(v(k.id2));
+    if (row.j == row.i)
+      throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
+    const Vec p2 = k.x2 && k.y2 ? Vec{v(k.x2), v(k.y2)} : f.pos[b];
+    const Vec d = branch(f, p1, p2);
+    const double dist = std::hypot(d.x, d.y);
+    if (!(dist > 0))
+      throw Error(row.where, "",
+                  "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) +
+                      " are at the same place");
+    nrm = {d.x / dist, d.y / dist};
+    // The middle of the overlap on the line of centres: x_j + n (r_j - h/2).
+    const double h = f.rad[a] + f.rad[b] - dist;
+    const double sj = f.rad[b] - 0.5 * h;
+    const Vec pj = {p1.x - d.x, p1.y - d.y};
+    point = {pj.x + nrm.x * sj, pj.y + nrm.y * sj};
+  }
+  const Vec t{-nrm.y, nrm.x};
+  row.x = point.x;
+  row.y = point.y;
+  if (k.fn)
+    row.fn = v(k.fn);
+  else if (k.normal_vec())
+    row.fn = v(k.fnx) * nrm.x + v(k.fny) * nrm.y;
+  else
+    row.fn = v(k.fx) * nrm.x + v(k.fy) * nrm.y;
+  if (k.tangent_vec())
+    row.ft = v(k.ftx) * t.x + v(k.fty) * t.y;
+  else if (k.total())
+    row.ft = v(k.fx) * t.x + v(k.fy) * t.y;
+  else
+    row.ft = std::abs(v(k.ftmag));
+  return {std::move(row), a, b, nrm};
+}
+
+/// The contacts of one dump local snapshot (LAMMPS pairs; LIGGGHTS pairs and mesh walls).
+/// `pair_seen` and `wall_seen` refuse a second snapshot of either kind in one step.
+void add_local_contacts(DumpFrame& f, Converting& c, const Snapshot& E, bool& pair_seen,
+                        bool& wall_seen) {
+  const std::string where = at_line(E.file, E.first_line);
+  const LocalColumns k = local_columns(E, c.opt, where);
+  if ((k.wall && wall_seen) || (!k.wall && pair_seen))
+    throw Error(where, "",
+                std::string("a second ") + (k.wall ? "wall" : "pair") +
+                    " contacts snapshot of step " + std::to_string(f.step));
+  (k.wall ? wall_seen : pair_seen) = true;
+  require_local_columns(k, E, f.step, where);
+  const bool signed_ft = k.tangent_vec() || k.total();
   (signed_ft ? c.any_vector_ft : c.any_magnitude_ft) = true;
   for (std::size_t r = 0; r < E.rows(); ++r) {
-    auto v = [&](std::optional<std::size_t> k) {
-      const double x = E.values[*k][r];
-      if (!std::isfinite(x))
-        throw Error(at_line(E.file, E.line[r]), "",
-                    "column " + E.columns[*k] + " is not a finite number");
-      return x;
-    };
-    const std::size_t a = atom_row(f, v(c1), E, r);
-    Row row;
-    row.frame = step;
-    row.theta = f.theta;
-    row.where = at_line(E.file, E.line[r]);
-    row.i = static_cast<std::int64_t>(v(c1));
-    const Vec p1 = cx1 && cy1 ? Vec{v(cx1), v(cy1)} : f.pos[a];
-    Vec nrm, point;
-    std::size_t b = a;
-    if (wall) {
-      const Vec pt{v(cpx), v(cpy)};
-      const Vec d = branch(f, p1, pt);
-      const double len = std::hypot(d.x, d.y);
-      if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
-      nrm = {d.x / len, d.y / len};
-      point = pt;
-      row.j = wall_id(nrm.x, nrm.y);
-      row.wall = true;
-    } else {
-      b = atom_row(f, v(c2), E, r);
-      row.j = static_cast<std::int64_t>(v(c2));
-      if (row.j == row.i)
-        throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
-      const Vec p2 = cx2 && cy2 ? Vec{v(cx2), v(cy2)} : f.pos[b];
-      const Vec d = branch(f, p1, p2);
-      const double dist = std::hypot(d.x, d.y);
-      if (!(dist > 0))
-        throw Error(row.where, "",
-                    "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) +
-                        " are at the same place");
-      nrm = {d.x / dist, d.y / dist};
-      // The middle of the overlap on the line of centres: x_j + n (r_j - h/2).
-      const double h = f.rad[a] + f.rad[b] - dist;
-      const double sj = f.rad[b] - 0.5 * h;
-      const Vec pj = {p1.x - d.x, p1.y - d.y};
-      point = {pj.x + nrm.x * sj, pj.y + nrm.y * sj};
-    }
-    const Vec t{-nrm.y, nrm.x};
-    row.x = point.x;
-    row.y = point.y;
-    if (cfn)
-      row.fn = v(cfn);
-    else if (normal_vec)
-      row.fn = v(cfnx) * nrm.x + v(cfny) * nrm.y;
-    else
-      row.fn = v(cfx) * nrm.x + v(cfy) * nrm.y;
-    if (tangent_vec)
-      row.ft = v(cftx) * t.x + v(cfty) * t.y;
-    else if (total)
-      row.ft = v(cfx) * t.x + v(cfy) * t.y;
-    else
-      row.ft = std::abs(v(cftm));
-    add_row(f, c, std::move(row), a, b, !wall, nrm);
-    ++(wall ? c.out.wall_rows : c.out.pair_rows);
+    LocalContact lc = local_contact(f, E, k, r);
+    add_row(f, c, std::move(lc.row), lc.a, lc.b, !k.wall, lc.nrm);
+    ++(k.wall ? c.out.wall_rows : c.out.pair_rows);
   }
 }
 
