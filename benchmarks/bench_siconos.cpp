@@ -10,6 +10,7 @@
 // 2020-contact problems; the 7002-contact one is reported absent unless DIR holds it:
 // tests/data/siconos-fc2d/README.md).
 #include "cdpile/cd/delassus.hpp"
+#include "cdpile/io/siconos.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -22,6 +23,7 @@
 namespace {
 
 namespace cd = cdpile::cd;
+namespace io = cdpile::io;
 
 std::string g_data = CDPILE_SICONOS_DATA;
 
@@ -37,7 +39,7 @@ void BM_SiconosNsgs(benchmark::State& state, const std::string& file) {
     state.SkipWithError(("absent: " + path).c_str());
     return;
   }
-  const cd::DelassusProblem p = cd::read_siconos_fc2d(path);
+  const cd::DelassusProblem p = io::read_siconos_fc2d(path);
   const cd::NsgsOptions options{.tolerance = 1e-5, .max_sweeps = 10000};
   cd::NsgsReport report;
   for (auto _ : state) {

@@ -7,7 +7,7 @@
 // warm-started from the frame's forces) and tilted on with the run's own solver settings
 // and rate. After each step whose NSGS hit the sweep cap (every step with --all), it
 // writes into OUTDIR, which must not exist:
-//   step-K.dat   the step's problem (cd::Engine::delassus_problem, cd::write_siconos_fc2d)
+//   step-K.dat   the step's problem (cd::Engine::delassus_problem, io::write_siconos_fc2d)
 //   step-K.r     the impulses the engine ended the step with, 2m values on one line
 // and prints one line per step on stdout (TSV): the step K after the branch, tilt [deg],
 // contact candidates m, active contacts, sweeps, the engine's residual (its maxm
@@ -19,6 +19,7 @@
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/io/files.hpp"
+#include "cdpile/io/siconos.hpp"
 #include "cdpile/sim/common.hpp"
 #include "cdpile/sim/tilt.hpp"
 
@@ -81,7 +82,7 @@ int main(int argc, char** argv) {
         char name[32];
         std::snprintf(name, sizeof name, "step-%06ld", k);
         file = std::string(name) + ".dat";
-        write_text(dir + "/" + file, [&](std::ostream& o) { cd::write_siconos_fc2d(o, p); });
+        write_text(dir + "/" + file, [&](std::ostream& o) { io::write_siconos_fc2d(o, p); });
         write_text(dir + "/" + name + ".r", [&](std::ostream& o) {
           char v[32];
           for (Eigen::Index i = 0; i < impulses.size(); ++i) {

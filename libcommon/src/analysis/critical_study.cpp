@@ -1,11 +1,14 @@
 // critical: the state of the pile nu(theta) (eq 1), z and lambda (eq 2), rearrangement
 // events (Fig 2), the ensemble mean (inset of Fig 1a), the envelope of maxima and its
-// limit nu_c (Fig 1c), the avalanche angle.
+// limit nu_c (Fig 1c), the avalanche angle: the estimation. The product's parameters,
+// notes and tables are laid out and written in critical_study_tables.cpp.
 #include "cdpile/analysis/fit.hpp"
 #include "cdpile/analysis/studies.hpp"
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
+
+#include "critical_study_tables.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -15,6 +18,8 @@
 #include <string>
 
 namespace cdpile::analysis {
+
+using namespace critical_parts;
 
 const char* source_name(SeriesSource s) {
   switch (s) {
@@ -27,7 +32,6 @@ const char* source_name(SeriesSource s) {
 
 namespace {
 
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 /// Four significant digits, for notes read by people.
@@ -35,11 +39,6 @@ std::string format_short(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", v);
   return buf;
-}
-
-std::optional<double> ratio(std::int64_t a, std::int64_t b) {
-  if (b <= 0) return std::nullopt;
-  return static_cast<double>(a) / static_cast<double>(b);
 }
 
 void check_steps(const RunRecord& r) {
@@ -82,8 +81,15 @@ std::vector<std::int64_t> static_steps(const RunRecord& r, const RestRule& rest)
   return out;
 }
 
-// Whether a frame is static: its step converged (looked up in the run's steps), its grains
-// at rest by the same rule and none in flight; empty when unknown.
+}  // namespace
+
+namespace critical_parts {
+
+std::optional<double> ratio(std::int64_t a, std::int64_t b) {
+  if (b <= 0) return std::nullopt;
+  return static_cast<double>(a) / static_cast<double>(b);
+}
+
 std::optional<bool> static_frame(const RunRecord& r, const FrameRecord& f, const RestRule& rest) {
   const RunSteps& s = r.steps;
   const double scale = r.mean_mass * r.gravity * r.diameter;
@@ -102,10 +108,14 @@ std::optional<bool> static_frame(const RunRecord& r, const FrameRecord& f, const
          *f.max_speed / v_scale < rest.speed && f.grains_without_contact == 0;
 }
 
-// The nu(theta) series a run contributes to the ensemble and the envelope.
-struct Curve {
-  std::vector<double> theta, nu;
-};
+std::optional<double> nu_at_rest(const FrameRecord& f) {
+  return f.contacts_at_rest && f.critical_at_rest ? ratio(*f.critical_at_rest, *f.contacts_at_rest)
+                                                  : std::nullopt;
+}
+
+}  // namespace critical_parts
+
+namespace {
 
 /// The shortest text that reads back to the same double: a message comparing two rules
 /// must not print 0.5 for 0.5000001.
@@ -198,16 +208,6 @@ void judge_static_bound(Product& p, const std::vector<RunRecord>& runs,
       std::to_string(above) + " of " + std::to_string(frames) +
       " frames of the runs are above their bound");
 }
-
-// One reading of nu(theta) over the runs (all states, or static states only): the ensemble
-// mean on grid g, the envelope of maxima on windows w and its fit (Fig 1c).
-struct Reading {
-  std::vector<Summary> ens, env, env_at;
-  std::vector<std::uint8_t> in_fit;  // per window
-  std::vector<double> fit;           // per window, NaN where not fitted
-  std::vector<std::size_t> windows_in_fit;
-  bool saturates = false;
-};
 
 // Result names of a reading: "nu_c" + suffix + tail (nu_c_static_se), and the envelope's
 // parameters "envelope" + suffix + tail (envelope_static_tau_deg).
@@ -354,12 +354,6 @@ std::optional<double> avalanche_angle(const RunRecord& r, const AvalancheRule& r
   return std::nullopt;
 }
 
-std::vector<std::string> critical_table_names(const CriticalOptions& opt) {
-  if (opt.step_table)
-    return {"runs", "steps", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
-  return {"runs", "frames", "events", "ensemble", "envelope", "mobilisation", "windows"};
-}
-
 // ---------------------------------------------------------------------------------------
 // The stages of critical_study, in the order it runs them.
 
@@ -409,211 +403,6 @@ SeriesChoice choose_series(const std::vector<RunRecord>& runs, const CriticalOpt
   return c;
 }
 
-// The product's kind, its parameters and the notes that define its columns.
-Product describe_study(const CriticalOptions& opt, SeriesSource src) {
-  Product p;
-  p.kind = "critical";
-  p.parameters = {
-      {"eps", opt.rule.eps},
-      {"include_walls", std::int64_t{opt.rule.include_walls}},
-      {"floor_grains_are_walls", std::int64_t{opt.rule.floor_grains_are_walls}},
-      {"rattlers", std::string(opt.rattlers == RattlerRule::exclude ? "exclude" : "include")},
-      {"event_hysteresis", opt.events.hysteresis},
-      {"event_min_drop", opt.events.min_drop},
-      {"avalanche_threshold", opt.avalanche.threshold},
-      {"avalanche_hold_deg", opt.avalanche.hold},
-      {"cut_at_avalanche", std::int64_t{opt.cut_at_avalanche}},
-      {"grid_step_deg", opt.grid_step},
-      {"envelope_window_deg", opt.envelope_window},
-      {"rest_energy_mgD", opt.rest.energy},
-      {"rest_speed_sqrt_gD", opt.rest.speed},
-      {"slip_speed_sqrt_gD", opt.slip_speed},
-      {"mobilisation_window_deg", opt.mobilisation_window},
-      {"series", std::string(source_name(src))}};
-  // The envelope's fitted range decides nu_c where the envelope keeps rising
-  // (docs/reproduction.md, "Sensitivity"): a range asked for is part of the product.
-  if (opt.envelope_fit && std::isfinite(opt.envelope_fit->lo))
-    p.parameters["envelope_fit_from_deg"] = opt.envelope_fit->lo;
-  if (opt.envelope_fit && std::isfinite(opt.envelope_fit->hi))
-    p.parameters["envelope_fit_to_deg"] = opt.envelope_fit->hi;
-  p.notes = {
-      "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; N counts active contacts (f_n > 0), "
-      "grain-grain unless include_walls",
-      "nu = Nc/N (eq 1); z = 2N/Np' with Np' the free grains with >= 2 counted contacts "
-      "(rattlers excluded) or all free grains (z_all); lambda = sqrt(2/(z nu)) D (eq 2), in D",
-      "per-step z and lambda use z_all = 2N/Np (the per-step series has no per-grain counts)",
-      "Ek: mean translational kinetic energy per free grain [J/m], per step from the observable "
-      "kinetic_energy, per frame from the grains' velocities and masses; ek_norm = Ek/(m g D)",
-      "theta_c: first step where ek_norm >= avalanche_threshold and stays so for "
-      "avalanche_hold_deg (or to the end of the run); ensemble theta_c = mean over runs",
-      "event: from a local maximum of N to the next local minimum (turning points confirmed "
-      "after event_hysteresis contacts); loss = Delta N/N; nu_before = nu of the series at "
-      "or before the maximum",
-      "ensemble: per run the mean of nu in each theta bin, then mean and standard error over "
-      "runs; envelope: per run the maximum of nu in each window, then mean and se over runs, "
-      "placed at the mean theta where the maxima occur",
-      "envelope fit: nu_c - B exp(-theta/tau) by Levenberg-Marquardt, weighted by the se when "
-      "every window has one; uncertainties from the covariance (scaled by chi2/dof if > 1)",
-      "missing values (NA): nu with N = 0, lambda with Nc = 0 (infinite), se from one run"};
-  return p;
-}
-
-using Columns = std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>;
-
-void add_columns(Table& t, Columns columns) {
-  for (auto [n, u, k] : columns) t.add_column(n, u, k);
-}
-
-// The per-run tables and the ensemble's, in the product's order, with their columns.
-struct StudyTables {
-  Table& runs;
-  Table* steps;  // only with CriticalOptions::step_table
-  Table& frames;
-  Table& events;
-  Table& ensemble;
-  Table& envelope;
-};
-
-StudyTables add_study_tables(Product& p, bool step_table) {
-  StudyTables t{p.add_table("runs", "one row per run"),
-                step_table ? &p.add_table("steps", "one row per time step of each run") : nullptr,
-                p.add_table("frames", "one row per saved frame of each run"),
-                p.add_table("events", "rearrangement events: a drop of the contact count N"),
-                p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
-                p.add_table("envelope", "mean over runs of the maximum of nu in theta windows")};
-  add_columns(t.runs, {{"run", "", ColumnKind::integer},
-                       {"name", "", ColumnKind::text},
-                       {"grains", "", ColumnKind::integer},
-                       {"diameter", "m", ColumnKind::real},
-                       {"steps", "", ColumnKind::integer},
-                       {"frames", "", ColumnKind::integer},
-                       {"events", "", ColumnKind::integer},
-                       {"theta_c", "deg", ColumnKind::real},
-                       {"theta_c_recorded", "deg", ColumnKind::real},
-                       {"nu_max", "", ColumnKind::real}});
-  if (t.steps)
-    add_columns(*t.steps, {{"run", "", ColumnKind::integer},
-                           {"step", "", ColumnKind::integer},
-                           {"theta", "deg", ColumnKind::real},
-                           {"N", "", ColumnKind::integer},
-                           {"Nc", "", ColumnKind::integer},
-                           {"nu", "", ColumnKind::real},
-                           {"sliding", "", ColumnKind::integer},
-                           {"nu_sliding", "", ColumnKind::real},
-                           {"z_all", "", ColumnKind::real},
-                           {"lambda", "D", ColumnKind::real},
-                           {"Ek", "J m-1", ColumnKind::real},
-                           {"ek_norm", "", ColumnKind::real},
-                           {"static", "", ColumnKind::integer}});
-  add_columns(t.frames, {{"run", "", ColumnKind::integer},
-                         {"frame", "", ColumnKind::integer},
-                         {"step", "", ColumnKind::integer},
-                         {"theta", "deg", ColumnKind::real},
-                         {"N", "", ColumnKind::integer},
-                         {"Nc", "", ColumnKind::integer},
-                         {"nu", "", ColumnKind::real},
-                         {"sliding", "", ColumnKind::integer},
-                         {"nu_sliding", "", ColumnKind::real},
-                         {"z", "", ColumnKind::real},
-                         {"z_all", "", ColumnKind::real},
-                         {"loaded_grains", "", ColumnKind::integer},
-                         {"lambda", "D", ColumnKind::real},
-                         {"Ek", "J m-1", ColumnKind::real},
-                         {"ek_norm", "", ColumnKind::real},
-                         {"loading", "", ColumnKind::integer},
-                         {"contacts_load_bearing", "", ColumnKind::integer},
-                         {"grains_load_bearing", "", ColumnKind::integer},
-                         {"critical_load_bearing", "", ColumnKind::integer},
-                         {"static_bound", "", ColumnKind::integer},
-                         {"above_static_bound", "", ColumnKind::integer},
-                         {"agitation_norm", "", ColumnKind::real},
-                         {"max_speed_norm", "", ColumnKind::real},
-                         {"grains_without_contact", "", ColumnKind::integer},
-                         {"converged", "", ColumnKind::integer},
-                         {"static", "", ColumnKind::integer},
-                         {"slipping", "", ColumnKind::integer},
-                         {"critical_slipping", "", ColumnKind::integer},
-                         {"z_paper", "", ColumnKind::real},
-                         {"N_rest", "", ColumnKind::integer},
-                         {"Nc_rest", "", ColumnKind::integer},
-                         {"nu_rest", "", ColumnKind::real}});
-  add_columns(t.events, {{"run", "", ColumnKind::integer},
-                         {"event", "", ColumnKind::integer},
-                         {"peak_step", "", ColumnKind::integer},
-                         {"trough_step", "", ColumnKind::integer},
-                         {"theta", "deg", ColumnKind::real},
-                         {"theta_end", "deg", ColumnKind::real},
-                         {"n_peak", "", ColumnKind::integer},
-                         {"n_trough", "", ColumnKind::integer},
-                         {"loss", "", ColumnKind::real},
-                         {"nu_before", "", ColumnKind::real},
-                         {"nu_before_step", "", ColumnKind::integer},
-                         {"nu_sliding_before", "", ColumnKind::real},
-                         {"open", "", ColumnKind::integer},
-                         {"after_avalanche", "", ColumnKind::integer}});
-  add_columns(t.ensemble, {{"theta", "deg", ColumnKind::real},
-                           {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real},
-                           {"runs", "", ColumnKind::integer},
-                           {"nu", "", ColumnKind::real},
-                           {"nu_se", "", ColumnKind::real},
-                           {"runs_static", "", ColumnKind::integer},
-                           {"nu_static", "", ColumnKind::real},
-                           {"nu_static_se", "", ColumnKind::real},
-                           {"runs_rest", "", ColumnKind::integer},
-                           {"nu_rest", "", ColumnKind::real},
-                           {"nu_rest_se", "", ColumnKind::real}});
-  add_columns(t.envelope, {{"theta", "deg", ColumnKind::real},
-                           {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real},
-                           {"runs", "", ColumnKind::integer},
-                           {"envelope", "", ColumnKind::real},
-                           {"envelope_se", "", ColumnKind::real},
-                           {"fit", "", ColumnKind::real},
-                           {"in_fit", "", ColumnKind::integer},
-                           {"theta_static", "deg", ColumnKind::real},
-                           {"runs_static", "", ColumnKind::integer},
-                           {"envelope_static", "", ColumnKind::real},
-                           {"envelope_static_se", "", ColumnKind::real},
-                           {"fit_static", "", ColumnKind::real},
-                           {"in_fit_static", "", ColumnKind::integer},
-                           {"theta_rest", "deg", ColumnKind::real},
-                           {"runs_rest", "", ColumnKind::integer},
-                           {"envelope_rest", "", ColumnKind::real},
-                           {"envelope_rest_se", "", ColumnKind::real},
-                           {"fit_rest", "", ColumnKind::real},
-                           {"in_fit_rest", "", ColumnKind::integer}});
-  return t;
-}
-
-// Per tilt window of the loading phase: counts pooled over the runs' loading frames.
-struct WindowCounts {
-  std::int64_t frames = 0, contacts = 0, critical = 0, slipping = 0, critical_slipping = 0;
-  std::vector<std::int64_t> mobilisation = std::vector<std::int64_t>(mobilisation_bins, 0);
-};
-
-// What the runs' loading phases add up to, run after run.
-struct LoadingTotals {
-  std::vector<double> theta_cs;    // per run with an avalanche
-  std::vector<double> nu_theta_c;  // per run: mean static nu in the last window before theta_c
-  std::int64_t steps_loading = 0, steps_static = 0, frames_static = 0, frames_static_above = 0;
-  double zp_sum = 0.0;
-  std::int64_t zp_n = 0;
-  std::optional<double> zp_initial_sum;
-  std::int64_t zp_initial_n = 0;
-  std::vector<WindowCounts> win_all, win_static;   // all loading frames / static ones
-  std::int64_t bound_frames = 0, bound_above = 0;  // frames with a static bound, and above it
-  double z_sum = 0.0;
-  std::int64_t z_n = 0;
-};
-
-// A run's per-step fractions: nu from the recorded critical count (when it follows the
-// rule asked for), nu_sliding, and the agitation Ek/(m g D).
-struct StepFractions {
-  bool have_nc = false;
-  std::vector<double> nu_c, nu_s, ekn;
-};
-
 StepFractions step_fractions(const RunRecord& r, bool have_nc) {
   const RunSteps& s = r.steps;
   const std::size_t n = s.step.size();
@@ -633,116 +422,28 @@ StepFractions step_fractions(const RunRecord& r, bool have_nc) {
   return q;
 }
 
-void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepFractions& q,
-                     const std::vector<std::int64_t>& st_static) {
-  const RunSteps& s = r.steps;
-  const double np = static_cast<double>(r.free_grains);
-  const bool have_ek = !s.kinetic_energy.empty() && r.free_grains > 0;
-  for (std::size_t k = 0; k < s.step.size(); ++k) {
-    t.column("run").add_int(run);
-    t.column("step").add_int(s.step[k]);
-    t.column("theta").add(s.theta[k]);
-    t.column("N").add_int(s.contacts[k]);
-    t.column("Nc").add(q.have_nc ? static_cast<double>(s.critical[k]) : nan);
-    t.column("nu").add(q.nu_c[k]);
-    t.column("sliding").add(s.sliding.empty() ? nan : static_cast<double>(s.sliding[k]));
-    t.column("nu_sliding").add(q.nu_s[k]);
-    const auto z_all = ratio(2 * s.contacts[k], r.free_grains);
-    t.column("z_all").add(z_all);
-    t.column("lambda").add(z_all && std::isfinite(q.nu_c[k])
-                               ? critical_spacing(*z_all, q.nu_c[k], 1.0)
-                               : std::nullopt);
-    t.column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
-    t.column("ek_norm").add(q.ekn[k]);
-    t.column("static").add(st_static.empty() ? nan : static_cast<double>(st_static[k]));
-  }
-}
-
-// The run's frames: their rows, with each frame's classification as loading (at or below
-// `cut`) and static or moving (docs/analysis.md, "Static and moving states"), added to the
-// loading totals; the frames' nu of the contacts at rest go to `rest_curve`.
-void classify_frames(Table& t, const RunRecord& r, std::int64_t run, double cut,
-                     const CriticalOptions& opt, LoadingTotals& tot, Curve& rest_curve) {
-  const RunSteps& s = r.steps;
-  const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
-  const double v_scale = std::sqrt(r.gravity * r.diameter);
+// The run's loading frames (at or below `cut`) added to the loading totals: z, the static
+// bound, the static frames, and per tilt window the critical, slipping and mobilised
+// contacts; the frames' nu of the contacts at rest go to `rest_curve`.
+void tally_loading_frames(const RunRecord& r, double cut, const CriticalOptions& opt,
+                          LoadingTotals& tot, Curve& rest_curve) {
   auto window_of = [&](double theta) -> std::optional<std::size_t> {
     if (!(theta >= 0.0)) return std::nullopt;
     return static_cast<std::size_t>(std::floor(theta / opt.mobilisation_window + 1e-9));
   };
   for (const FrameRecord& f : r.frames) {
     const PileState& st = f.state;
-    t.column("run").add_int(run);
-    t.column("frame").add_int(f.frame);
-    t.column("step").add_int(f.step);
-    t.column("theta").add(f.theta);
-    t.column("N").add_int(st.contacts);
-    t.column("Nc").add_int(st.critical);
-    t.column("nu").add(st.nu);
-    t.column("sliding").add_int(st.sliding);
-    t.column("nu_sliding").add(st.nu_sliding);
-    t.column("z").add(st.z);
-    t.column("z_all").add(st.z_all);
-    t.column("loaded_grains").add_int(st.loaded_grains);
-    t.column("lambda").add(st.lambda && r.diameter > 0
-                               ? std::optional<double>(*st.lambda / r.diameter)
-                               : std::nullopt);
-    t.column("Ek").add(f.kinetic_energy);
-    t.column("ek_norm").add(f.kinetic_energy && scale > 0.0
-                                ? std::optional<double>(*f.kinetic_energy / scale)
-                                : std::nullopt);
     const bool loading = f.theta <= cut;
-    t.column("loading").add_int(loading);
     if (loading && st.z) {
       tot.z_sum += *st.z;
       ++tot.z_n;
     }
-    // McNamara & Herrmann 2004 (docs/analysis.md, "Static bound")
-    auto count = [&](auto get) {
-      return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt;
-    };
-    t.column("contacts_load_bearing").add(count([](const StaticBound& b) { return b.contacts; }));
-    t.column("grains_load_bearing").add(count([](const StaticBound& b) { return b.grains; }));
-    t.column("critical_load_bearing").add(count([](const StaticBound& b) { return b.critical; }));
-    t.column("static_bound").add(count([](const StaticBound& b) { return b.bound(); }));
-    t.column("above_static_bound").add(count([](const StaticBound& b) {
-      return std::int64_t{b.above()};
-    }));
     if (f.bound) {
       ++tot.bound_frames;
       tot.bound_above += f.bound->above();
     }
-    // static or moving (docs/analysis.md, "Static and moving states")
     const std::optional<bool> still = static_frame(r, f, opt.rest);
-    t.column("agitation_norm")
-        .add(f.agitation && scale > 0.0 ? std::optional<double>(*f.agitation / scale)
-                                        : std::nullopt);
-    t.column("max_speed_norm")
-        .add(f.max_speed && v_scale > 0.0 ? std::optional<double>(*f.max_speed / v_scale)
-                                          : std::nullopt);
-    t.column("grains_without_contact").add_int(f.grains_without_contact);
-    {
-      const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
-      const bool found = it != s.step.end() && *it == f.step && s.converged.size() == s.step.size();
-      t.column("converged")
-          .add(found
-                   ? static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())])
-                   : nan);
-    }
-    t.column("static").add(still ? std::optional<double>(*still ? 1.0 : 0.0) : std::nullopt);
-    auto count_opt = [](const std::optional<std::int64_t>& v) {
-      return v ? std::optional<double>(static_cast<double>(*v)) : std::nullopt;
-    };
-    t.column("slipping").add(count_opt(f.slipping));
-    t.column("critical_slipping").add(count_opt(f.critical_slipping));
-    t.column("z_paper").add(f.z_paper);
-    t.column("N_rest").add(count_opt(f.contacts_at_rest));
-    t.column("Nc_rest").add(count_opt(f.critical_at_rest));
-    const std::optional<double> nu_rest = f.contacts_at_rest && f.critical_at_rest
-                                              ? ratio(*f.critical_at_rest, *f.contacts_at_rest)
-                                              : std::nullopt;
-    t.column("nu_rest").add(nu_rest);
-    if (nu_rest && f.theta <= cut) {
+    if (const std::optional<double> nu_rest = nu_at_rest(f); nu_rest && f.theta <= cut) {
       rest_curve.theta.push_back(f.theta);
       rest_curve.nu.push_back(*nu_rest);
     }
@@ -844,42 +545,6 @@ std::optional<double> nu_at_theta_c(const Curve& sv, double theta_c, double wind
   return sum / static_cast<double>(m);
 }
 
-// The run's rearrangement events (Fig 2), each with the state of the series just before.
-std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const Curve& cv,
-                         const std::vector<std::int64_t>& cv_step, const StepFractions& q,
-                         double cut, const EventRule& rule) {
-  const RunSteps& s = r.steps;
-  const auto events = rearrangements(s.contacts, rule);
-  std::int64_t e_index = 0;
-  for (const Event& e : events) {
-    const std::int64_t peak_step = s.step[e.peak];
-    // the state just before: the last sample of the series at or before the peak step
-    std::optional<double> nu_before;
-    std::optional<double> nu_before_step;
-    auto it = std::upper_bound(cv_step.begin(), cv_step.end(), peak_step);
-    if (it != cv_step.begin()) {
-      const auto k = static_cast<std::size_t>(it - cv_step.begin() - 1);
-      nu_before = cv.nu[k];
-      nu_before_step = static_cast<double>(cv_step[k]);
-    }
-    t.column("run").add_int(run);
-    t.column("event").add_int(e_index++);
-    t.column("peak_step").add_int(peak_step);
-    t.column("trough_step").add_int(s.step[e.trough]);
-    t.column("theta").add(s.theta[e.peak]);
-    t.column("theta_end").add(s.theta[e.trough]);
-    t.column("n_peak").add_int(e.n_peak);
-    t.column("n_trough").add_int(e.n_trough);
-    t.column("loss").add(e.loss);
-    t.column("nu_before").add(nu_before);
-    t.column("nu_before_step").add(nu_before_step);
-    t.column("nu_sliding_before").add(q.nu_s.empty() ? nan : q.nu_s[e.peak]);
-    t.column("open").add_int(e.open);
-    t.column("after_avalanche").add_int(s.theta[e.peak] > cut);
-  }
-  return events.size();
-}
-
 // The loading phase of the series (theta <= cut), for the ensemble and the envelope, with
 // the step of each kept point in `kept_steps`; returns the run's largest nu in it.
 double keep_loading_phase(Curve& cv, const std::vector<std::int64_t>& cv_step, double cut,
@@ -975,117 +640,8 @@ void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunReco
   if (all.saturates)
     judge_static_bound(p, runs, rd.all, rd.all_steps, w, all.windows_in_fit, tot.bound_frames,
                        tot.bound_above);
-  Table& ens_t = t.ensemble;
-  for (std::size_t b = 0; b < g.count; ++b) {
-    if (all.ens[b].n == 0) continue;
-    ens_t.column("theta").add(g.centre(b));
-    ens_t.column("theta_lo").add(g.lower(b));
-    ens_t.column("theta_hi").add(g.upper(b));
-    ens_t.column("runs").add_int(all.ens[b].n);
-    ens_t.column("nu").add(all.ens[b].mean);
-    ens_t.column("nu_se").add(all.ens[b].se);
-    ens_t.column("runs_static").add_int(still.ens[b].n);
-    ens_t.column("nu_static").add(still.ens[b].mean);
-    ens_t.column("nu_static_se").add(still.ens[b].se);
-    ens_t.column("runs_rest").add_int(rest.ens[b].n);
-    ens_t.column("nu_rest").add(rest.ens[b].mean);
-    ens_t.column("nu_rest_se").add(rest.ens[b].se);
-  }
-  Table& env_t = t.envelope;
-  for (std::size_t b = 0; b < w.count; ++b) {
-    if (all.env[b].n == 0) continue;
-    env_t.column("theta").add(all.env_at[b].mean.value_or(w.centre(b)));
-    env_t.column("theta_lo").add(w.lower(b));
-    env_t.column("theta_hi").add(w.upper(b));
-    env_t.column("runs").add_int(all.env[b].n);
-    env_t.column("envelope").add(all.env[b].mean);
-    env_t.column("envelope_se").add(all.env[b].se);
-    env_t.column("fit").add(all.fit[b]);
-    env_t.column("in_fit").add_int(all.in_fit[b]);
-    env_t.column("theta_static").add(still.env[b].n ? still.env_at[b].mean : std::nullopt);
-    env_t.column("runs_static").add_int(still.env[b].n);
-    env_t.column("envelope_static").add(still.env[b].mean);
-    env_t.column("envelope_static_se").add(still.env[b].se);
-    env_t.column("fit_static").add(still.fit[b]);
-    env_t.column("in_fit_static").add_int(still.in_fit[b]);
-    env_t.column("theta_rest").add(rest.env[b].n ? rest.env_at[b].mean : std::nullopt);
-    env_t.column("runs_rest").add_int(rest.env[b].n);
-    env_t.column("envelope_rest").add(rest.env[b].mean);
-    env_t.column("envelope_rest_se").add(rest.env[b].se);
-    env_t.column("fit_rest").add(rest.fit[b]);
-    env_t.column("in_fit_rest").add_int(rest.in_fit[b]);
-  }
-}
-
-// Per window of the loading phase: the distribution of the mobilisation of the counted
-// contacts, and the contacts that slip beside the critical ones (sliding is motion,
-// critical is force).
-void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOptions& opt) {
-  Table& mob_t = p.add_table("mobilisation",
-                             "P(|f_t|/(mu f_n)) of the counted contacts per tilt window, "
-                             "loading frames (all and static)");
-  Table& win_t = p.add_table("windows",
-                             "per tilt window, loading frames pooled over runs: critical and "
-                             "slipping contacts, all frames and static ones");
-  add_columns(mob_t, {{"theta_lo", "deg", ColumnKind::real},
-                      {"theta_hi", "deg", ColumnKind::real},
-                      {"m_lo", "", ColumnKind::real},
-                      {"m_hi", "", ColumnKind::real},
-                      {"contacts", "", ColumnKind::integer},
-                      {"pdf", "", ColumnKind::real},
-                      {"contacts_static", "", ColumnKind::integer},
-                      {"pdf_static", "", ColumnKind::real}});
-  add_columns(win_t, {{"theta_lo", "deg", ColumnKind::real},
-                      {"theta_hi", "deg", ColumnKind::real},
-                      {"frames", "", ColumnKind::integer},
-                      {"frames_static", "", ColumnKind::integer},
-                      {"nu", "", ColumnKind::real},
-                      {"nu_static", "", ColumnKind::real},
-                      {"nu_slipping", "", ColumnKind::real},
-                      {"nu_slipping_static", "", ColumnKind::real},
-                      {"critical_slipping_fraction", "", ColumnKind::real},
-                      {"critical_slipping_fraction_static", "", ColumnKind::real}});
-  const double width = 1.0 / static_cast<double>(mobilisation_bins);
-  for (std::size_t wi = 0; wi < tot.win_all.size(); ++wi) {
-    const WindowCounts& a = tot.win_all[wi];
-    const WindowCounts& st = tot.win_static[wi];
-    if (a.frames == 0) continue;
-    const double lo = static_cast<double>(wi) * opt.mobilisation_window,
-                 hi = lo + opt.mobilisation_window;
-    auto frac = [](std::int64_t x, std::int64_t n) {
-      return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan;
-    };
-    win_t.column("theta_lo").add(lo);
-    win_t.column("theta_hi").add(hi);
-    win_t.column("frames").add_int(a.frames);
-    win_t.column("frames_static").add_int(st.frames);
-    win_t.column("nu").add(frac(a.critical, a.contacts));
-    win_t.column("nu_static").add(frac(st.critical, st.contacts));
-    win_t.column("nu_slipping").add(frac(a.slipping, a.contacts));
-    win_t.column("nu_slipping_static").add(frac(st.slipping, st.contacts));
-    win_t.column("critical_slipping_fraction").add(frac(a.critical_slipping, a.critical));
-    win_t.column("critical_slipping_fraction_static").add(frac(st.critical_slipping, st.critical));
-    std::int64_t total = 0, total_static = 0;
-    for (std::size_t b = 0; b < mobilisation_bins; ++b) {
-      total += a.mobilisation[b];
-      total_static += st.mobilisation[b];
-    }
-    for (std::size_t b = 0; b < mobilisation_bins; ++b) {
-      mob_t.column("theta_lo").add(lo);
-      mob_t.column("theta_hi").add(hi);
-      mob_t.column("m_lo").add(static_cast<double>(b) * width);
-      mob_t.column("m_hi").add(static_cast<double>(b + 1) * width);
-      mob_t.column("contacts").add_int(a.mobilisation[b]);
-      mob_t.column("pdf").add(total > 0 ? static_cast<double>(a.mobilisation[b]) /
-                                              static_cast<double>(total) / width
-                                        : nan);
-      mob_t.column("contacts_static").add_int(st.mobilisation[b]);
-      mob_t.column("pdf_static")
-          .add(total_static > 0 ? static_cast<double>(st.mobilisation[b]) /
-                                      static_cast<double>(total_static) / width
-                                : nan);
-    }
-  }
+  write_ensemble_rows(t.ensemble, g, all, still, rest);
+  write_envelope_rows(t.envelope, w, all, still, rest);
 }
 
 }  // namespace
@@ -1135,7 +691,8 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
       }
 
     if (t.steps) write_step_rows(*t.steps, r, run, q, st_static);
-    classify_frames(t.frames, r, run, cut, opt, tot, rd.rest[ri]);
+    write_frame_rows(t.frames, r, run, cut, opt.rest);
+    tally_loading_frames(r, cut, opt, tot, rd.rest[ri]);
     std::vector<std::int64_t> cv_step;
     rd.all[ri] = nu_series(r, src, q, cv_step);
     rd.still[ri] = static_series(r, src, q, static_steps_known, st_static, cut, opt.rest);
@@ -1146,16 +703,7 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
         write_events(t.events, r, run, rd.all[ri], cv_step, q, cut, opt.events);
     const double nu_max = keep_loading_phase(rd.all[ri], cv_step, cut, rd.all_steps[ri]);
 
-    t.runs.column("run").add_int(run);
-    t.runs.column("name").add_text(r.name);
-    t.runs.column("grains").add_int(r.free_grains);
-    t.runs.column("diameter").add(r.diameter);
-    t.runs.column("steps").add_int(static_cast<std::int64_t>(s.step.size()));
-    t.runs.column("frames").add_int(static_cast<std::int64_t>(r.frames.size()));
-    t.runs.column("events").add_int(static_cast<std::int64_t>(events));
-    t.runs.column("theta_c").add(theta_c);
-    t.runs.column("theta_c_recorded").add(r.recorded_avalanche);
-    t.runs.column("nu_max").add(nu_max);
+    write_run_row(t.runs, r, run, events, theta_c, nu_max);
   }
 
   const std::optional<double> z_mean = write_loading_results(p, runs.size(), tot);

@@ -24,29 +24,11 @@ SweepSums& operator+=(SweepSums& a, const SweepSums& b) {
 }
 
 // The local solves of positions [first, last) of the schedule, forward or backward.
-SweepSums sweep_block(ContactSystem& s, const Schedule& plan, std::size_t first,
-                      std::size_t last, bool backward) {
-  SweepSums sums;
-  for (std::size_t q = first; q < last; ++q) {
-    ContactRow& r = s.rows[plan.positions[backward ? last - 1 - (q - first) : q]];
-    double b_n, b_t;
-    s.free_local_velocity(r, b_n, b_t);
-    const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
-    const double dn = l.rn - r.rn, dt = l.rt - r.rt;
-    r.rn = l.rn;
-    r.rt = l.rt;
-    r.status = l.status;
-    const double correction = std::max(std::abs(r.w_nn * dn), std::abs(r.w_tt * dt));
-    if (l.rn > 0.0) {
-      sums.scale_sum += r.w_nn * l.rn;
-      sums.square_sum += correction * correction;
-      ++sums.active;
-    }
-    if (dn == 0.0 && dt == 0.0) continue;
-    sums.largest = std::max(sums.largest, correction);
-    s.apply_impulse(r, dn, dt);
-  }
-  return sums;
+SweepSums sweep_block(ContactSystem& s, const Schedule& plan, std::size_t first, std::size_t last,
+                      bool backward) {
+  return sweep_rows(
+      s, [&](std::size_t q) -> ContactRow& { return s.rows[plan.positions[q]]; }, first, last,
+      backward);
 }
 
 }  // namespace

@@ -554,384 +554,480 @@ std::int64_t wall_id(double nx, double ny) {
 }  // namespace
 
 namespace {
+
 /// An atom id as LAMMPS writes it: an integer (tagint, at most 64 bits) held exactly by a
 /// double; beyond 9e15 the conversion to int64 would be undefined (2.3e25 found by the
 /// lammps harness, docs/fuzzing.md) or the id inexact.
 bool is_atom_id(double v) { return v == std::floor(v) && std::abs(v) <= 9.0e15; }
-}  // namespace
 
-Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt) {
-  Conversion out;
+// The stages of convert(), in its order: the snapshots of every dump sorted by step; per
+// step, the atoms, the frame's tilt, the contacts of the dump local snapshots, those of the
+// wall fixes' per-atom columns, the force check; last, the notes that say what the table
+// is (docs/analysis.md, "LAMMPS and LIGGGHTS").
+
+/// Every snapshot of the dumps, in the order of the files.
+std::vector<Snapshot> parse_dumps(const std::vector<TextFile>& dumps) {
+  std::vector<Snapshot> all;
+  for (const auto& d : dumps)
+    for (auto& s : parse_dump(d.text, d.name)) all.push_back(std::move(s));
+  return all;
+}
+
+/// The snapshots by step: one atoms snapshot a step, any number of contact snapshots.
+/// Points into the parsed snapshots, which outlive it.
+struct SnapshotsByStep {
   std::map<std::int64_t, const Snapshot*> atoms;
   std::map<std::int64_t, std::vector<const Snapshot*>> entries;
-  std::vector<Snapshot> all;
-  {
-    std::vector<std::vector<Snapshot>> parsed;
-    for (const auto& d : dumps) parsed.push_back(parse_dump(d.text, d.name));
-    for (auto& v : parsed)
-      for (auto& s : v) all.push_back(std::move(s));
-  }
+};
+
+SnapshotsByStep sort_by_step(const std::vector<Snapshot>& all, const std::vector<TextFile>& dumps) {
+  SnapshotsByStep by;
   for (const Snapshot& s : all) {
     if (s.kind == Snapshot::Kind::atoms) {
-      auto [it, fresh] = atoms.emplace(s.step, &s);
+      auto [it, fresh] = by.atoms.emplace(s.step, &s);
       if (!fresh)
         throw Error(at_line(s.file, s.first_line), "",
                     "a second atoms snapshot of step " + std::to_string(s.step) +
                         " (the first: " + at_line(it->second->file, it->second->first_line) + ")");
     } else {
-      entries[s.step].push_back(&s);
+      by.entries[s.step].push_back(&s);
     }
   }
-  if (atoms.empty())
+  if (by.atoms.empty())
     throw Error(dumps.empty() ? std::string("from-lammps") : dumps.front().name, "",
                 "no atoms snapshot (ITEM: ATOMS of a dump custom with id x y radius)");
+  return by;
+}
 
-  // Wall fixes: from the script (with `contacts`) and --wall.
+/// The wall fixes whose per-atom contact columns are read, with their axes: the script's
+/// fixes with `contacts`, and --wall.
+std::map<std::string, char> wall_fixes(const ConvertOptions& opt) {
   std::map<std::string, char> walls;
   for (const auto& [id, f] : opt.script.walls)
     if (f.contacts) walls[id] = f.axis;
   for (const auto& [id, axis] : opt.wall_axes) walls[id] = axis;
+  return walls;
+}
 
+/// The steps that become frames: those with contacts, or every atoms step when no dump
+/// has contacts (the walls' per-atom columns may then hold them all).
+std::set<std::int64_t> frame_steps(const SnapshotsByStep& by) {
   std::set<std::int64_t> steps;
-  for (const auto& [step, v] : entries) steps.insert(step);
-  if (entries.empty())
-    for (const auto& [step, s] : atoms) steps.insert(step);
+  for (const auto& [step, v] : by.entries) steps.insert(step);
+  if (by.entries.empty())
+    for (const auto& [step, s] : by.atoms) steps.insert(step);
+  return steps;
+}
 
-  const std::optional<double> dt = opt.dt ? opt.dt : opt.script.timestep;
-  out.has_theta = opt.rate.has_value() || !opt.theta_column.empty();
-  out.length_unit = length_unit_of(opt.script.units);
-  if (out.length_unit.empty() && opt.script.units.empty())
-    out.length_unit = length_unit_of(atoms.begin()->second->units);
+/// What every frame adds to and reads from: the options, the table so far, and what the
+/// notes will say of the tangential forces and the wall fixes.
+struct Converting {
+  const ConvertOptions& opt;
+  Conversion& out;
   bool any_vector_ft = false, any_magnitude_ft = false;
-  std::set<std::string> missing_walls;
+  std::set<std::string> missing_walls{};  ///< wall fixes without per-atom columns
+};
 
-  for (const std::int64_t step : steps) {
-    auto ait = atoms.find(step);
-    if (ait == atoms.end()) {
-      const Snapshot& e = *entries[step].front();
-      throw Error(at_line(e.file, e.first_line), "",
-                  "contacts of step " + std::to_string(step) +
-                      " but no atoms snapshot of that step (dump the atoms "
-                      "at the same steps as the contacts)");
-    }
-    const Snapshot& A = *ait->second;
-    const std::string awhere = at_line(A.file, A.first_line);
-    const AtomColumns ac = atom_columns(A, opt);
-    const std::size_t n = A.rows();
-    std::map<std::int64_t, std::size_t> index;
-    std::vector<Vec> pos(n);
-    std::vector<double> rad(n);
-    const double lx = A.box[1] - A.box[0], ly = A.box[3] - A.box[2];
-    for (std::size_t r = 0; r < n; ++r) {
-      const double idv = A.values[ac.id][r];
-      if (!is_atom_id(idv))
-        throw Error(at_line(A.file, A.line[r]), "",
-                    "atom id " + fmt(idv) + " is not an integer of at most 9e15");
-      if (!index.emplace(static_cast<std::int64_t>(idv), r).second)
-        throw Error(at_line(A.file, A.line[r]), "",
-                    "atom id " + fmt(idv) + " appears twice in step " + std::to_string(step));
-      double x = A.values[ac.x][r], y = A.values[ac.y][r], s = A.values[ac.size][r];
-      if (ac.coord == 2) {
-        x = A.box[0] + x * lx;
-        y = A.box[2] + y * ly;
-      }
-      if (!std::isfinite(x) || !std::isfinite(y) || !(s > 0))
-        throw Error(at_line(A.file, A.line[r]), "",
-                    "atom position or radius is not a finite, positive number");
-      pos[r] = {x, y};
-      rad[r] = ac.diameter ? 0.5 * s : s;
-    }
-    // Tilt of the frame.
-    std::optional<double> theta;
-    if (opt.rate) {
-      if (dt)
-        theta = *opt.rate * *dt * static_cast<double>(step);
-      else if (A.time)
-        theta = *opt.rate * *A.time;
-      else
-        throw UsageError(field("rate") + " needs " + field("dt") +
-                         " (theta = rate dt step): the script has no numeric timestep and the "
-                         "dump no TIME");
-    } else if (ac.theta) {
-      const auto& v = A.values[*ac.theta];
-      theta = v.empty() ? 0.0 : v[0];
-      for (std::size_t r = 0; r < n; ++r)
-        if (!(v[r] == *theta))
-          throw Error(at_line(A.file, A.line[r]), "",
-                      field("theta_column") + " " + opt.theta_column + " differs within step " +
-                          std::to_string(step));
-    }
-    const bool periodic_x = !A.boundary[0].empty() && A.boundary[0][0] == 'p';
-    const bool periodic_y = !A.boundary[1].empty() && A.boundary[1][0] == 'p';
-    auto branch = [&](Vec a, Vec b) {  // a - b, minimum image in periodic dimensions
-      Vec d{a.x - b.x, a.y - b.y};
-      if (periodic_x && lx > 0) d.x -= lx * std::round(d.x / lx);
-      if (periodic_y && ly > 0) d.y -= ly * std::round(d.y / ly);
-      return d;
-    };
-    auto atom = [&](double idv, const Snapshot& s, std::size_t r) -> std::size_t {
-      if (!is_atom_id(idv))
-        throw Error(at_line(s.file, s.line[r]), "",
-                    "atom id " + fmt(idv) + " is not an integer of at most 9e15");
-      auto it = index.find(static_cast<std::int64_t>(idv));
-      if (it == index.end())
-        throw Error(at_line(s.file, s.line[r]), "",
-                    "atom " + fmt(idv) + " is not in the atoms of step " + std::to_string(step) +
-                        " (" + awhere + ")");
-      return it->second;
-    };
+/// One frame being converted: its atoms (positions and radii by row, rows by id), its
+/// tilt, and its rows with the force each puts on its atoms (for the force check).
+struct DumpFrame {
+  std::int64_t step = 0;
+  const Snapshot& atoms;
+  std::string where;  ///< the atoms snapshot's file and line, for messages
+  AtomColumns columns{};
+  std::map<std::int64_t, std::size_t> index{};  ///< atom id -> row of the atoms snapshot
+  std::vector<Vec> pos{};
+  std::vector<double> rad{};
+  double lx = 0, ly = 0;
+  bool periodic_x = false, periodic_y = false;
+  std::optional<double> theta{};
+  std::vector<Row> rows{};
+  std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> seen{};  // pair -> index in rows
+  std::vector<Vec> force{};    ///< the table's forces on each atom, for the check
+  std::vector<bool> walled{};  ///< atoms touching a wall
+};
 
-    std::vector<Row> rows;
-    std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> seen;  // pair -> index in rows
-    std::vector<Vec> force(n);  // the table's forces on each atom, for the check
-    std::vector<bool> walled(n, false);
-    auto add_row = [&](Row row, std::size_t a, std::size_t b, bool pair, Vec nrm) {
-      const std::pair<std::int64_t, std::int64_t> key =
-          pair ? std::make_pair(std::min(row.i, row.j), std::max(row.i, row.j))
-               : std::make_pair(row.i, row.j);
-      if (auto it = seen.find(key); it != seen.end()) {
-        const Row& first = rows[it->second];
-        const std::string what = (pair ? "pair " : "wall contact ") + std::to_string(row.i) + "-" +
-                                 std::to_string(row.j) + " of step " + std::to_string(step);
-        if (opt.duplicates == Duplicates::error)
-          throw Error(row.where, "",
-                      what + " is also at " + first.where +
-                          " (newton off or several ranks list a pair twice: " +
-                          field("duplicates") + " merge)");
-        const double scale = std::max({std::abs(first.fn), std::abs(row.fn), 1e-300});
-        if (std::abs(first.fn - row.fn) > 1e-9 * scale ||
-            std::abs(std::abs(first.ft) - std::abs(row.ft)) > 1e-9 * scale)
-          throw Error(row.where, "",
-                      what + " is also at " + first.where + " with other forces: cannot merge");
-        ++out.merged;
-        return;
-      }
-      seen.emplace(key, rows.size());
-      const Vec t{-nrm.y, nrm.x};
-      const Vec f{row.fn * nrm.x + row.ft * t.x, row.fn * nrm.y + row.ft * t.y};
-      force[a].x += f.x;
-      force[a].y += f.y;
-      if (pair) {
-        force[b].x -= f.x;
-        force[b].y -= f.y;
-      } else {
-        walled[a] = true;
-      }
-      rows.push_back(std::move(row));
-    };
-
-    // Contacts of dump local snapshots (LAMMPS pairs; LIGGGHTS pairs and mesh walls).
-    bool pair_seen = false, wall_seen = false;
-    for (const Snapshot* sp :
-         entries.count(step) ? entries[step] : std::vector<const Snapshot*>{}) {
-      const Snapshot& E = *sp;
-      const std::string where = at_line(E.file, E.first_line);
-      const auto roles = entry_column_roles(E.columns, opt.script, opt.columns, where);
-      auto col = [&](const char* role) -> std::optional<std::size_t> {
-        for (std::size_t k = 0; k < roles.size(); ++k)
-          if (roles[k] == role) return k;
-        return std::nullopt;
-      };
-      const bool wall = col("wall").has_value();
-      if ((wall && wall_seen) || (!wall && pair_seen))
-        throw Error(where, "",
-                    std::string("a second ") + (wall ? "wall" : "pair") +
-                        " contacts snapshot of step " + std::to_string(step));
-      (wall ? wall_seen : pair_seen) = true;
-      auto explain = [&](const std::string& what) {
-        return "contacts of step " + std::to_string(step) + " have no " + what +
-               " (the header has: " + header_of(E) + "; name the computes with " + field("script") +
-               " or the columns with " + field("columns") + " NAME=ROLE)";
-      };
-      const auto c1 = col("id1"), c2 = col("id2");
-      if (!c1 || (!wall && !c2))
-        throw Error(where, "", explain(wall ? "particle id (id1)" : "atom ids (id1, id2)"));
-      const auto cfn = col("fn"), cfnx = col("fnx"), cfny = col("fny"), cftx = col("ftx"),
-                 cfty = col("fty"), cftm = col("ftmag"), cfx = col("fx"), cfy = col("fy"),
-                 cx1 = col("x1"), cy1 = col("y1"), cx2 = col("x2"), cy2 = col("y2"),
-                 cpx = col("px"), cpy = col("py");
-      const bool normal_vec = cfnx && cfny, tangent_vec = cftx && cfty, total = cfx && cfy;
-      if (!cfn && !normal_vec && !total)
-        throw Error(where, "", explain("normal force (fn, fnx fny, or the total force fx fy)"));
-      if (!tangent_vec && !total && !cftm)
-        throw Error(where, "",
-                    explain("tangential force (ftx fty, ftmag, or the total force fx fy)"));
-      if (wall && !(cpx && cpy))
-        throw Error(where, "", explain("contact point of the wall contacts (px py: pos)"));
-      const bool signed_ft = tangent_vec || total;
-      (signed_ft ? any_vector_ft : any_magnitude_ft) = true;
-      for (std::size_t r = 0; r < E.rows(); ++r) {
-        auto v = [&](std::optional<std::size_t> c) {
-          const double x = E.values[*c][r];
-          if (!std::isfinite(x))
-            throw Error(at_line(E.file, E.line[r]), "",
-                        "column " + E.columns[*c] + " is not a finite number");
-          return x;
-        };
-        const std::size_t a = atom(v(c1), E, r);
-        Row row;
-        row.frame = step;
-        row.theta = theta;
-        row.where = at_line(E.file, E.line[r]);
-        row.i = static_cast<std::int64_t>(v(c1));
-        const Vec p1 = cx1 && cy1 ? Vec{v(cx1), v(cy1)} : pos[a];
-        Vec nrm, point;
-        std::size_t b = a;
-        if (wall) {
-          const Vec pt{v(cpx), v(cpy)};
-          const Vec d = branch(p1, pt);
-          const double len = std::hypot(d.x, d.y);
-          if (!(len > 0))
-            throw Error(row.where, "", "the wall contact point is the particle's centre");
-          nrm = {d.x / len, d.y / len};
-          point = pt;
-          row.j = wall_id(nrm.x, nrm.y);
-          row.wall = true;
-        } else {
-          b = atom(v(c2), E, r);
-          row.j = static_cast<std::int64_t>(v(c2));
-          if (row.j == row.i)
-            throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
-          const Vec p2 = cx2 && cy2 ? Vec{v(cx2), v(cy2)} : pos[b];
-          const Vec d = branch(p1, p2);
-          const double dist = std::hypot(d.x, d.y);
-          if (!(dist > 0))
-            throw Error(row.where, "",
-                        "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) +
-                            " are at the same place");
-          nrm = {d.x / dist, d.y / dist};
-          // The middle of the overlap on the line of centres: x_j + n (r_j - h/2).
-          const double h = rad[a] + rad[b] - dist;
-          const double sj = rad[b] - 0.5 * h;
-          const Vec pj = {p1.x - d.x, p1.y - d.y};
-          point = {pj.x + nrm.x * sj, pj.y + nrm.y * sj};
-        }
-        const Vec t{-nrm.y, nrm.x};
-        row.x = point.x;
-        row.y = point.y;
-        if (cfn)
-          row.fn = v(cfn);
-        else if (normal_vec)
-          row.fn = v(cfnx) * nrm.x + v(cfny) * nrm.y;
-        else
-          row.fn = v(cfx) * nrm.x + v(cfy) * nrm.y;
-        if (tangent_vec)
-          row.ft = v(cftx) * t.x + v(cfty) * t.y;
-        else if (total)
-          row.ft = v(cfx) * t.x + v(cfy) * t.y;
-        else
-          row.ft = std::abs(v(cftm));
-        add_row(std::move(row), a, b, !wall, nrm);
-        ++(wall ? out.wall_rows : out.pair_rows);
-      }
+/// The atoms of a step: their columns, ids, positions (unscaled) and radii.
+DumpFrame read_frame_atoms(std::int64_t step, const Snapshot& A, const ConvertOptions& opt) {
+  DumpFrame f{.step = step, .atoms = A, .where = at_line(A.file, A.first_line)};
+  f.columns = atom_columns(A, opt);
+  const AtomColumns& ac = f.columns;
+  const std::size_t n = A.rows();
+  f.pos.resize(n);
+  f.rad.resize(n);
+  f.force.resize(n);
+  f.walled.assign(n, false);
+  f.lx = A.box[1] - A.box[0];
+  f.ly = A.box[3] - A.box[2];
+  for (std::size_t r = 0; r < n; ++r) {
+    const double idv = A.values[ac.id][r];
+    if (!is_atom_id(idv))
+      throw Error(at_line(A.file, A.line[r]), "",
+                  "atom id " + fmt(idv) + " is not an integer of at most 9e15");
+    if (!f.index.emplace(static_cast<std::int64_t>(idv), r).second)
+      throw Error(at_line(A.file, A.line[r]), "",
+                  "atom id " + fmt(idv) + " appears twice in step " + std::to_string(step));
+    double x = A.values[ac.x][r], y = A.values[ac.y][r], s = A.values[ac.size][r];
+    if (ac.coord == 2) {
+      x = A.box[0] + x * f.lx;
+      y = A.box[2] + y * f.ly;
     }
-
-    // Contacts with the walls of `fix wall/gran ... contacts` (per-atom columns).
-    for (const auto& [id, axis] : walls) {
-      const std::string c = "f_" + id + "[";
-      const auto flag = A.find(c + "1]"), wfx = A.find(c + "2]"), wfy = A.find(c + "3]"),
-                 wpx = A.find(c + "5]"), wpy = A.find(c + "6]");
-      if (!flag || !wfx || !wfy) {
-        if (opt.wall_axes.count(id))
-          throw Error(awhere, "",
-                      field("wall") + " " + id + ": the atoms of step " + std::to_string(step) +
-                          " have no " + c + "1] " + c + "2] " + c +
-                          "3] (dump them: the contact flag and the force)");
-        missing_walls.insert(id);
-        continue;
-      }
-      const bool have_point = wpx && wpy;
-      if (!have_point && axis != 'x' && axis != 'y')
-        throw Error(awhere, "",
-                    "wall " + id + " is not a plane along x or y: dump its contact point, " + c +
-                        "5] " + c + "6]");
-      const double mid = axis == 'x' ? 0.5 * (A.box[0] + A.box[1]) : 0.5 * (A.box[2] + A.box[3]);
-      for (std::size_t r = 0; r < n; ++r) {
-        if (!(A.values[*flag][r] > 0.5)) continue;
-        const Vec f{A.values[*wfx][r], A.values[*wfy][r]};
-        Row row;
-        row.frame = step;
-        row.theta = theta;
-        row.where = at_line(A.file, A.line[r]);
-        row.i = static_cast<std::int64_t>(A.values[ac.id][r]);
-        row.wall = true;
-        Vec nrm, point;
-        if (have_point) {
-          point = {A.values[*wpx][r], A.values[*wpy][r]};
-          const Vec d = branch(pos[r], point);
-          const double len = std::hypot(d.x, d.y);
-          if (!(len > 0))
-            throw Error(row.where, "", "the wall contact point is the particle's centre");
-          nrm = {d.x / len, d.y / len};
-        } else {
-          // A plane normal to `axis`: the wall pushes the grain away from it, so the sign
-          // of that force component tells the side (else the grain's side of the box).
-          const double fa = axis == 'x' ? f.x : f.y, c0 = axis == 'x' ? pos[r].x : pos[r].y;
-          const double sgn = fa != 0 ? (fa > 0 ? 1.0 : -1.0) : (c0 < mid ? 1.0 : -1.0);
-          nrm = axis == 'x' ? Vec{sgn, 0} : Vec{0, sgn};
-          point = {pos[r].x - rad[r] * nrm.x, pos[r].y - rad[r] * nrm.y};
-        }
-        const Vec t{-nrm.y, nrm.x};
-        row.j = wall_id(nrm.x, nrm.y);
-        row.x = point.x;
-        row.y = point.y;
-        row.fn = f.x * nrm.x + f.y * nrm.y;
-        row.ft = f.x * t.x + f.y * t.y;
-        any_vector_ft = true;
-        add_row(std::move(row), r, r, false, nrm);
-        ++out.wall_rows;
-      }
-    }
-
-    if (opt.check) {
-      if (!ac.mass || !ac.fx || !ac.fy)
-        throw Error(awhere, "",
-                    field("check") +
-                        " needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
-      if (any_magnitude_ft)
-        throw Error(
-            awhere, "",
-            field("check") + " needs signed tangential forces; the contacts give only |f_t|");
-      FrameCheck fc;
-      fc.step = step;
-      const double th = theta.value_or(0.0) * M_PI / 180.0;
-      for (std::size_t r = 0; r < n; ++r) {
-        const double m = A.values[*ac.mass][r];
-        const double mg = m * opt.gravity;
-        const Vec total{force[r].x + mg * std::sin(th), force[r].y - mg * std::cos(th)};
-        const double diff =
-            std::hypot(total.x - A.values[*ac.fx][r], total.y - A.values[*ac.fy][r]) / std::abs(mg);
-        if (!std::isfinite(diff))
-          throw Error(at_line(A.file, A.line[r]), "",
-                      "mass, fx or fy is not a finite number (or the mass is 0)");
-        ++fc.grains;
-        if (diff > fc.worst_all) {
-          fc.worst_all = diff;
-          fc.worst_id = static_cast<std::int64_t>(A.values[ac.id][r]);
-        }
-        if (!walled[r]) {
-          ++fc.grains_free;
-          fc.worst_free = std::max(fc.worst_free, diff);
-        }
-      }
-      out.checks.push_back(fc);
-      if (fc.worst_all > opt.check_tolerance)
-        throw Error(
-            awhere, "",
-            "step " + std::to_string(step) + ": atom " + std::to_string(fc.worst_id) +
-                ": the table's contact forces plus m g differ from the dump's fx, fy by " +
-                fmt(fc.worst_all) + " m g (tolerance " + fmt(opt.check_tolerance) +
-                "; a contact or a wall missing from the dumps, another force, or the wrong tilt?)");
-    }
-    for (auto& r : rows) out.rows.push_back(std::move(r));
-    ++out.frames;
+    if (!std::isfinite(x) || !std::isfinite(y) || !(s > 0))
+      throw Error(at_line(A.file, A.line[r]), "",
+                  "atom position or radius is not a finite, positive number");
+    f.pos[r] = {x, y};
+    f.rad[r] = ac.diameter ? 0.5 * s : s;
   }
-  out.ft_signed = !any_magnitude_ft;
-  if (any_magnitude_ft && any_vector_ft)
-    throw Error(dumps.front().name, "",
-                "some contacts give a signed ft and others only |f_t|: map the tangential "
-                "force vector (ftx fty) for every dump");
+  f.periodic_x = !A.boundary[0].empty() && A.boundary[0][0] == 'p';
+  f.periodic_y = !A.boundary[1].empty() && A.boundary[1][0] == 'p';
+  return f;
+}
 
+/// The tilt of a frame [deg]: rate x dt x step (or rate x the dump's TIME), or the atoms'
+/// theta column, the same for every atom; none without either.
+std::optional<double> frame_theta(const DumpFrame& f, const ConvertOptions& opt,
+                                  std::optional<double> dt) {
+  const Snapshot& A = f.atoms;
+  if (opt.rate) {
+    if (dt) return *opt.rate * *dt * static_cast<double>(f.step);
+    if (A.time) return *opt.rate * *A.time;
+    throw UsageError(field("rate") + " needs " + field("dt") +
+                     " (theta = rate dt step): the script has no numeric timestep and the "
+                     "dump no TIME");
+  }
+  if (!f.columns.theta) return std::nullopt;
+  const auto& v = A.values[*f.columns.theta];
+  const double theta = v.empty() ? 0.0 : v[0];
+  for (std::size_t r = 0; r < A.rows(); ++r)
+    if (!(v[r] == theta))
+      throw Error(at_line(A.file, A.line[r]), "",
+                  field("theta_column") + " " + opt.theta_column + " differs within step " +
+                      std::to_string(f.step));
+  return theta;
+}
+
+/// a - b, the minimum image in the box's periodic dimensions.
+Vec branch(const DumpFrame& f, Vec a, Vec b) {
+  Vec d{a.x - b.x, a.y - b.y};
+  if (f.periodic_x && f.lx > 0) d.x -= f.lx * std::round(d.x / f.lx);
+  if (f.periodic_y && f.ly > 0) d.y -= f.ly * std::round(d.y / f.ly);
+  return d;
+}
+
+/// The row in the frame's atoms of the atom id `idv`, read at row r of snapshot s.
+std::size_t atom_row(const DumpFrame& f, double idv, const Snapshot& s, std::size_t r) {
+  if (!is_atom_id(idv))
+    throw Error(at_line(s.file, s.line[r]), "",
+                "atom id " + fmt(idv) + " is not an integer of at most 9e15");
+  auto it = f.index.find(static_cast<std::int64_t>(idv));
+  if (it == f.index.end())
+    throw Error(at_line(s.file, s.line[r]), "",
+                "atom " + fmt(idv) + " is not in the atoms of step " + std::to_string(f.step) +
+                    " (" + f.where + ")");
+  return it->second;
+}
+
+/// Adds a row between atoms a and b (b = a for a wall) with unit normal nrm from j to i.
+/// A row listed twice (newton off, several ranks) is an error, or with --duplicates merge
+/// is kept once if its forces agree.
+void add_row(DumpFrame& f, Converting& c, Row row, std::size_t a, std::size_t b, bool pair,
+             Vec nrm) {
+  const std::pair<std::int64_t, std::int64_t> key =
+      pair ? std::make_pair(std::min(row.i, row.j), std::max(row.i, row.j))
+           : std::make_pair(row.i, row.j);
+  if (auto it = f.seen.find(key); it != f.seen.end()) {
+    const Row& first = f.rows[it->second];
+    const std::string what = (pair ? "pair " : "wall contact ") + std::to_string(row.i) + "-" +
+                             std::to_string(row.j) + " of step " + std::to_string(f.step);
+    if (c.opt.duplicates == Duplicates::error)
+      throw Error(row.where, "",
+                  what + " is also at " + first.where +
+                      " (newton off or several ranks list a pair twice: " + field("duplicates") +
+                      " merge)");
+    const double scale = std::max({std::abs(first.fn), std::abs(row.fn), 1e-300});
+    if (std::abs(first.fn - row.fn) > 1e-9 * scale ||
+        std::abs(std::abs(first.ft) - std::abs(row.ft)) > 1e-9 * scale)
+      throw Error(row.where, "",
+                  what + " is also at " + first.where + " with other forces: cannot merge");
+    ++c.out.merged;
+    return;
+  }
+  f.seen.emplace(key, f.rows.size());
+  const Vec t{-nrm.y, nrm.x};
+  const Vec force{row.fn * nrm.x + row.ft * t.x, row.fn * nrm.y + row.ft * t.y};
+  f.force[a].x += force.x;
+  f.force[a].y += force.y;
+  if (pair) {
+    f.force[b].x -= force.x;
+    f.force[b].y -= force.y;
+  } else {
+    f.walled[a] = true;
+  }
+  f.rows.push_back(std::move(row));
+}
+
+/// The columns of a dump local snapshot by role (entry_column_roles, from the script or
+/// --columns): the ids, the normal force (fn, its vector, or the total force), the
+/// tangential force (its vector, the total force, or only its magnitude), the positions,
+/// and a wall contact's point.
+struct LocalColumns {
+  bool wall = false;
+  std::optional<std::size_t> id1, id2, fn, fnx, fny, ftx, fty, ftmag, fx, fy, x1, y1, x2, y2, px,
+      py;
+  bool normal_vec() const { return fnx && fny; }
+  bool tangent_vec() const { return ftx && fty; }
+  bool total() const { return fx && fy; }
+};
+
+LocalColumns local_columns(const Snapshot& E, const ConvertOptions& opt, const std::string& where) {
+  const auto roles = entry_column_roles(E.columns, opt.script, opt.columns, where);
+  auto col = [&](const char* role) -> std::optional<std::size_t> {
+    for (std::size_t k = 0; k < roles.size(); ++k)
+      if (roles[k] == role) return k;
+    return std::nullopt;
+  };
+  LocalColumns k;
+  k.wall = col("wall").has_value();
+  k.id1 = col("id1");
+  k.id2 = col("id2");
+  k.fn = col("fn");
+  k.fnx = col("fnx");
+  k.fny = col("fny");
+  k.ftx = col("ftx");
+  k.fty = col("fty");
+  k.ftmag = col("ftmag");
+  k.fx = col("fx");
+  k.fy = col("fy");
+  k.x1 = col("x1");
+  k.y1 = col("y1");
+  k.x2 = col("x2");
+  k.y2 = col("y2");
+  k.px = col("px");
+  k.py = col("py");
+  return k;
+}
+
+/// Refuses a snapshot whose contacts lack a column they need, naming what it could be.
+void require_local_columns(const LocalColumns& k, const Snapshot& E, std::int64_t step,
+                           const std::string& where) {
+  auto explain = [&](const std::string& what) {
+    return "contacts of step " + std::to_string(step) + " have no " + what +
+           " (the header has: " + header_of(E) + "; name the computes with " + field("script") +
+           " or the columns with " + field("columns") + " NAME=ROLE)";
+  };
+  if (!k.id1 || (!k.wall && !k.id2))
+    throw Error(where, "", explain(k.wall ? "particle id (id1)" : "atom ids (id1, id2)"));
+  if (!k.fn && !k.normal_vec() && !k.total())
+    throw Error(where, "", explain("normal force (fn, fnx fny, or the total force fx fy)"));
+  if (!k.tangent_vec() && !k.total() && !k.ftmag)
+    throw Error(where, "", explain("tangential force (ftx fty, ftmag, or the total force fx fy)"));
+  if (k.wall && !(k.px && k.py))
+    throw Error(where, "", explain("contact point of the wall contacts (px py: pos)"));
+}
+
+/// One contact of a dump local snapshot: its row, its atoms' rows a and b (b = a for a
+/// wall) and its unit normal from j to i.
+struct LocalContact {
+  Row row;
+  std::size_t a, b;
+  Vec nrm;
+};
+
+/// Row r of a dump local snapshot as a contact: the normal along the branch vector (to the
+/// wall's contact point, or between the centres), the contact point, and the forces
+/// projected on (n, t).
+LocalContact local_contact(const DumpFrame& f, const Snapshot& E, const LocalColumns& k,
+                           std::size_t r) {
+  auto v = [&](std::optional<std::size_t> c) {
+    const double x = E.values[*c][r];
+    if (!std::isfinite(x))
+      throw Error(at_line(E.file, E.line[r]), "",
+                  "column " + E.columns[*c] + " is not a finite number");
+    return x;
+  };
+  const std::size_t a = atom_row(f, v(k.id1), E, r);
+  Row row;
+  row.frame = f.step;
+  row.theta = f.theta;
+  row.where = at_line(E.file, E.line[r]);
+  row.i = static_cast<std::int64_t>(v(k.id1));
+  const Vec p1 = k.x1 && k.y1 ? Vec{v(k.x1), v(k.y1)} : f.pos[a];
+  Vec nrm, point;
+  std::size_t b = a;
+  if (k.wall) {
+    const Vec pt{v(k.px), v(k.py)};
+    const Vec d = branch(f, p1, pt);
+    const double len = std::hypot(d.x, d.y);
+    if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
+    nrm = {d.x / len, d.y / len};
+    point = pt;
+    row.j = wall_id(nrm.x, nrm.y);
+    row.wall = true;
+  } else {
+    b = atom_row(f, v(k.id2), E, r);
+    row.j = static_cast<std::int64_t>(v(k.id2));
+    if (row.j == row.i)
+      throw Error(row.where, "", "a pair of atom " + std::to_string(row.i) + " with itself");
+    const Vec p2 = k.x2 && k.y2 ? Vec{v(k.x2), v(k.y2)} : f.pos[b];
+    const Vec d = branch(f, p1, p2);
+    const double dist = std::hypot(d.x, d.y);
+    if (!(dist > 0))
+      throw Error(row.where, "",
+                  "atoms " + std::to_string(row.i) + " and " + std::to_string(row.j) +
+                      " are at the same place");
+    nrm = {d.x / dist, d.y / dist};
+    // The middle of the overlap on the line of centres: x_j + n (r_j - h/2).
+    const double h = f.rad[a] + f.rad[b] - dist;
+    const double sj = f.rad[b] - 0.5 * h;
+    const Vec pj = {p1.x - d.x, p1.y - d.y};
+    point = {pj.x + nrm.x * sj, pj.y + nrm.y * sj};
+  }
+  const Vec t{-nrm.y, nrm.x};
+  row.x = point.x;
+  row.y = point.y;
+  if (k.fn)
+    row.fn = v(k.fn);
+  else if (k.normal_vec())
+    row.fn = v(k.fnx) * nrm.x + v(k.fny) * nrm.y;
+  else
+    row.fn = v(k.fx) * nrm.x + v(k.fy) * nrm.y;
+  if (k.tangent_vec())
+    row.ft = v(k.ftx) * t.x + v(k.fty) * t.y;
+  else if (k.total())
+    row.ft = v(k.fx) * t.x + v(k.fy) * t.y;
+  else
+    row.ft = std::abs(v(k.ftmag));
+  return {std::move(row), a, b, nrm};
+}
+
+/// The contacts of one dump local snapshot (LAMMPS pairs; LIGGGHTS pairs and mesh walls).
+/// `pair_seen` and `wall_seen` refuse a second snapshot of either kind in one step.
+void add_local_contacts(DumpFrame& f, Converting& c, const Snapshot& E, bool& pair_seen,
+                        bool& wall_seen) {
+  const std::string where = at_line(E.file, E.first_line);
+  const LocalColumns k = local_columns(E, c.opt, where);
+  if ((k.wall && wall_seen) || (!k.wall && pair_seen))
+    throw Error(where, "",
+                std::string("a second ") + (k.wall ? "wall" : "pair") +
+                    " contacts snapshot of step " + std::to_string(f.step));
+  (k.wall ? wall_seen : pair_seen) = true;
+  require_local_columns(k, E, f.step, where);
+  const bool signed_ft = k.tangent_vec() || k.total();
+  (signed_ft ? c.any_vector_ft : c.any_magnitude_ft) = true;
+  for (std::size_t r = 0; r < E.rows(); ++r) {
+    LocalContact lc = local_contact(f, E, k, r);
+    add_row(f, c, std::move(lc.row), lc.a, lc.b, !k.wall, lc.nrm);
+    ++(k.wall ? c.out.wall_rows : c.out.pair_rows);
+  }
+}
+
+/// The contacts of a wall fix (`fix wall/gran ... contacts`), from its per-atom columns in
+/// the atoms snapshot: f_ID[1] the flag, [2..3] the force on the atom, [5..6] the contact
+/// point. A fix whose columns are not dumped is an error if --wall names it, else a note.
+void add_wall_fix_contacts(DumpFrame& f, Converting& c, const std::string& id, char axis) {
+  const Snapshot& A = f.atoms;
+  const std::string col = "f_" + id + "[";
+  const auto flag = A.find(col + "1]"), wfx = A.find(col + "2]"), wfy = A.find(col + "3]"),
+             wpx = A.find(col + "5]"), wpy = A.find(col + "6]");
+  if (!flag || !wfx || !wfy) {
+    if (c.opt.wall_axes.count(id))
+      throw Error(f.where, "",
+                  field("wall") + " " + id + ": the atoms of step " + std::to_string(f.step) +
+                      " have no " + col + "1] " + col + "2] " + col +
+                      "3] (dump them: the contact flag and the force)");
+    c.missing_walls.insert(id);
+    return;
+  }
+  const bool have_point = wpx && wpy;
+  if (!have_point && axis != 'x' && axis != 'y')
+    throw Error(f.where, "",
+                "wall " + id + " is not a plane along x or y: dump its contact point, " + col +
+                    "5] " + col + "6]");
+  const double mid = axis == 'x' ? 0.5 * (A.box[0] + A.box[1]) : 0.5 * (A.box[2] + A.box[3]);
+  for (std::size_t r = 0; r < A.rows(); ++r) {
+    if (!(A.values[*flag][r] > 0.5)) continue;
+    const Vec force{A.values[*wfx][r], A.values[*wfy][r]};
+    Row row;
+    row.frame = f.step;
+    row.theta = f.theta;
+    row.where = at_line(A.file, A.line[r]);
+    row.i = static_cast<std::int64_t>(A.values[f.columns.id][r]);
+    row.wall = true;
+    Vec nrm, point;
+    if (have_point) {
+      point = {A.values[*wpx][r], A.values[*wpy][r]};
+      const Vec d = branch(f, f.pos[r], point);
+      const double len = std::hypot(d.x, d.y);
+      if (!(len > 0)) throw Error(row.where, "", "the wall contact point is the particle's centre");
+      nrm = {d.x / len, d.y / len};
+    } else {
+      // A plane normal to `axis`: the wall pushes the grain away from it, so the sign
+      // of that force component tells the side (else the grain's side of the box).
+      const double fa = axis == 'x' ? force.x : force.y, c0 = axis == 'x' ? f.pos[r].x : f.pos[r].y;
+      const double sgn = fa != 0 ? (fa > 0 ? 1.0 : -1.0) : (c0 < mid ? 1.0 : -1.0);
+      nrm = axis == 'x' ? Vec{sgn, 0} : Vec{0, sgn};
+      point = {f.pos[r].x - f.rad[r] * nrm.x, f.pos[r].y - f.rad[r] * nrm.y};
+    }
+    const Vec t{-nrm.y, nrm.x};
+    row.j = wall_id(nrm.x, nrm.y);
+    row.x = point.x;
+    row.y = point.y;
+    row.fn = force.x * nrm.x + force.y * nrm.y;
+    row.ft = force.x * t.x + force.y * t.y;
+    c.any_vector_ft = true;
+    add_row(f, c, std::move(row), r, r, false, nrm);
+    ++c.out.wall_rows;
+  }
+}
+
+/// --check: each atom's table forces plus its weight m g, tilted by the frame's theta,
+/// against the dump's fx, fy; fails beyond the tolerance, which a contact or a wall
+/// missing from the dumps, another force or the wrong tilt would exceed.
+FrameCheck check_frame_forces(const DumpFrame& f, const Converting& c) {
+  const ConvertOptions& opt = c.opt;
+  const Snapshot& A = f.atoms;
+  const AtomColumns& ac = f.columns;
+  if (!ac.mass || !ac.fx || !ac.fy)
+    throw Error(f.where, "",
+                field("check") +
+                    " needs the atoms' mass, fx and fy (the header has: " + header_of(A) + ")");
+  if (c.any_magnitude_ft)
+    throw Error(f.where, "",
+                field("check") + " needs signed tangential forces; the contacts give only |f_t|");
+  FrameCheck fc;
+  fc.step = f.step;
+  const double th = f.theta.value_or(0.0) * M_PI / 180.0;
+  for (std::size_t r = 0; r < A.rows(); ++r) {
+    const double m = A.values[*ac.mass][r];
+    const double mg = m * opt.gravity;
+    const Vec total{f.force[r].x + mg * std::sin(th), f.force[r].y - mg * std::cos(th)};
+    const double diff =
+        std::hypot(total.x - A.values[*ac.fx][r], total.y - A.values[*ac.fy][r]) / std::abs(mg);
+    if (!std::isfinite(diff))
+      throw Error(at_line(A.file, A.line[r]), "",
+                  "mass, fx or fy is not a finite number (or the mass is 0)");
+    ++fc.grains;
+    if (diff > fc.worst_all) {
+      fc.worst_all = diff;
+      fc.worst_id = static_cast<std::int64_t>(A.values[ac.id][r]);
+    }
+    if (!f.walled[r]) {
+      ++fc.grains_free;
+      fc.worst_free = std::max(fc.worst_free, diff);
+    }
+  }
+  if (fc.worst_all > opt.check_tolerance)
+    throw Error(f.where, "",
+                "step " + std::to_string(f.step) + ": atom " + std::to_string(fc.worst_id) +
+                    ": the table's contact forces plus m g differ from the dump's fx, fy by " +
+                    fmt(fc.worst_all) + " m g (tolerance " + fmt(opt.check_tolerance) +
+                    "; a contact or a wall missing from the dumps, another force, or the wrong "
+                    "tilt?)");
+  return fc;
+}
+
+/// The table's notes: what its columns mean, where theta comes from, what is missing.
+void add_notes(Conversion& out, const Converting& c) {
   out.notes.push_back(
       "contacts of a LAMMPS or LIGGGHTS run: frame = the LAMMPS step, i and j the atom ids; j < 0 "
       "is a wall: -1 floor, -2 left, -3 right, -4 top, -5 another wall (wall = 1)");
@@ -943,15 +1039,57 @@ Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt
                           : "fn = F.n with F the contact force on i; ft = |f_t| (the dumps give no "
                             "tangential force vector)");
   if (out.has_theta)
-    out.notes.push_back(opt.rate ? "theta = rate x dt x step (deg)"
-                                 : "theta from the atoms column " + opt.theta_column);
-  for (const auto& id : missing_walls)
+    out.notes.push_back(c.opt.rate ? "theta = rate x dt x step (deg)"
+                                   : "theta from the atoms column " + c.opt.theta_column);
+  for (const auto& id : c.missing_walls)
     out.notes.push_back(
         "wall fix " + id +
         ": its per-atom columns are not in the atoms dump; its contacts are missing");
   if (out.merged > 0)
     out.notes.push_back(std::to_string(out.merged) + " repeated rows merged (" +
                         field("duplicates") + " merge)");
+}
+
+}  // namespace
+
+Conversion convert(const std::vector<TextFile>& dumps, const ConvertOptions& opt) {
+  Conversion out;
+  const std::vector<Snapshot> all = parse_dumps(dumps);
+  const SnapshotsByStep by = sort_by_step(all, dumps);
+  const std::map<std::string, char> walls = wall_fixes(opt);
+  const std::optional<double> dt = opt.dt ? opt.dt : opt.script.timestep;
+  out.has_theta = opt.rate.has_value() || !opt.theta_column.empty();
+  out.length_unit = length_unit_of(opt.script.units);
+  if (out.length_unit.empty() && opt.script.units.empty())
+    out.length_unit = length_unit_of(by.atoms.begin()->second->units);
+  Converting c{.opt = opt, .out = out};
+
+  for (const std::int64_t step : frame_steps(by)) {
+    const auto atoms = by.atoms.find(step);
+    const auto entries = by.entries.find(step);
+    if (atoms == by.atoms.end()) {
+      const Snapshot& e = *entries->second.front();
+      throw Error(at_line(e.file, e.first_line), "",
+                  "contacts of step " + std::to_string(step) +
+                      " but no atoms snapshot of that step (dump the atoms "
+                      "at the same steps as the contacts)");
+    }
+    DumpFrame f = read_frame_atoms(step, *atoms->second, opt);
+    f.theta = frame_theta(f, opt, dt);
+    bool pair_seen = false, wall_seen = false;
+    if (entries != by.entries.end())
+      for (const Snapshot* E : entries->second) add_local_contacts(f, c, *E, pair_seen, wall_seen);
+    for (const auto& [id, axis] : walls) add_wall_fix_contacts(f, c, id, axis);
+    if (opt.check) out.checks.push_back(check_frame_forces(f, c));
+    for (auto& r : f.rows) out.rows.push_back(std::move(r));
+    ++out.frames;
+  }
+  out.ft_signed = !c.any_magnitude_ft;
+  if (c.any_magnitude_ft && c.any_vector_ft)
+    throw Error(dumps.front().name, "",
+                "some contacts give a signed ft and others only |f_t|: map the tangential "
+                "force vector (ftx fty) for every dump");
+  add_notes(out, c);
   return out;
 }
 

@@ -2,7 +2,7 @@
 /// by the engine's non-smooth Gauss-Seidel with the same exact local solver
 /// (local_solver.hpp). Used to compare the solver with Siconos on its own test data
 /// (numerics/src/FrictionContact/test/data/fc2d_granularflowonwall_*.dat in the Siconos
-/// repository).
+/// repository), which io/siconos.hpp reads and writes.
 ///
 /// The problem: find impulses r and local velocities u = W r + q such that, for each
 /// contact a (components 2a normal, 2a+1 tangent), Signorini and Coulomb hold with mu_a.
@@ -11,7 +11,6 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include <ostream>
 #include <string>
 
 namespace cdpile::cd {
@@ -22,22 +21,6 @@ struct DelassusProblem {
   Eigen::VectorXd mu;                              ///< m friction coefficients
   Eigen::Index contacts() const { return mu.size(); }
 };
-
-/// Reads a problem in the text format of Siconos' `frictionContact_printInFile` (2D):
-/// dimension, number of contacts, the matrix (storage code 2 = sparse, a CSparse
-/// `cs_print` listing in compressed columns), q, mu. Throws cdpile::Error naming the
-/// file and the line on any malformed or inconsistent content: a truncated file, counts
-/// that disagree (matrix size against 2m, entries against the listed locations and nnz,
-/// 3m values for q and mu), a column out of sequence, a duplicate entry, a token that is
-/// not a finite number, a negative mu, or anything after mu.
-DelassusProblem read_siconos_fc2d(const std::string& path);
-
-/// Writes `p` in the format read_siconos_fc2d reads, which is Siconos' own (its reader
-/// `frictionContact_new_from_filename` takes it): storage code 2, W as a CSparse
-/// `cs_print` listing in compressed columns, then q and mu on one line each. Values are
-/// written with 17 significant digits, so a problem read back is the same bit for bit.
-/// Throws cdpile::Error if the stream fails.
-void write_siconos_fc2d(std::ostream& out, const DelassusProblem& p);
 
 /// Siconos' natural-map residual (its fc2d_compute_error; docs/method.md, "Delassus
 /// problems from other codes"):
@@ -59,8 +42,10 @@ struct NsgsReport {
 };
 
 /// Non-smooth Gauss-Seidel on a Delassus problem, from the initial guess in `r` (resized
-/// to 2m and zeroed if it has the wrong size). Contacts in file order; the residual is
-/// evaluated after every sweep. The velocities u = W r + q are kept current through the
+/// to 2m and zeroed if it has the wrong size): the engine's own pass (nsgs.hpp,
+/// sweep_rows) with the full 2x2 local solve, stopped by Siconos' measure instead of a
+/// Criterion of solver.hpp (those measure a ContactSystem's bodies, which a Delassus
+/// problem has not). Contacts in file order; the residual is evaluated after every sweep. The velocities u = W r + q are kept current through the
 /// sweep (each impulse change added through its 2x2 column blocks of W), so a sweep and
 /// its residual cost one pass over W; convergence, and the reported residual, are taken
 /// on u recomputed as W r + q.

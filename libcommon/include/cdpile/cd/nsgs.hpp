@@ -4,9 +4,12 @@
 /// contact's local velocity is read from its two bodies in O(1)).
 #pragma once
 
+#include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/schedule.hpp"
 #include "cdpile/cd/solver.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -20,6 +23,46 @@ struct SweepSums {
   double scale_sum = 0.0;   ///< sum over active contacts of W_nn R_n
   int active = 0;           ///< contacts with R_n > 0 after the sweep
 };
+
+/// The local solve of an engine row: the block of two disks, or of a disk and a wall, is
+/// diagonal (docs/method.md, "The local solver").
+inline LocalImpulse local_solve(const ContactRow& r, double b_n, double b_t) {
+  return local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
+}
+
+/// The Gauss-Seidel pass every NSGS in cdpile makes (the solvers behind solver.hpp over a
+/// ContactSystem, and solve_nsgs over a Delassus problem, delassus.hpp): over positions
+/// [first, last), forward or backward, contact after contact, the exact local solve with
+/// the others frozen (local_solver.hpp), its impulse replaced, and the change pushed to
+/// the velocities it moves. `system` gives free_local_velocity(row, b_n, b_t) (the local
+/// velocity with the row's own impulse removed) and apply_impulse(row, dn, dt);
+/// `row_at(q)` is the row at position q, with w_nn, w_tt, mu, rn, rt and status, and a
+/// local_solve(row, b_n, b_t) of its own.
+template <class System, class RowAt>
+SweepSums sweep_rows(System& system, RowAt row_at, std::size_t first, std::size_t last,
+                     bool backward) {
+  SweepSums sums;
+  for (std::size_t q = first; q < last; ++q) {
+    auto& r = row_at(backward ? last - 1 - (q - first) : q);
+    double b_n, b_t;
+    system.free_local_velocity(r, b_n, b_t);
+    const LocalImpulse l = local_solve(r, b_n, b_t);
+    const double dn = l.rn - r.rn, dt = l.rt - r.rt;
+    r.rn = l.rn;
+    r.rt = l.rt;
+    r.status = l.status;
+    const double correction = std::max(std::abs(r.w_nn * dn), std::abs(r.w_tt * dt));
+    if (l.rn > 0.0) {
+      sums.scale_sum += r.w_nn * l.rn;
+      sums.square_sum += correction * correction;
+      ++sums.active;
+    }
+    if (dn == 0.0 && dt == 0.0) continue;
+    sums.largest = std::max(sums.largest, correction);
+    system.apply_impulse(r, dn, dt);
+  }
+  return sums;
+}
 
 /// One sweep over the rows in the order of `plan` (schedule.hpp), forward or backward
 /// (the last colour first, each in reverse), a coloured plan's colours shared among the

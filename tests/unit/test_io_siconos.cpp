@@ -1,8 +1,10 @@
-// The Delassus-form solver (cd/delassus.hpp): the reader of Siconos' fc2d text format,
-// its errors on malformed files, and NSGS with the engine's local solver on a problem
-// solved by hand and on Siconos' three granular test problems (docs/method.md,
-// "Validation"), which must reach the natural-map residual 1e-5 that Siconos' own tests
-// ask for.
+// Siconos' fc2d text format (io/siconos.hpp) and the Delassus-form solver it feeds
+// (cd/delassus.hpp): the reader, its errors on malformed files, and NSGS with the engine's
+// local solver on a problem solved by hand and on Siconos' three granular test problems
+// (docs/method.md, "Validation"), which must reach the natural-map residual 1e-5 that
+// Siconos' own tests ask for. Here in io's tests because every case reads a file.
+#include "cdpile/io/siconos.hpp"
+
 #include "cdpile/cd/delassus.hpp"
 
 #include "cdpile/error.hpp"
@@ -22,6 +24,7 @@
 #include <vector>
 
 namespace cd = cdpile::cd;
+namespace io = cdpile::io;
 namespace fs = std::filesystem;
 
 namespace {
@@ -86,7 +89,7 @@ std::string edit_line(int number, const char* text) {
 /// The message of the cdpile::Error thrown when reading `path`, or "" if none is.
 std::string read_error(const std::string& path) {
   try {
-    cd::read_siconos_fc2d(path);
+    io::read_siconos_fc2d(path);
   } catch (const cdpile::Error& e) {
     return e.what();
   }
@@ -150,7 +153,7 @@ std::string siconos_file(const std::string& name) {
 
 TEST(SiconosReader, ReadsTheSmallProblem) {
   TempDir dir;
-  const auto p = cd::read_siconos_fc2d(dir.write("small.dat", kSmall));
+  const auto p = io::read_siconos_fc2d(dir.write("small.dat", kSmall));
   ASSERT_EQ(p.contacts(), 2);
   ASSERT_EQ(p.W.rows(), 4);
   ASSERT_EQ(p.W.cols(), 4);
@@ -173,9 +176,9 @@ TEST(SiconosReader, ReadsTheSmallProblem) {
 // need all 17 digits included.
 TEST(SiconosWriter, WritesTheSmallProblemAsSiconosDoesAndReadsBack) {
   TempDir dir;
-  const auto p = cd::read_siconos_fc2d(dir.write("small.dat", kSmall));
+  const auto p = io::read_siconos_fc2d(dir.write("small.dat", kSmall));
   std::ostringstream out;
-  cd::write_siconos_fc2d(out, p);
+  io::write_siconos_fc2d(out, p);
   std::istringstream written(out.str()), expected(kSmall);
   std::string a, b;
   for (int line = 1; std::getline(expected, b); ++line) {
@@ -192,8 +195,8 @@ TEST(SiconosWriter, WritesTheSmallProblemAsSiconosDoesAndReadsBack) {
   q.q[1] = -1.0 / 3.0;
   q.mu[1] = std::nextafter(0.3, 1.0);
   std::ostringstream out2;
-  cd::write_siconos_fc2d(out2, q);
-  const auto back = cd::read_siconos_fc2d(dir.write("back.dat", out2.str()));
+  io::write_siconos_fc2d(out2, q);
+  const auto back = io::read_siconos_fc2d(dir.write("back.dat", out2.str()));
   EXPECT_EQ((Eigen::MatrixXd(back.W) - Eigen::MatrixXd(q.W)).norm(), 0.0);
   EXPECT_EQ(back.q, q.q);
   EXPECT_EQ(back.mu, q.mu);
@@ -250,7 +253,7 @@ TEST(SiconosReader, ErrorsNameTheFileAndTheLine) {
 
 TEST(SiconosNsgs, SolvesTheSmallProblemAsByHand) {
   TempDir dir;
-  const auto p = cd::read_siconos_fc2d(dir.write("small.dat", kSmall));
+  const auto p = io::read_siconos_fc2d(dir.write("small.dat", kSmall));
   Eigen::VectorXd r;
   const auto report = cd::solve_nsgs(p, r, {.tolerance = 1e-12, .max_sweeps = 1000});
   ASSERT_TRUE(report.converged) << report.residual;
@@ -319,7 +322,7 @@ TEST(SiconosFc2d, ReadsTheThreeProblems) {
     const std::string file = siconos_file(k.file);
     if (file.empty()) continue;
     ++tested;
-    const auto p = cd::read_siconos_fc2d(file);
+    const auto p = io::read_siconos_fc2d(file);
     ASSERT_EQ(p.contacts(), k.contacts);
     EXPECT_EQ(p.W.rows(), 2 * k.contacts);
     EXPECT_EQ(p.W.cols(), 2 * k.contacts);
@@ -352,7 +355,7 @@ TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
     const std::string file = siconos_file(k.file);
     if (file.empty()) continue;
     ++tested;
-    const auto p = cd::read_siconos_fc2d(file);
+    const auto p = io::read_siconos_fc2d(file);
     Eigen::VectorXd r;
     const auto report = cd::solve_nsgs(p, r, {.tolerance = tolerance, .max_sweeps = 10000});
     const double norm_q = p.q.norm();
@@ -386,7 +389,7 @@ TEST(SiconosFc2d, NsgsReachesTheNaturalMapResidual) {
 TEST(SiconosFc2d, HittingTheSweepCapIsReported) {
   const std::string file = siconos_file(kProblems[1].file);
   ASSERT_FALSE(file.empty()) << "tests/data/siconos-fc2d holds this problem";
-  const auto p = cd::read_siconos_fc2d(file);
+  const auto p = io::read_siconos_fc2d(file);
   Eigen::VectorXd r;
   const auto report = cd::solve_nsgs(p, r, {.tolerance = 1e-5, .max_sweeps = 20});
   EXPECT_FALSE(report.converged);
