@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   g++ cmake make pkg-config          # toolchain (CMake >= 3.25 for the presets)
   libeigen3-dev                      # Eigen 3.4: vectors, sparse matrices, fits
+  libsuitesparse-dev                 # KLU: the sparse LU of --solver newton (cd/face_newton.cpp)
   libhdf5-dev hdf5-tools             # HDF5 1.10 C library; h5dump and h5diff for tests
   libcgal-dev                        # CGAL 5.5: neighbour queries for localnu
   libboost-program-options-dev       # the command-line layer

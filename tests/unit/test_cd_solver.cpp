@@ -5,6 +5,7 @@
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
+#include "cdpile/cd/face_newton.hpp"
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/solver.hpp"
 #include "cdpile/error.hpp"
@@ -30,16 +31,18 @@ using cd_scenes::triangular_stack;
 constexpr double kH = 1e-4;
 
 const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg,
-                                      cd::SolverKind::pcg};
+                                      cd::SolverKind::pcg, cd::SolverKind::newton};
 
-// pcg's gradient rounds start after the first sweep and follow every sweep, so that the
-// small scenes here, which NSGS converges in a few sweeps, go through them too.
+// pcg's gradient rounds and newton's Newton steps start after the first sweep and follow
+// every sweep, so that the small scenes here, which NSGS converges in a few sweeps, go
+// through them too.
 cd::Settings tight(cd::SolverKind solver) {
   cd::Settings s;
   s.solver = solver;
   s.tolerance = 1e-10;
   s.krylov_after = 1;
   s.sweeps_between_rounds = 1;
+  s.newton_after = 0;
   return s;
 }
 
@@ -425,4 +428,93 @@ TEST(Criterion, ErrBoundsTheErrorWhereTheLastCorrectionUnderestimatesIt) {
     EXPECT_LT(err, 3 * tol) << cd::solver_name(kind);
     EXPECT_GT(err_sweeps, maxm_sweeps) << cd::solver_name(kind);
   }
+}
+
+// The face's Newton step (face_newton.hpp) solves the linear problem of the statuses it is
+// given exactly, a sliding contact's friction following its normal impulse. The wedged
+// disk at k = 1e5 m g / D from R_n = 1 m g h: with both contacts sticking, one step leaves
+// u'_n = u'_t = 0 at both (the compliant solution R_n = 2 m g h); with the right wall's
+// contact sliding, one step leaves its u'_n = 0 and R_t = s mu R_n, and the left one's
+// u' = 0.
+TEST(Newton, FaceStepSolvesTheFaceExactlyWithSlidingFrictionFollowingTheNormal) {
+  const double m = kRho * std::numbers::pi * kR * kR, mgh = m * kG * kH;
+  const double k = 1e5 * m * kG / (2 * kR);
+  for (const bool right_slides : {false, true}) {
+    Wedge w = wedged_disk(1.0 * mgh, 2.0 * mgh, 0.5 * mgh, k);
+    cd::ContactSystem& s = w.system;
+    if (right_slides) {  // put it on the cone, friction holding the disk up
+      cd::ContactRow& r = s.rows[0];
+      const double rt = -r.mu * r.rn;
+      s.apply_impulse(r, 0.0, rt - r.rt);
+      r.rt = rt;
+    }
+    const std::vector<cd::FaceRow> face{{0, !right_slides}, {1, true}};
+    auto law_velocity = [&](std::size_t a) {  // u' = W_aa R_a + b_a
+      double b_n, b_t;
+      const cd::ContactRow& r = s.rows[a];
+      s.free_local_velocity(r, b_n, b_t);
+      return cd::FaceValue{b_n + r.w_nn * r.rn, b_t + r.w_tt * r.rt};
+    };
+    std::vector<cd::FaceValue> res(2);
+    for (std::size_t a = 0; a < 2; ++a) {
+      const cd::FaceValue u = law_velocity(a);
+      res[a] = {-u.n, face[a].t ? -u.t : 0.0};
+    }
+    ASSERT_GT(std::abs(res[1].n), 0.1 * kG * kH) << "a face already solved: no test";
+    ASSERT_TRUE(cd::newton_face_step(s, face, res));
+    for (std::size_t a = 0; a < 2; ++a) {
+      const cd::FaceValue u = law_velocity(a);
+      EXPECT_NEAR(u.n, 0.0, 1e-12 * kG * kH) << "contact " << a << " sliding " << right_slides;
+      if (face[a].t) {
+        EXPECT_NEAR(u.t, 0.0, 1e-12 * kG * kH) << "contact " << a;
+      }
+    }
+    if (right_slides) {
+      EXPECT_NEAR(s.rows[0].rt, -s.rows[0].mu * s.rows[0].rn, 1e-12 * mgh);
+    } else {
+      for (const cd::ContactRow& r : s.rows) EXPECT_NEAR(r.rn, 2.0 * mgh, 1e-9 * mgh);
+    }
+  }
+}
+
+// newton solves the same step problem as NSGS and pcg: on the stiff stack of the pcg test
+// below (k = 1e7 m g / D, tilted by 10 degrees, from zero forces), with Newton steps from
+// the first round, every step converges to NSGS's forces, which balance the weight, in a
+// fraction of NSGS's sweeps.
+TEST(Newton, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
+  const int base = 8;
+  const Grains g = triangular_stack(base);
+  const double mg = g.mass[0] * kG, tilt = 10.0 * kDeg;
+  auto run = [&](cd::SolverKind kind, long& work) {
+    cd::Settings s;
+    s.solver = kind;
+    s.tolerance = 1e-8;
+    s.max_sweeps = 1000000;
+    s.newton_after = 0;
+    s.contact_stiffness = 1e7 * mg / (2 * kR);
+    cd::Engine e(Box{2 * base * kR, 0.03}, g, s);
+    work = 0;
+    for (int n = 0; n < 40; ++n) {
+      const cd::StepReport rep = e.step(tilt);
+      EXPECT_TRUE(rep.converged) << cd::solver_name(kind) << " step " << n;
+      EXPECT_LT(rep.law_residual, 1e-4) << cd::solver_name(kind) << " step " << n;
+      work += rep.sweeps;
+    }
+    return e.contacts();
+  };
+  long nsgs_work = 0, newton_work = 0;
+  const cdpile::Contacts a = run(cd::SolverKind::nsgs, nsgs_work);
+  const cdpile::Contacts b = run(cd::SolverKind::newton, newton_work);
+  ASSERT_EQ(a.size(), b.size());
+  Vec2 walls(0.0, 0.0);
+  for (std::size_t q = 0; q < b.size(); ++q) {
+    EXPECT_NEAR(b.fn[q], a.fn[q], 1e-4 * mg) << "contact " << q;
+    EXPECT_NEAR(b.ft[q], a.ft[q], 1e-4 * mg) << "contact " << q;
+    const Vec2 n = b.normal[q], t(-n.y(), n.x());
+    if (b.j[q] < 0) walls += b.fn[q] * n + b.ft[q] * t;
+  }
+  const double weight = static_cast<double>(g.size()) * mg;
+  EXPECT_NEAR(walls.x(), -weight * std::sin(tilt), 1e-6 * weight);
+  EXPECT_NEAR(walls.y(), weight * std::cos(tilt), 1e-6 * weight);
+  EXPECT_LT(newton_work, nsgs_work / 3) << "newton " << newton_work << " NSGS " << nsgs_work;
 }

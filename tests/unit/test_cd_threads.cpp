@@ -186,11 +186,12 @@ TEST(Threads, PairOrderTakesOneThread) {
 // f = m g (cos, sin); a column of 10 disks carries n m g under the n-th from the top; and
 // each scene's numbers are the same on 1, 2 and 3 threads.
 TEST(Threads, AnalyticScenesSameOnEveryTeam) {
-  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg}) {
+  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg, cd::SolverKind::newton}) {
     Grains disk;
     disk.add_disk(kR, kRho, Vec2(0.05, kR));
     const double m = disk.mass[0];
     cd::Settings s = in_strips(kind, 1);
+    s.newton_after = 0;  // newton's steps from the first round
     s.tolerance = 1e-10;
     s.contact_stiffness = 1e6 * m * kG / (2 * kR);
     {
@@ -243,10 +244,11 @@ TEST(Threads, AnalyticScenesSameOnEveryTeam) {
 TEST(Threads, RearrangingPilesSameOnEveryTeam) {
   const Grains stack = triangular_stack(8);
   const double mg = stack.mass[0] * kG;
-  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg}) {
+  for (const cd::SolverKind kind : {cd::SolverKind::nsgs, cd::SolverKind::pcg, cd::SolverKind::newton}) {
     Outcome one;
     for (const int threads : {1, 2, 3}) {
       cd::Settings s = in_strips(kind, threads);
+      s.newton_after = 0;  // newton's steps from the first round
       s.tolerance = 1e-8;
       s.max_sweeps = 1000000;
       s.contact_stiffness = 1e7 * mg / (2 * kR);

@@ -2,6 +2,7 @@
 // (pcg.hpp; docs/method.md, "The pcg solver").
 #include "cdpile/cd/pcg.hpp"
 
+#include "cdpile/cd/face_newton.hpp"
 #include "cdpile/cd/nsgs.hpp"
 
 #include <algorithm>
@@ -14,16 +15,12 @@ namespace cdpile::cd {
 namespace {
 
 /// A value per contact: its normal and tangential components.
-struct Local {
-  double n = 0.0, t = 0.0;
-};
+using Local = FaceValue;
 
 /// A row of the face: its normal component is free; its tangential one too when the
-/// contact sticks (a sliding contact keeps its R_t through the round).
-struct FreeRow {
-  std::uint32_t row;
-  bool t;
-};
+/// contact sticks (in a gradient round a sliding contact keeps its R_t; in a Newton step
+/// its R_t follows s mu R_n, face_newton.hpp).
+using FreeRow = FaceRow;
 
 /// The local velocity H_a v of row r from the bodies' velocities v.
 Local relative_velocity(const std::vector<Body>& bodies, const ContactRow& r) {
@@ -165,8 +162,13 @@ class Face {
     });
   }
 
+  /// The exact step of the face (face_newton.hpp); false when it could not be made.
+  bool newton_step(const std::vector<Local>& res) { return newton_face_step(s_, rows_, res); }
+
   /// Projects every face row into the cone (R_n >= 0, then |R_t| <= mu R_n), the bodies'
-  /// velocities following; returns whether any row moved.
+  /// velocities following, a row that moved taking the status it was projected to (open
+  /// or sliding: the face of a next Newton step; the sweeps set statuses anew); returns
+  /// whether any row moved.
   bool project() {
     std::vector<char> moved(schedule_.blocks(), 0);
     for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t blk) {
@@ -179,6 +181,7 @@ class Face {
         s_.apply_impulse(r, rn - r.rn, rt - r.rt);
         r.rn = rn;
         r.rt = rt;
+        r.status = rn == 0.0 ? ContactStatus::open : ContactStatus::slide;
       }
     });
     return std::find(moved.begin(), moved.end(), 1) != moved.end();
@@ -236,40 +239,119 @@ int gradient_round(ContactSystem& s, const Schedule& plan, double target, int bu
   return k;
 }
 
-}  // namespace
+/// What a round did: its iterations, and whether it was undone (NewtonSolver).
+struct RoundResult {
+  int iterations = 0;
+  bool undone = false;
+};
 
-SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) const {
+RoundResult gradient_rounds(ContactSystem& s, const Schedule& plan, double target, int budget) {
+  return {gradient_round(s, plan, target, budget), false};
+}
+
+/// The impulses, statuses and velocities a round starts from, to undo it.
+struct SavedIterate {
+  std::vector<ContactRow> rows;
+  std::vector<Body> bodies;
+};
+
+/// A round of Newton steps (pcg.hpp, NewtonSolver): the exact step of the face the last
+/// sweep left, projected onto the cones; while the projection moved rows, the exact step
+/// of the face it left (those rows open or sliding), at most `budget` steps. On the
+/// paper's pile at k = 1e6 a round takes 2 steps on average, the first moving 1 to 4 rows
+/// of 6500 (docs/performance.md, "The newton solver"). Where the statuses are far from the
+/// solution's (a stack loaded from zero forces) the steps can carry the iterate away
+/// from the solution: a round that leaves the law's residual (its root mean square,
+/// law_residual) higher than it found it is undone.
+RoundResult newton_round(ContactSystem& s, const Schedule& plan, double target, int budget) {
+  const SavedIterate start{s.rows, s.bodies};
+  const double before = law_residual(s, 1.0).rms;
+  RoundResult out;
+  while (out.iterations < budget) {
+    Face face(s, plan);
+    if (face.size() == 0) break;
+    std::vector<Local> res(face.size());
+    face.residual(res);
+    if (largest(res, s.team) <= target) break;
+    if (!face.newton_step(res)) break;  // J not factorised: the sweeps go on alone
+    ++out.iterations;
+    if (!face.project()) break;  // in the cones: the sweeps check the statuses
+  }
+  if (out.iterations > 0 && !(law_residual(s, 1.0).rms <= before)) {
+    s.rows = start.rows;
+    s.bodies = start.bodies;
+    out.undone = true;
+  }
+  return out;
+}
+
+using Round = RoundResult (*)(ContactSystem&, const Schedule&, double, int);
+
+/// A kind of round and the most iterations it takes.
+struct RoundKind {
+  Round round;
+  int budget;
+};
+
+/// NSGS sweeps, and after `settings.krylov_after` sweeps without convergence a round
+/// every `settings.sweeps_between_rounds` sweeps: `early` ones, and `late` ones once the
+/// step has done `late_after` sweeps and iterations, until a late round is undone.
+SolveReport sweeps_and_rounds(const SolverSettings& settings, ContactSystem& system,
+                              double gravity_velocity, RoundKind early, RoundKind late,
+                              int late_after) {
   SolveReport report;
   if (system.rows.empty()) return report;
-  Schedule plan = sweep_schedule(system, settings_);
+  Schedule plan = sweep_schedule(system, settings);
   const RowsInScheduleOrder in_order(system, plan);
   int work = 0, sweeps = 0, since_round = 0;
-  while (work < settings_.max_sweeps) {
+  bool late_ok = true;
+  while (work < settings.max_sweeps) {
     if (system.cancel && system.cancel()) throw StepCancelled();
-    const bool backward = settings_.symmetric_sweeps && (sweeps % 2 == 1);
+    const bool backward = settings.symmetric_sweeps && (sweeps % 2 == 1);
     const SweepSums sums = nsgs_sweep(system, backward, plan);
     measure_sweep(sums, gravity_velocity, report);
     ++sweeps;
     ++work;
     ++since_round;
     report.sweeps = work;
-    if (sweeps % settings_.check_every == 0 &&
-        criterion_met(settings_, report, system, gravity_velocity))
+    if (sweeps % settings.check_every == 0 &&
+        criterion_met(settings, report, system, gravity_velocity))
       return report;
-    if (sweeps < settings_.krylov_after || since_round < settings_.sweeps_between_rounds) continue;
+    if (sweeps < settings.krylov_after || since_round < settings.sweeps_between_rounds) continue;
     // The round's target: a tenth of the tolerance in the velocity scale of the sweeps'
     // measures (measure_sweep), so that a round never stops short of what a sweep checks.
     const double unit =
         std::max(gravity_velocity,
                  sums.active > 0 ? sums.scale_sum / static_cast<double>(sums.active) : 0.0);
-    const double target = 0.1 * settings_.tolerance * (unit > 0.0 ? unit : 1.0);
+    const double target = 0.1 * settings.tolerance * (unit > 0.0 ? unit : 1.0);
     // at most max_sweeps - work - 1 iterations: the step always ends on a sweep
-    work += gradient_round(system, plan, target,
-                           std::min(iterations_per_round, settings_.max_sweeps - work - 1));
+    const RoundKind& r = late_ok && work >= late_after ? late : early;
+    const RoundResult done =
+        r.round(system, plan, target, std::min(r.budget, settings.max_sweeps - work - 1));
+    work += done.iterations;
+    if (done.undone) late_ok = false;
     since_round = 0;
   }
   report.converged = false;
   return report;
+}
+
+}  // namespace
+
+SolveReport NewtonSolver::solve(ContactSystem& system, double gravity_velocity) const {
+  const RoundKind gradient{gradient_rounds, PcgSolver::iterations_per_round};
+  // Woodbury's identity needs C > 0: rigid contacts get pcg's gradient rounds only.
+  if (!(system.compliance_n > 0.0 && system.compliance_t > 0.0))
+    return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, gradient,
+                             settings_.max_sweeps);
+  return sweeps_and_rounds(settings_, system, gravity_velocity, gradient,
+                           {newton_round, steps_per_round}, settings_.newton_after);
+}
+
+SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) const {
+  const RoundKind gradient{gradient_rounds, iterations_per_round};
+  return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, gradient,
+                           settings_.max_sweeps);
 }
 
 }  // namespace cdpile::cd

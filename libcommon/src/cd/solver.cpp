@@ -19,14 +19,15 @@ const char* solver_name(SolverKind k) {
     case SolverKind::nsgs: return "nsgs";
     case SolverKind::nncg: return "nncg";
     case SolverKind::pcg: return "pcg";
+    case SolverKind::newton: return "newton";
   }
   return "?";
 }
 
 SolverKind solver_from_name(const std::string& name) {
-  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg})
+  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg, SolverKind::newton})
     if (name == solver_name(k)) return k;
-  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg or pcg)");
+  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg, pcg or newton)");
 }
 
 const char* criterion_name(Criterion c) {
@@ -61,7 +62,7 @@ double SolveReport::contraction(int over) const {
 }
 
 int err_window(const SolverSettings& s) {
-  return s.solver == SolverKind::pcg
+  return s.solver == SolverKind::pcg || s.solver == SolverKind::newton
              ? std::min(2 * (s.sweeps_between_rounds + 1), SolveReport::kHistory)
              : 2;
 }
@@ -73,6 +74,7 @@ void validate(const SolverSettings& s) {
   if (s.check_every < 1) bad("the sweeps between convergence checks must be >= 1");
   if (s.krylov_after < 1 || s.sweeps_between_rounds < 1)
     bad("the sweeps before and between gradient rounds must be >= 1");
+  if (s.newton_after < 0) bad("the sweeps before the Newton steps must be >= 0");
   if (s.threads < 1 || s.threads > max_threads)
     bad("threads must be in [1, " + std::to_string(max_threads) + "], got " +
         std::to_string(s.threads));
@@ -89,6 +91,7 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
     case SolverKind::nsgs: return std::make_shared<const NsgsSolver>(s);
     case SolverKind::nncg: return std::make_shared<const NncgSolver>(s);
     case SolverKind::pcg: return std::make_shared<const PcgSolver>(s);
+    case SolverKind::newton: return std::make_shared<const NewtonSolver>(s);
   }
   throw UsageError("unknown contact solver");
 }

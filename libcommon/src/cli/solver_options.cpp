@@ -41,8 +41,10 @@ void declare_solver_options(Usage& u) {
   u.text("solver", cd::solver_name(d.solver),
          "contact solver: 'nsgs', non-smooth Gauss-Seidel; 'nncg', NSGS with a nonlinear "
          "conjugate-gradient step after each sweep; 'pcg', NSGS alternating with conjugate "
-         "gradients on the contacts' active set, for compliant contacts (docs/method.md)",
-         {"nsgs", "nncg", "pcg"});
+         "gradients on the contacts' active set, for compliant contacts; 'newton', NSGS "
+         "alternating with exact Newton steps on the active set by a sparse LU, for compliant "
+         "contacts (docs/method.md)",
+         {"nsgs", "nncg", "pcg", "newton"});
   u.real("stiffness", default_stiffness_mg_D,
          "contact stiffness k of the force-selection rule, in m g / D (m the mean grain mass, "
          "D the mean diameter): the compliance 1/(k h^2) anchored at the previous step's "

@@ -42,4 +42,32 @@ class PcgSolver final : public ContactSolver {
   SolverSettings settings_;
 };
 
+/// NSGS sweeps alternating with Newton steps on the active face (docs/method.md, "The
+/// newton solver"), on the schedule of PcgSolver's rounds (SolverSettings::krylov_after,
+/// SolverSettings::sweeps_between_rounds).
+///
+/// A gradient round ends on the Coulomb cone after one iteration in nearly every round:
+/// its face holds a sliding contact's R_t while R_n changes, and the projection cuts
+/// R_t wherever R_n fell (docs/performance.md, "A Cholesky factor as the rounds'
+/// preconditioner"). The Newton step instead solves the face exactly with a sliding
+/// contact's friction following its normal impulse, R_t = s mu R_n (face_newton.hpp): a
+/// non-symmetric linear system, solved through a sparse LU of the grains' J. A round
+/// projects the step onto the cones and, while that moved rows, solves the face they
+/// leave (the projected rows open or sliding), up to steps_per_round steps; then the
+/// sweeps take over, check the statuses and the criterion. For rigid contacts (no
+/// compliance, so no J) its rounds are PcgSolver's.
+class NewtonSolver final : public ContactSolver {
+ public:
+  /// Newton steps per round at most; each counts as one sweep in SolveReport::sweeps
+  /// (its cost is that of 30 to 80 sweeps at 4000 grains, docs/performance.md).
+  static constexpr int steps_per_round = 6;
+
+  explicit NewtonSolver(const SolverSettings& settings) : settings_(settings) {}
+  SolverKind kind() const override { return SolverKind::newton; }
+  SolveReport solve(ContactSystem& system, double gravity_velocity) const override;
+
+ private:
+  SolverSettings settings_;
+};
+
 }  // namespace cdpile::cd

@@ -17,6 +17,7 @@ enum class SolverKind {
   nsgs,  ///< non-smooth Gauss-Seidel with the exact 2D local solve (nsgs.hpp)
   nncg,  ///< NSGS with a nonlinear conjugate-gradient step after each sweep (nsgs.hpp)
   pcg,   ///< NSGS alternating with preconditioned conjugate gradients on the active set (pcg.hpp)
+  newton,  ///< NSGS alternating with exact Newton steps on the active face (pcg.hpp)
 };
 const char* solver_name(SolverKind k);
 /// The solver of a name; throws cdpile::UsageError on another name.
@@ -65,6 +66,12 @@ struct SolverSettings {
   /// (docs/performance.md, "The pcg solver").
   int krylov_after = 20;
   int sweeps_between_rounds = 6;
+  /// newton only (pcg.hpp, NewtonSolver): the sweeps and iterations a step takes with
+  /// pcg's gradient rounds before its rounds become Newton steps. A Newton step costs
+  /// a sparse LU (some 80 sweeps' worth at 4000 grains), so the quiet steps that pcg
+  /// converges in fewer sweeps are left to it (docs/performance.md, "The newton solver").
+  /// The path to the solution only, not the solution.
+  int newton_after = 100;
   /// The order of the sweeps (schedule.hpp; docs/method.md, "Threads"): pair order, or
   /// vertical strips of the box, which threads can share. The order changes the path to
   /// the solution, not the law; a run in strips gives the same numbers on any number of
