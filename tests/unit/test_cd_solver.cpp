@@ -343,34 +343,34 @@ TEST(Scramble, RigidForcesDependOnTheSweepOrderCompliantOnesDoNot) {
   EXPECT_LT(largest_difference(soft1, soft0), 1e-6 * mg);
 }
 
+namespace {
 
-// pcg solves the same step problem as NSGS: on a stiff hyperstatic stack (k = 1e7 m g / D,
-// where Gauss-Seidel's error decays by about 1 - 1e-3 per sweep) tilted by 10 degrees,
-// both converge every step to the forces of the unique compliant solution, which carry
-// the stack's weight to the floor and walls, and pcg needs a fraction of NSGS's sweeps.
-TEST(Pcg, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
+// The stiff stack through `kind` and through NSGS (the two tests below): every step
+// converged, the same forces, balancing the weight, in a third of NSGS's sweeps or fewer.
+void stiff_stack_against_nsgs(cd::SolverKind kind) {
   const int base = 8;
   const Grains g = triangular_stack(base);
   const double mg = g.mass[0] * kG, tilt = 10.0 * kDeg;
-  auto run = [&](cd::SolverKind kind, long& work) {
+  auto run = [&](cd::SolverKind solver, long& work) {
     cd::Settings s;
-    s.solver = kind;
+    s.solver = solver;
     s.tolerance = 1e-8;
     s.max_sweeps = 1000000;
+    s.newton_after = 0;  // newton: Newton steps from the first round
     s.contact_stiffness = 1e7 * mg / (2 * kR);
     cd::Engine e(Box{2 * base * kR, 0.03}, g, s);
     work = 0;
     for (int n = 0; n < 40; ++n) {
       const cd::StepReport rep = e.step(tilt);
-      EXPECT_TRUE(rep.converged) << cd::solver_name(kind) << " step " << n;
-      EXPECT_LT(rep.law_residual, 1e-4) << cd::solver_name(kind) << " step " << n;
+      EXPECT_TRUE(rep.converged) << cd::solver_name(solver) << " step " << n;
+      EXPECT_LT(rep.law_residual, 1e-4) << cd::solver_name(solver) << " step " << n;
       work += rep.sweeps;
     }
     return e.contacts();
   };
-  long nsgs_work = 0, pcg_work = 0;
+  long nsgs_work = 0, kind_work = 0;
   const cdpile::Contacts a = run(cd::SolverKind::nsgs, nsgs_work);
-  const cdpile::Contacts b = run(cd::SolverKind::pcg, pcg_work);
+  const cdpile::Contacts b = run(kind, kind_work);
   ASSERT_EQ(a.size(), b.size());
   Vec2 walls(0.0, 0.0);  // the force of the floor and walls on the stack
   for (std::size_t q = 0; q < b.size(); ++q) {
@@ -383,7 +383,18 @@ TEST(Pcg, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
   const double weight = static_cast<double>(g.size()) * mg;
   EXPECT_NEAR(walls.x(), -weight * std::sin(tilt), 1e-6 * weight);
   EXPECT_NEAR(walls.y(), weight * std::cos(tilt), 1e-6 * weight);
-  EXPECT_LT(pcg_work, nsgs_work / 3) << "pcg " << pcg_work << " NSGS " << nsgs_work;
+  EXPECT_LT(kind_work, nsgs_work / 3)
+      << cd::solver_name(kind) << " " << kind_work << " NSGS " << nsgs_work;
+}
+
+}  // namespace
+
+// pcg solves the same step problem as NSGS: on a stiff hyperstatic stack (k = 1e7 m g / D,
+// where Gauss-Seidel's error decays by about 1 - 1e-3 per sweep) tilted by 10 degrees,
+// both converge every step to the forces of the unique compliant solution, which carry
+// the stack's weight to the floor and walls, and pcg needs a fraction of NSGS's sweeps.
+TEST(Pcg, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
+  stiff_stack_against_nsgs(cd::SolverKind::pcg);
 }
 
 // The 'err' criterion bounds the error, not the last correction (docs/method.md,
@@ -478,43 +489,9 @@ TEST(Newton, FaceStepSolvesTheFaceExactlyWithSlidingFrictionFollowingTheNormal) 
 }
 
 // newton solves the same step problem as NSGS and pcg: on the stiff stack of the pcg test
-// below (k = 1e7 m g / D, tilted by 10 degrees, from zero forces), with Newton steps from
+// above (k = 1e7 m g / D, tilted by 10 degrees, from zero forces), with Newton steps from
 // the first round, every step converges to NSGS's forces, which balance the weight, in a
 // fraction of NSGS's sweeps.
 TEST(Newton, StiffStackSameForcesAsNsgsInAFractionOfTheSweeps) {
-  const int base = 8;
-  const Grains g = triangular_stack(base);
-  const double mg = g.mass[0] * kG, tilt = 10.0 * kDeg;
-  auto run = [&](cd::SolverKind kind, long& work) {
-    cd::Settings s;
-    s.solver = kind;
-    s.tolerance = 1e-8;
-    s.max_sweeps = 1000000;
-    s.newton_after = 0;
-    s.contact_stiffness = 1e7 * mg / (2 * kR);
-    cd::Engine e(Box{2 * base * kR, 0.03}, g, s);
-    work = 0;
-    for (int n = 0; n < 40; ++n) {
-      const cd::StepReport rep = e.step(tilt);
-      EXPECT_TRUE(rep.converged) << cd::solver_name(kind) << " step " << n;
-      EXPECT_LT(rep.law_residual, 1e-4) << cd::solver_name(kind) << " step " << n;
-      work += rep.sweeps;
-    }
-    return e.contacts();
-  };
-  long nsgs_work = 0, newton_work = 0;
-  const cdpile::Contacts a = run(cd::SolverKind::nsgs, nsgs_work);
-  const cdpile::Contacts b = run(cd::SolverKind::newton, newton_work);
-  ASSERT_EQ(a.size(), b.size());
-  Vec2 walls(0.0, 0.0);
-  for (std::size_t q = 0; q < b.size(); ++q) {
-    EXPECT_NEAR(b.fn[q], a.fn[q], 1e-4 * mg) << "contact " << q;
-    EXPECT_NEAR(b.ft[q], a.ft[q], 1e-4 * mg) << "contact " << q;
-    const Vec2 n = b.normal[q], t(-n.y(), n.x());
-    if (b.j[q] < 0) walls += b.fn[q] * n + b.ft[q] * t;
-  }
-  const double weight = static_cast<double>(g.size()) * mg;
-  EXPECT_NEAR(walls.x(), -weight * std::sin(tilt), 1e-6 * weight);
-  EXPECT_NEAR(walls.y(), weight * std::cos(tilt), 1e-6 * weight);
-  EXPECT_LT(newton_work, nsgs_work / 3) << "newton " << newton_work << " NSGS " << nsgs_work;
+  stiff_stack_against_nsgs(cd::SolverKind::newton);
 }
