@@ -472,7 +472,8 @@ TEST(Newton, FaceStepSolvesTheFaceExactlyWithSlidingFrictionFollowingTheNormal) 
       res[a] = {-u.n, face[a].t ? -u.t : 0.0};
     }
     ASSERT_GT(std::abs(res[1].n), 0.1 * kG * kH) << "a face already solved: no test";
-    ASSERT_TRUE(cd::newton_face_step(s, face, res));
+    cd::FaceFactor factor;
+    ASSERT_TRUE(cd::newton_face_step(s, face, res, factor, 0.0));
     for (std::size_t a = 0; a < 2; ++a) {
       const cd::FaceValue u = law_velocity(a);
       EXPECT_NEAR(u.n, 0.0, 1e-12 * kG * kH) << "contact " << a << " sliding " << right_slides;
@@ -486,6 +487,109 @@ TEST(Newton, FaceStepSolvesTheFaceExactlyWithSlidingFrictionFollowingTheNormal) 
       for (const cd::ContactRow& r : s.rows) EXPECT_NEAR(r.rn, 2.0 * mgh, 1e-9 * mgh);
     }
   }
+}
+
+namespace {
+
+// A zig-zag column of n disks on the floor, each resting on the one below, every other
+// one shifted sideways by 0.6 radius (normals (+-0.3, 0.95), so that normal and
+// tangential components couple), every contact's impulse at `start_n`: the contact
+// system of one compliant step, by hand.
+cd::ContactSystem column_of_disks(int n, double start_n, double stiffness) {
+  const double m = kRho * std::numbers::pi * kR * kR;
+  const double inv_m = 1.0 / m, inv_i = 2.0 / (m * kR * kR);
+  cd::ContactSystem s;
+  for (int b = 0; b < n; ++b) s.bodies.push_back({0.0, -kG * kH, 0.0, inv_m, inv_i});
+  s.bodies.push_back({0.0, 0.0, 0.0, 0.0, 0.0});  // the floor
+  s.compliance_n = s.compliance_t = 1.0 / (stiffness * kH * kH);
+  for (int b = 0; b < n; ++b) {
+    cd::ContactRow r{};
+    r.i = b;
+    r.j = b == 0 ? cdpile::wall_floor : b - 1;
+    r.bi = b;
+    r.bj = b == 0 ? n : b - 1;
+    r.nx = b == 0 ? 0.0 : (b % 2 == 1 ? 0.3 : -0.3);
+    r.ny = std::sqrt(1.0 - r.nx * r.nx);
+    r.ri = kR;
+    r.rj = b == 0 ? 0.0 : kR;
+    r.mu = 0.5;
+    const double j_moves = b == 0 ? 0.0 : 1.0;
+    r.w_nn = (1.0 + j_moves) * inv_m + s.compliance_n;
+    r.w_tt = (1.0 + j_moves) * inv_m + (1.0 + j_moves) * kR * kR * inv_i + s.compliance_t;
+    r.rn0 = r.rn = start_n;
+    s.rows.push_back(r);
+  }
+  for (const cd::ContactRow& r : s.rows) s.apply_impulse(r, r.rn, r.rt);
+  return s;
+}
+
+}  // namespace
+
+// The later faces of a time step are solved with the step's factor of J (FaceFactor):
+// on a zig-zag column of 12 disks, the first face (every contact sticking) makes the factor and
+// is solved exactly in one GMRES iteration; a later face with one contact sliding differs
+// from it by two components' rank-one terms in J, and GMRES preconditioned by the kept
+// factor solves it exactly in at most three iterations, with no new factor; the next
+// time step makes a factor of its own.
+TEST(Newton, TheStepsFactorSolvesItsLaterFacesInRankPlusOneIterations) {
+  const int n = 12;
+  const double m = kRho * std::numbers::pi * kR * kR, mgh = m * kG * kH;
+  cd::ContactSystem s = column_of_disks(n, 1.0 * mgh, 1e5 * m * kG / (2 * kR));
+  auto law_velocity = [&](std::size_t a) {  // u' = W_aa R_a + b_a
+    double b_n, b_t;
+    const cd::ContactRow& r = s.rows[a];
+    s.free_local_velocity(r, b_n, b_t);
+    return cd::FaceValue{b_n + r.w_nn * r.rn, b_t + r.w_tt * r.rt};
+  };
+  auto residual = [&](const std::vector<cd::FaceRow>& face) {
+    std::vector<cd::FaceValue> res(face.size());
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      const cd::FaceValue u = law_velocity(face[k].row);
+      res[k] = {-u.n, face[k].t ? -u.t : 0.0};
+    }
+    return res;
+  };
+  auto expect_solved = [&](const std::vector<cd::FaceRow>& face, const char* what) {
+    for (const cd::FaceRow& f : face) {
+      const cd::FaceValue u = law_velocity(f.row);
+      EXPECT_NEAR(u.n, 0.0, 1e-10 * kG * kH) << what << ", contact " << f.row;
+      if (f.t) {
+        EXPECT_NEAR(u.t, 0.0, 1e-10 * kG * kH) << what << ", contact " << f.row;
+      }
+    }
+  };
+  const double target = 1e-12 * kG * kH;
+  cd::FaceFactor factor;
+  std::vector<cd::FaceRow> face;
+  for (std::uint32_t a = 0; a < n; ++a) face.push_back({a, true});
+  ASSERT_TRUE(cd::newton_face_step(s, face, residual(face), factor, target));
+  expect_solved(face, "all sticking");
+  EXPECT_EQ(factor.counts().factorisations, 1);
+  EXPECT_EQ(factor.counts().iterations, 1);
+
+  for (cd::ContactRow& row : s.rows) {  // away from that solution: R_n 20 % lower
+    s.apply_impulse(row, -0.2 * row.rn, 0.0);
+    row.rn *= 0.8;
+  }
+  cd::ContactRow& r = s.rows[5];  // and contact 5 on the cone, sliding
+  s.apply_impulse(r, 0.0, r.mu * r.rn - r.rt);
+  r.rt = r.mu * r.rn;
+  face[5].t = false;
+  const std::vector<cd::FaceValue> res = residual(face);
+  ASSERT_GT(std::abs(res[0].n), 1e-3 * kG * kH) << "a face already solved: no test";
+  ASSERT_TRUE(cd::newton_face_step(s, face, res, factor, target));
+  expect_solved(face, "contact 5 sliding");
+  EXPECT_NEAR(s.rows[5].rt, s.rows[5].mu * s.rows[5].rn, 1e-12 * mgh);
+  EXPECT_EQ(factor.counts().factorisations, 1) << "a new factor within the step";
+  EXPECT_GE(factor.counts().iterations - 1, 2) << "the changed face solved as if unchanged";
+  EXPECT_LE(factor.counts().iterations - 1, 3);
+
+  ++s.step;
+  for (cd::ContactRow& row : s.rows) {  // a new step's problem: other anchors
+    row.rn0 *= 1.5;
+  }
+  ASSERT_TRUE(cd::newton_face_step(s, face, residual(face), factor, target));
+  EXPECT_EQ(factor.counts().factorisations, 2) << "the next step kept the last step's factor";
 }
 
 // newton solves the same step problem as NSGS and pcg: on the stiff stack of the pcg test

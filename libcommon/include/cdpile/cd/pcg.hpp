@@ -22,6 +22,7 @@
 /// whose sweeps converge before krylov_after is NSGS's to the bit.
 #pragma once
 
+#include "cdpile/cd/face_newton.hpp"
 #include "cdpile/cd/solver.hpp"
 
 namespace cdpile::cd {
@@ -51,7 +52,8 @@ class PcgSolver final : public ContactSolver {
 /// R_t wherever R_n fell (docs/performance.md, "A Cholesky factor as the rounds'
 /// preconditioner"). The Newton step instead solves the face exactly with a sliding
 /// contact's friction following its normal impulse, R_t = s mu R_n (face_newton.hpp): a
-/// non-symmetric linear system, solved through a sparse LU of the grains' J. A round
+/// non-symmetric linear system, solved by GMRES preconditioned with a sparse LU of the
+/// grains' J, the LU kept through the time step (FaceFactor). A round
 /// projects the step onto the cones and, while that moved rows, solves the face they
 /// leave (the projected rows open or sliding), up to steps_per_round steps; then the
 /// sweeps take over, check the statuses and the criterion. For rigid contacts (no
@@ -59,7 +61,7 @@ class PcgSolver final : public ContactSolver {
 class NewtonSolver final : public ContactSolver {
  public:
   /// Newton steps per round at most; each counts as one sweep in SolveReport::sweeps
-  /// (its cost is that of 30 to 80 sweeps at 4000 grains, docs/performance.md).
+  /// (its cost is that of 5 to 80 sweeps at 4000 grains, docs/performance.md).
   static constexpr int steps_per_round = 6;
 
   explicit NewtonSolver(const SolverSettings& settings) : settings_(settings) {}
@@ -68,6 +70,10 @@ class NewtonSolver final : public ContactSolver {
 
  private:
   SolverSettings settings_;
+  /// The step's factor of J. It is scratch, not state: made anew in each time step, so a
+  /// step's solution depends on that step's start alone, and a run resumed from a
+  /// checkpoint is the run never interrupted, bit for bit.
+  mutable FaceFactor factor_;
 };
 
 }  // namespace cdpile::cd
