@@ -95,8 +95,8 @@ static void usage(cli::Usage& u) {
              "pile file made by deposit, or with --branch-at a run made by tilt-cd ('-' for "
              "standard input)");
   u.output("output run file ('-' for standard output, without checkpoints)");
-  // The run parameters' options are declared in their rows (sim::run_parameters()), each
-  // group's after the tool's own options of that group.
+  // The run parameters' options are declared in their rows (sim::run_parameters()); each
+  // u.declare puts its group's rows at that point of --help, the tool's own options around.
   const std::vector<OptionDeclaration> declared = sim::declared_options();
   u.declare("Tilt", declared);
   u.real_opt("branch-at",
@@ -148,7 +148,7 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
   sim::set_declared_options(o, cli::option_values(a, sim::declared_options()));
-  if (pile.branch) o.from_deg = pile.branch->tilt_deg;
+  if (pile.branch) o.from_deg = pile.branch->tilt_deg;  // its frame's tilt, not --from
   const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);
   o.avalanche_energy = avalanche.threshold;
   o.avalanche_hold_deg = avalanche.hold;

@@ -37,9 +37,9 @@ struct TiltOptions {
 // ---------------------------------------------------------------------------------
 // The run parameters, each declared once: the field of TiltOptions (or of its engine
 // settings) that holds it, the file key it is recorded under in /parameters (docs/schema.md,
-// unit suffixes), its unit, the tilt-cd option that sets it, and whether a branch or a
-// resume takes it from the run it continues, and how tilt-cd declares its option (help,
-// unit, range; the default is the field's). settings_parameters (common.hpp) and its
+// unit suffixes), its unit, the tilt-cd option that sets it and how that option is
+// declared (help, unit, range; the default is the field's), and whether a branch or a
+// resume takes it from the run it continues. settings_parameters (common.hpp) and its
 // inverse, tilt_parameters and its inverse, tilt_option_parameters and inherit_options
 // all derive from this one table, so a parameter cannot be recorded and yet not inherited
 // (docs/architecture.md, "A new run parameter").
