@@ -95,30 +95,24 @@ static void usage(cli::Usage& u) {
              "pile file made by deposit, or with --branch-at a run made by tilt-cd ('-' for "
              "standard input)");
   u.output("output run file ('-' for standard output, without checkpoints)");
-  u.group("Tilt");
-  u.real("rate", 0.001, "tilt per time step", "deg", 1e-12, 90.0);
-  u.real("from", 0.0, "tilt at the start", "deg", -90.0, 90.0);
+  // The run parameters' options are declared in their rows (sim::run_parameters()); each
+  // u.declare puts its group's rows at that point of --help, the tool's own options around.
+  const std::vector<OptionDeclaration> declared = sim::declared_options();
+  u.declare("Tilt", declared);
   u.real_opt("branch-at",
              "the input is a run: start from its last frame at or below this tilt (--from is that "
              "frame's tilt)",
-             "deg", -90.0, 90.0);
-  u.real_opt("to", "run to this tilt, avalanche or not (default: the avalanche plus --margin)",
-             "deg", -90.0, 90.0);
-  u.real("max-angle", 90.0, "without --to, stop here if no avalanche is detected", "deg", -90.0,
-         90.0);
-  u.real("margin", 1.0, "keep tilting this much after the avalanche is confirmed", "deg", 0.0,
-         180.0);
+             "deg", -90.0, 90.0)
+      .place_after("from");
   u.group("Avalanche");
   cli::declare_avalanche_rule(u, "threshold of the agitation Ek / (Np m g D)",
                               "the agitation must stay above the threshold this long");
-  u.real("eps", analysis::default_eps,
-         "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n", "", 0.0, 0.999999);
+  u.declare("Avalanche", declared);
   u.group("Recording");
   u.integer_opt("frame-every", "a full frame every this many steps (instead of --frame-every-deg)",
                 1, 1000000000000, "steps");
   u.real("frame-every-deg", 0.5, "a full frame every this much tilt", "deg", 1e-12, 180.0);
-  u.integer("checkpoint-every", 2000, "steps between checkpoints of OUTPUT.partial", 1,
-            1000000000000, "steps");
+  u.declare("Recording", declared);
   u.flag("resume", "continue the interrupted run of OUTPUT from OUTPUT.partial");
   u.group("Friction");
   cli::declare_friction(u, "grain-grain friction coefficient (default: the pile's mu_grain)",
@@ -153,21 +147,16 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   o.settings.gravity = gravity;
   o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
-  o.rate_deg = a.real("rate");
-  o.from_deg = pile.branch ? pile.branch->tilt_deg : a.real("from");
-  o.to_deg = a.real_opt("to");
-  o.max_deg = a.real("max-angle");
-  o.margin_deg = a.real("margin");
+  sim::set_declared_options(o, cli::option_values(a, sim::declared_options()));
+  if (pile.branch) o.from_deg = pile.branch->tilt_deg;  // its frame's tilt, not --from
   const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);
   o.avalanche_energy = avalanche.threshold;
   o.avalanche_hold_deg = avalanche.hold;
-  o.eps = a.real("eps");
   if (a.given("frame-every") && a.given("frame-every-deg"))
     throw UsageError("give --frame-every or --frame-every-deg, not both");
   o.frame_every = a.integer_opt("frame-every")
                       .value_or(std::max<std::int64_t>(
                           1, std::llround(a.real("frame-every-deg") / o.rate_deg)));
-  o.checkpoint_every = a.integer("checkpoint-every");
   if (!pile.branch && !a.flag("resume")) sim::validate(o);
   return o;
 }

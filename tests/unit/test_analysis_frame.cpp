@@ -57,6 +57,23 @@ TEST(FrameFields, NoActiveContactAndNoContactInReach) {
   for (double v : f.nu) EXPECT_TRUE(std::isnan(v));
 }
 
+// to-xdmf's colour ranges over frames: nu up to its largest value (NaN, no contact in
+// reach, left out), f_n / <f_n> up to the 99th percentile of all the frames' rows.
+TEST(FrameFields, ColourRangesOverFrames) {
+  ColourRanges none;
+  EXPECT_EQ(none.nu_max(), 0.0);
+  EXPECT_EQ(none.fn_rel_high(), 0.0);
+  ColourRanges r;
+  FrameFields a, b;
+  a.nu = {0.25, std::nan(""), 0.5};
+  b.nu = {0.125};
+  for (int k = 1; k <= 100; ++k) (k % 2 ? a : b).fn_rel.push_back(k);  // 1..100, split
+  r.add(a);
+  r.add(b);
+  EXPECT_EQ(r.nu_max(), 0.5);
+  EXPECT_EQ(r.fn_rel_high(), 99.0);  // the element at 0.99 (n - 1), rounded down
+}
+
 namespace {
 // frame_record of frame() in a run of 3 free grains of D = 1 m under gravity `g` [m/s^2]
 // (0: unknown), with the default rule.

@@ -167,3 +167,31 @@ TEST(Cli, ManPageFromTheDeclaration) {
   }
   EXPECT_EQ(man.find("grain\\-count"), std::string::npos);
 }
+
+// An option declared by the library (cdpile/option.hpp) is the option integer() or real()
+// would declare, in its group; place_after puts a tool's own option beside one of them.
+TEST(Cli, DeclaredOptionsAsTheirDeclarationSays) {
+  cli::Usage u;
+  u.name = "demo";
+  OptionDeclaration rate{"rate", "Tilt", false, 0.001, "tilt per step", "deg", 1e-12, 90.0};
+  OptionDeclaration to{"to", "Tilt", false, {}, "final tilt", "deg", -90.0, 90.0};
+  OptionDeclaration every{"every", "Recording", true, std::int64_t{20}, "steps", "", 1, 1e12};
+  u.declare("Tilt", {rate, every, to});
+  u.real_opt("branch-at", "start there", "deg").place_after("rate");
+  u.declare("Recording", {rate, every, to});
+  cli::Usage by_hand;
+  by_hand.name = "demo";
+  by_hand.group("Tilt");
+  by_hand.real("rate", 0.001, "tilt per step", "deg", 1e-12, 90.0);
+  by_hand.real_opt("branch-at", "start there", "deg");
+  by_hand.real_opt("to", "final tilt", "deg", -90.0, 90.0);
+  by_hand.group("Recording");
+  by_hand.integer("every", 20, "steps", 1, 1000000000000);
+  EXPECT_EQ(cli::help_text(u), cli::help_text(by_hand));
+  const cli::Args a = cli::parse(u, {"demo", "--every", "7"});
+  const OptionValues v = cli::option_values(a, {rate, every, to});
+  EXPECT_EQ(v.at("rate"), OptionValue(0.001));
+  EXPECT_EQ(v.at("every"), OptionValue(std::int64_t{7}));
+  EXPECT_FALSE(v.count("to"));  // no default, not given
+  EXPECT_THROW(u.real_opt("late", "x").place_after("nothing"), std::logic_error);
+}

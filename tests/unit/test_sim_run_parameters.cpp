@@ -184,6 +184,34 @@ TEST(RunParameters, TheToolsSpellFieldsAsTheTableNamesTheirOptions) {
   EXPECT_EQ(cli::option_of_field("contact_stiffness"), "--stiffness");
 }
 
+// tilt-cd's options declared in the table: each option's default is its field's, and its
+// value sets the field (an optional one not given: none).
+TEST(RunParameters, DeclaredOptionsSetTheirFields) {
+  const std::vector<OptionDeclaration> declared = sim::declared_options();
+  ASSERT_FALSE(declared.empty());
+  const sim::TiltOptions defaults;
+  OptionValues values;
+  for (const OptionDeclaration& d : declared) {
+    if (auto* x = std::get_if<double>(&d.default_value)) values[d.name] = *x;
+    if (auto* i = std::get_if<std::int64_t>(&d.default_value)) values[d.name] = *i;
+  }
+  sim::TiltOptions o = run_options();
+  sim::set_declared_options(o, values);
+  for (const sim::RunParameter& p : sim::run_parameters())
+    if (p.declaration) {
+      EXPECT_EQ(p.get(o), p.get(defaults)) << p.field;
+    }
+  values["rate"] = 0.25;
+  values["checkpoint-every"] = std::int64_t{9};
+  sim::set_declared_options(o, values);
+  EXPECT_EQ(o.rate_deg, 0.25);
+  EXPECT_EQ(o.checkpoint_every, 9);
+  EXPECT_FALSE(o.to_deg.has_value());
+  values["to"] = -1.0;  // a tilt, not the file's "none"
+  sim::set_declared_options(o, values);
+  EXPECT_EQ(o.to_deg, std::optional<double>(-1.0));
+}
+
 // The observables are one table: the series has its columns and units, and a step
 // appends one value to each.
 TEST(Observables, TheSeriesAndEachStepFollowTheTable) {

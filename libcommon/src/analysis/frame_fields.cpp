@@ -2,6 +2,7 @@
 
 #include "cdpile/analysis/local_state.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -37,6 +38,20 @@ FrameFields frame_fields(const Contacts& c, const Grains& g, const Friction& mu,
     f.fn_rel[q] = fn_mean > 0 ? c.fn[q] / fn_mean : 0.0;
   }
   return f;
+}
+
+void ColourRanges::add(const FrameFields& f) {
+  for (double v : f.nu)
+    if (!std::isnan(v)) nu_max_ = std::max(nu_max_, v);
+  fn_rel_.insert(fn_rel_.end(), f.fn_rel.begin(), f.fn_rel.end());
+}
+
+double ColourRanges::fn_rel_high() const {
+  if (fn_rel_.empty()) return 0;
+  std::vector<double> v = fn_rel_;
+  const auto at = v.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
 }
 
 }  // namespace cdpile::analysis

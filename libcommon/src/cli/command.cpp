@@ -365,6 +365,39 @@ Usage& Usage::text_list(const std::string& n, const std::string& help,
   return *this;
 }
 
+Usage& Usage::declare(const OptionDeclaration& d) {
+  group(d.group);
+  OptionSpec s;
+  s.name = d.name;
+  s.help = d.help;
+  s.unit = d.unit;
+  s.kind = d.integer ? Kind::integer : Kind::real;
+  // The default's text as integer() and real() write it.
+  if (auto* x = std::get_if<double>(&d.default_value)) s.default_text = format_number(*x);
+  if (auto* i = std::get_if<std::int64_t>(&d.default_value)) s.default_text = std::to_string(*i);
+  s.has_default = !std::holds_alternative<std::monostate>(d.default_value);
+  s.min = d.min;
+  s.max = d.max;
+  return add(s);
+}
+
+Usage& Usage::declare(const std::string& title, const std::vector<OptionDeclaration>& declared) {
+  group(title);
+  for (const OptionDeclaration& d : declared)
+    if (d.group == title) declare(d);
+  return *this;
+}
+
+Usage& Usage::place_after(const std::string& n) {
+  const auto at = std::find_if(options.begin(), options.end(),
+                               [&](const OptionSpec& o) { return o.name == n; });
+  if (at == options.end() || at + 1 == options.end())
+    throw std::logic_error("--" + options.back().name + " placed after --" + n +
+                           ", not declared before it");
+  std::rotate(at + 1, options.end() - 1, options.end());
+  return *this;
+}
+
 Usage& Usage::output(const std::string& help, const std::string& def) {
   OptionSpec s;
   s.name = "output";
@@ -469,6 +502,14 @@ const std::string& Args::output() const { return text("output"); }
 
 // ----------------------------------------------------------------------------------------
 // Parsing
+
+OptionValues option_values(const Args& a, const std::vector<OptionDeclaration>& declared) {
+  OptionValues v;
+  for (const OptionDeclaration& d : declared)
+    if (a.has(d.name))
+      v[d.name] = d.integer ? OptionValue(a.integer(d.name)) : OptionValue(a.real(d.name));
+  return v;
+}
 
 Args parse(const Usage& usage, const std::vector<std::string>& argv) {
   po::options_description desc;

@@ -98,7 +98,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
   // reads no hyperslab, and crashes on a hyperslab geometry): virtual datasets for what the
   // run holds, mapped onto its rows and never copied; real ones for what is derived.
   std::vector<std::size_t> count(F);
-  std::vector<double> fn_rel_all;
+  analysis::ColourRanges ranges;
   double top = h.box.height;
   for (std::size_t k = 0; k < F; ++k) {
     const Frame fr = run.frame(k);
@@ -129,8 +129,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
-    for (double v : fields.nu)
-      if (!std::isnan(v)) sum.nu_max = std::max(sum.nu_max, v);
+    ranges.add(fields);
     h5::write(sidecar, fk + "/nu", fields.nu);
     if (nc == 0) continue;
 
@@ -144,7 +143,6 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
       lines[2 * q] = c.i[q];
       lines[2 * q + 1] = c.j[q] >= 0 ? c.j[q] : static_cast<std::int32_t>(N + q);
     }
-    fn_rel_all.insert(fn_rel_all.end(), fields.fn_rel.begin(), fields.fn_rel.end());
     h5::write(sidecar, fk + "/network/lines", lines.data(), {nc, 2});
     h5::write(sidecar, fk + "/contacts/critical", fields.critical);
     h5::write(sidecar, fk + "/contacts/mobilisation", fields.mobilisation);
@@ -155,12 +153,8 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     vmap("/contacts/point", cg + "/point", {nc, 3}, {o, 0}, {nc, 2}, {nc, 2});
   }
   sum.top = top;
-  if (!fn_rel_all.empty()) {  // the colour range of the network: up to the 99th percentile
-    const auto at = fn_rel_all.begin() +
-                    static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(fn_rel_all.size() - 1));
-    std::nth_element(fn_rel_all.begin(), at, fn_rel_all.end());
-    sum.fn_rel_high = *at;
-  }
+  sum.nu_max = ranges.nu_max();
+  sum.fn_rel_high = ranges.fn_rel_high();
   {  // the grains' vertices: without them the Xdmf3 reader makes points but no cells
     std::vector<std::int32_t> v(N);
     for (std::size_t g = 0; g < N; ++g) v[g] = static_cast<std::int32_t>(g);

@@ -77,6 +77,35 @@ void bind(RunParameter& p, M C::*field) {
       x = static_cast<M>(io::as_int(v, name, file));
     }
   };
+  p.set_option = [field](TiltOptions& o, const std::optional<OptionValue>& v) {
+    M& x = owner<C>(o).*field;
+    if constexpr (std::is_same_v<M, std::optional<double>>) {
+      x = v ? std::optional<double>(std::get<double>(*v)) : std::nullopt;
+    } else if (v) {
+      if constexpr (std::is_same_v<M, double>)
+        x = std::get<double>(*v);
+      else
+        x = static_cast<M>(std::get<std::int64_t>(*v));
+    }
+  };
+}
+
+// The option of a field of class C: real for a real field, else an integer, and the
+// field's default value as the option's default (an empty optional: none).
+template <class C, class M>
+OptionDeclaration option_of(M C::*field) {
+  OptionDeclaration d;
+  const TiltOptions defaults;
+  const M& x = owner<C>(defaults).*field;
+  if constexpr (std::is_same_v<M, std::optional<double>>) {
+    if (x) d.default_value = *x;
+  } else if constexpr (std::is_same_v<M, double>) {
+    d.default_value = x;
+  } else {
+    d.integer = true;
+    d.default_value = static_cast<std::int64_t>(x);
+  }
+  return d;
 }
 
 template <class C, class E>
@@ -101,9 +130,23 @@ struct Row {
     p.group = group;
     if (p.key.empty()) p.inherit = Inherit::as_asked;
   }
+  OptionDeclaration declaration;  // the kind and default of the field bound by of()
   template <class C, class M>
   Row&& of(M C::*field) && {
     bind(p, field);
+    declaration = option_of(field);
+    return std::move(*this);
+  }
+  // tilt-cd's option declared here: its group in --help, help text, unit and range.
+  Row&& declared(const char* group, const char* help, const char* unit, double min,
+                 double max) && {
+    declaration.name = p.option;
+    declaration.group = group;
+    declaration.help = help;
+    declaration.unit = unit;
+    declaration.min = min;
+    declaration.max = max;
+    p.declaration = declaration;
     return std::move(*this);
   }
   template <class C, class E>
@@ -131,19 +174,41 @@ std::vector<RunParameter> make_table() {
   constexpr auto tilt = ParameterGroup::tilt, engine = ParameterGroup::settings;
   std::vector<Row> rows;
   // field, file key, unit of the recorded value, tilt-cd's option, group
+  // and, declared here, tilt-cd's option: its group in --help, help text, unit and range
+  rows.push_back(Row("rate_deg", "tilt_rate_deg_per_step", "degree", "rate", tilt)
+                     .of(&O::rate_deg)
+                     .declared("Tilt", "tilt per time step", "deg", 1e-12, 90.0));
+  rows.push_back(Row("from_deg", "tilt_from_deg", "degree", "from", tilt)
+                     .of(&O::from_deg)
+                     .declared("Tilt", "tilt at the start", "deg", -90.0, 90.0));
   rows.push_back(
-      Row("rate_deg", "tilt_rate_deg_per_step", "degree", "rate", tilt).of(&O::rate_deg));
-  rows.push_back(Row("from_deg", "tilt_from_deg", "degree", "from", tilt).of(&O::from_deg));
+      Row("to_deg", "tilt_to_deg", "degree", "to", tilt)
+          .of(&O::to_deg)
+          .shown(-1.0, "none")
+          .declared("Tilt",
+                    "run to this tilt, avalanche or not (default: the avalanche plus --margin)",
+                    "deg", -90.0, 90.0));
   rows.push_back(
-      Row("to_deg", "tilt_to_deg", "degree", "to", tilt).of(&O::to_deg).shown(-1.0, "none"));
-  rows.push_back(Row("max_deg", "tilt_max_deg", "degree", "max-angle", tilt).of(&O::max_deg));
-  rows.push_back(
-      Row("margin_deg", "avalanche_margin_deg", "degree", "margin", tilt).of(&O::margin_deg));
+      Row("max_deg", "tilt_max_deg", "degree", "max-angle", tilt)
+          .of(&O::max_deg)
+          .declared("Tilt", "without --to, stop here if no avalanche is detected", "deg", -90.0,
+                    90.0));
+  rows.push_back(Row("margin_deg", "avalanche_margin_deg", "degree", "margin", tilt)
+                     .of(&O::margin_deg)
+                     .declared("Tilt", "keep tilting this much after the avalanche is confirmed",
+                               "deg", 0.0, 180.0));
+  // The avalanche rule's options are declared by its bundle (cli/avalanche_options.hpp),
+  // shared with critical and localnu.
   rows.push_back(Row("avalanche_energy", "avalanche_energy", "", "avalanche-ek", tilt)
                      .of(&O::avalanche_energy));
   rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
                      .of(&O::avalanche_hold_deg));
-  rows.push_back(Row("eps", "critical_eps", "", "eps", tilt).of(&O::eps));
+  rows.push_back(
+      Row("eps", "critical_eps", "", "eps", tilt)
+          .of(&O::eps)
+          .declared("Avalanche", "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
+                    "", 0.0, 0.999999));
+  // Two options, --frame-every and --frame-every-deg, declared and read by tilt-cd.
   rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
                      .of(&O::frame_every)
                      .also("frame-every-deg"));
@@ -186,8 +251,10 @@ std::vector<RunParameter> make_table() {
       Row("symmetric_sweeps", "symmetric_sweeps", "", "", engine).of(&S::symmetric_sweeps));
   // Not recorded: how fast a run goes, not what it computes (docs/method.md, "Threads").
   rows.push_back(Row("threads", "", "", "threads", engine).of(&S::threads));
-  rows.push_back(
-      Row("checkpoint_every", "", "", "checkpoint-every", tilt).of(&O::checkpoint_every));
+  rows.push_back(Row("checkpoint_every", "", "", "checkpoint-every", tilt)
+                     .of(&O::checkpoint_every)
+                     .declared("Recording", "steps between checkpoints of OUTPUT.partial", "steps",
+                               1, 1e12));
   std::vector<RunParameter> table;
   for (Row& r : rows) table.push_back(std::move(r.p));
   return table;
@@ -240,6 +307,21 @@ cd::Settings settings_from_parameters(const io::Values& given, const std::string
     throw Error(file, "/parameters", e.what());
   }
   return o.settings;
+}
+
+std::vector<OptionDeclaration> declared_options() {
+  std::vector<OptionDeclaration> out;
+  for (const RunParameter& p : run_parameters())
+    if (p.declaration) out.push_back(*p.declaration);
+  return out;
+}
+
+void set_declared_options(TiltOptions& o, const OptionValues& values) {
+  for (const RunParameter& p : run_parameters()) {
+    if (!p.declaration) continue;
+    const auto v = values.find(p.option);
+    p.set_option(o, v == values.end() ? std::nullopt : std::optional<OptionValue>(v->second));
+  }
 }
 
 void validate(const TiltOptions& o) {

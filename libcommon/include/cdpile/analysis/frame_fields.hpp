@@ -28,4 +28,21 @@ struct FrameFields {
 FrameFields frame_fields(const Contacts& c, const Grains& g, const Friction& mu,
                          const CriticalRule& rule, double nu_radius);
 
+/// The colour ranges of a view of frames' fields (to-xdmf's ParaView state), over all the
+/// frames added: nu from 0 to its largest value, and f_n / <f_n> up to its 99th
+/// percentile, so that a few strong contacts do not leave the rest of the network pale.
+class ColourRanges {
+ public:
+  /// Takes one frame's fields into the ranges.
+  void add(const FrameFields& f);
+  /// The largest nu of a grain over the frames; 0 if none.
+  double nu_max() const { return nu_max_; }
+  /// The 99th percentile of f_n / <f_n> over the frames' contact rows; 0 if none.
+  double fn_rel_high() const;
+
+ private:
+  double nu_max_ = 0;
+  std::vector<double> fn_rel_;
+};
+
 }  // namespace cdpile::analysis

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "cdpile/error.hpp"
+#include "cdpile/option.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -86,6 +87,15 @@ class Usage {
   /// no default: absent means "all" to the tool. Read it with Args::text_list.
   Usage& text_list(const std::string& name, const std::string& help,
                    const std::vector<std::string>& choices);
+  /// An option declared by the library (sim::run_parameters()), in the declaration's group
+  /// of --help; the current group is that group afterwards.
+  Usage& declare(const OptionDeclaration& d);
+  /// Those of `declared` in `group`, in their order, at this point of --help.
+  Usage& declare(const std::string& group, const std::vector<OptionDeclaration>& declared);
+  /// Moves the option declared last to just after the declared option `name`: a tool's own
+  /// option beside one the library declares (tilt-cd's --branch-at after --from, the
+  /// start it stands for). Its place in --help, and in the order values are checked.
+  Usage& place_after(const std::string& name);
   /// Declares `-o FILE` / `--output FILE`. `def` "-" means standard output by default.
   Usage& output(const std::string& help, const std::string& def = "");
   /// Declares `--seed N` (default 1), the one seed option of every tool.
@@ -139,6 +149,10 @@ class Args {
   std::map<std::string, Kind> kinds_;
   std::string command_line_, tool_;
 };
+
+/// The values of the library's declared options (Usage::declare): as given, else their
+/// default; one neither given nor defaulted is absent.
+OptionValues option_values(const Args& a, const std::vector<OptionDeclaration>& declared);
 
 /// Parses argv against the declaration. Throws UsageError with a one-line reason.
 /// `--help` and `--version` are handled by run_tool, not here.

@@ -6,6 +6,7 @@
 #include "cdpile/analysis/series.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/io/schema.hpp"
+#include "cdpile/option.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -36,7 +37,8 @@ struct TiltOptions {
 // ---------------------------------------------------------------------------------
 // The run parameters, each declared once: the field of TiltOptions (or of its engine
 // settings) that holds it, the file key it is recorded under in /parameters (docs/schema.md,
-// unit suffixes), its unit, the tilt-cd option that sets it, and whether a branch or a
+// unit suffixes), its unit, the tilt-cd option that sets it and how that option is
+// declared (help, unit, range; the default is the field's), and whether a branch or a
 // resume takes it from the run it continues. settings_parameters (common.hpp) and its
 // inverse, tilt_parameters and its inverse, tilt_option_parameters and inherit_options
 // all derive from this one table, so a parameter cannot be recorded and yet not inherited
@@ -73,11 +75,24 @@ struct RunParameter {
                      const std::string& file)>
       set;
   bool text = false;  ///< recorded as text (an enum's name)
+  /// The option's declaration, its kind and default from the field's type and default
+  /// value; empty for an option declared by one of the tools' bundles (the avalanche rule,
+  /// the friction, the solver: cli/*_options.hpp) or by tilt-cd itself (the frame interval).
+  std::optional<OptionDeclaration> declaration;
+  /// Sets the field from its option's value; absent (an option without a default, not
+  /// given) leaves an optional field empty (to_deg: none).
+  std::function<void(TiltOptions& o, const std::optional<OptionValue>& v)> set_option;
 };
 
 /// Every run parameter, in the order a branch lists its changes (tilt-cd's options: the
 /// tilt, the avalanche, the recording, the friction, the solver).
 const std::vector<RunParameter>& run_parameters();
+
+/// The options declared in run_parameters(), in its order: tilt-cd declares them
+/// (cli::Usage::declare) and reads them back into TiltOptions (set_declared_options).
+std::vector<OptionDeclaration> declared_options();
+/// Sets the fields of declared_options() from their values (cli::option_values).
+void set_declared_options(TiltOptions& o, const OptionValues& values);
 
 /// Checks the options; throws cdpile::UsageError naming the bad one.
 void validate(const TiltOptions& o);
