@@ -73,8 +73,8 @@ std::vector<Component> face_components(const ContactSystem& s, const std::vector
 /// It holds whatever the statuses of the face's contacts, so one ordering and one pivot
 /// sequence serve every J of the same contacts: a new factor of a later J is a numeric
 /// refactorisation (klu_refactor) while the face keeps its contacts. (The pattern of all
-/// the step's candidates would hold longer, but its 40 % more pairs cost as much more
-/// fill in every solve.)
+/// the step's candidate contacts would hold longer, but its extra pairs cost fill in every
+/// solve: 1.5 times the CPU of the face's pattern in a quiet window of the paper pile.)
 class GrainPattern {
  public:
   GrainPattern() = default;
