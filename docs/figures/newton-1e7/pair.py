@@ -1,5 +1,6 @@
-# Pairs the runs of RUNS_TSV (argument) seed by seed with the pcg runs of ../stiff-limit/runs.tsv
-# (docs/figures/newton-1e7/README.md): a table per seed, then the mean of the per-seed
+# Pairs the runs of RUNS_TSV (first argument) seed by seed with the pcg runs of PCG_TSV
+# (second argument; default ../stiff-limit/runs.tsv) (docs/figures/newton-1e7/README.md,
+# docs/figures/newton-gmres/README.md): a table per seed, then the mean of the per-seed
 # ratios or differences with its standard error.
 import sys, math
 def read(p):
@@ -10,7 +11,8 @@ def read(p):
         rows[f[0]] = dict(zip(h, f))
     return rows
 import os
-base = read(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'stiff-limit', 'runs.tsv'))
+base = read(sys.argv[2] if len(sys.argv) > 2 else
+            os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'stiff-limit', 'runs.tsv'))
 new = read(sys.argv[1])
 out = []
 print('seed\tcpu_pcg\tcpu_newton\tsweeps_pcg\tsweeps_newton\tsubsteps_pcg\tsubsteps_newton\ttheta_pcg\ttheta_newton\tnu_pcg\tnu_newton')
