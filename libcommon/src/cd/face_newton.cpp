@@ -11,7 +11,6 @@
 
 #include <cmath>
 #include <cstddef>
-#include <cstdlib>
 #include <utility>
 #include <vector>
 
@@ -162,10 +161,9 @@ class GrainFactor {
   /// Factorises j (in `pattern`), with the last ordering when the pattern is the last
   /// one's and, when `same_pivots`, the last pivots; false when J is singular to KLU.
   bool factorise(GrainPattern pattern, std::vector<double> j, bool same_pivots) {
-    j_ = std::move(j);
     if (pattern == pattern_ && symbolic_) {
       if (same_pivots && numeric_ &&
-          klu_refactor(pattern_.column_start(), pattern_.row_index(), j_.data(), symbolic_,
+          klu_refactor(pattern_.column_start(), pattern_.row_index(), j.data(), symbolic_,
                        numeric_, &common_))
         return true;
       if (numeric_) klu_free_numeric(&numeric_, &common_);
@@ -175,7 +173,7 @@ class GrainFactor {
       symbolic_ = klu_analyze(pattern_.size(), pattern_.column_start(), pattern_.row_index(), &common_);
       if (!symbolic_) return false;
     }
-    numeric_ = klu_factor(pattern_.column_start(), pattern_.row_index(), j_.data(), symbolic_, &common_);
+    numeric_ = klu_factor(pattern_.column_start(), pattern_.row_index(), j.data(), symbolic_, &common_);
     return valid();
   }
   std::int32_t size() const { return pattern_.size(); }
@@ -191,7 +189,6 @@ class GrainFactor {
   klu_symbolic* symbolic_ = nullptr;
   klu_numeric* numeric_ = nullptr;
   GrainPattern pattern_;
-  std::vector<double> j_;
 };
 
 /// The face's operator A = C + H M^-1 G^T and its preconditioner over the face's
