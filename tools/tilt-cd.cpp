@@ -6,7 +6,6 @@
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
-#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/tilt.hpp"
 
@@ -117,7 +116,7 @@ static void usage(cli::Usage& u) {
   u.group("Friction");
   cli::declare_friction(u, "grain-grain friction coefficient (default: the pile's mu_grain)",
                         "grain-wall friction coefficient (default: the pile's mu_wall)");
-  cli::declare_solver_options(u);
+  u.declare("Solver", declared);
   u.alias("avalanche-energy", "avalanche-ek");  // critical's and localnu's name
   u.alias("mu-grain", "mu");
   u.example("The paper's run", "tilt-cd pile.h5 -o run.h5",
@@ -143,11 +142,13 @@ static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) 
   const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
   const double gravity = param("gravity_m_s2", cd::Settings{}.gravity);
   sim::TiltOptions o;
-  o.settings = cli::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
+  const OptionValues values = cli::option_values(a, sim::declared_options());
+  o.settings =
+      sim::settings_from_options(values, {diameter, analysis::mean_mass(pile.grains), gravity});
   o.settings.gravity = gravity;
   o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
   o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
-  sim::set_declared_options(o, cli::option_values(a, sim::declared_options()));
+  sim::set_declared_options(o, values);
   if (pile.branch) o.from_deg = pile.branch->tilt_deg;  // its frame's tilt, not --from
   const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);
   o.avalanche_energy = avalanche.threshold;
