@@ -241,6 +241,36 @@ TEST(RunParameters, DeclaredOptionsSetTheirFields) {
   }
 }
 
+// validate() holds each field to its row's range (RunParameter::accepted), with the
+// messages it has always given, naming the field as the front end spells it.
+TEST(RunParameters, ValidateRefusesEachFieldOutOfItsRowsRange) {
+  set_field_spelling([](const std::string& f) { return "'" + f + "'"; });
+  auto refusal = [](auto change) -> std::string {
+    sim::TiltOptions o;
+    change(o);
+    try {
+      sim::validate(o);
+    } catch (const UsageError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  using O = sim::TiltOptions;
+  EXPECT_EQ(refusal([](O&) {}), "accepted");
+  EXPECT_EQ(refusal([](O& o) { o.rate_deg = 0.0; }), "'rate_deg' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.rate_deg = HUGE_VAL; }), "'rate_deg' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.from_deg = NAN; }), "'from_deg' must be finite");
+  EXPECT_EQ(refusal([](O& o) { o.margin_deg = -1.0; }), "'margin_deg' must be >= 0");
+  EXPECT_EQ(refusal([](O& o) { o.avalanche_energy = 0.0; }), "'avalanche_energy' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.avalanche_hold_deg = -0.5; }),
+            "'avalanche_hold_deg' must be >= 0");
+  EXPECT_EQ(refusal([](O& o) { o.eps = 1.0; }), "'eps' must be in [0, 1)");
+  EXPECT_EQ(refusal([](O& o) { o.checkpoint_every = 0; }), "'checkpoint_every' must be >= 1");
+  EXPECT_EQ(refusal([](O& o) { o.frame_every = 0; }), "the frame interval must be >= 1 step");
+  EXPECT_EQ(refusal([](O& o) { o.max_deg = -1.0; }), "the maximum angle must be >= 'from_deg'");
+  set_field_spelling(nullptr);
+}
+
 // The observables are one table: the series has its columns and units, and a step
 // appends one value to each.
 TEST(Observables, TheSeriesAndEachStepFollowTheTable) {

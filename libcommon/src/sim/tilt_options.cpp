@@ -185,6 +185,10 @@ struct Row {
     p.declaration->old_name = name;
     return std::move(*this);
   }
+  Row&& accepts(Accepted a) && {
+    p.accepted = a;
+    return std::move(*this);
+  }
   Row&& pre_seam(io::Value v) && {
     p.pre_seam = std::move(v);
     return std::move(*this);
@@ -199,6 +203,13 @@ struct Row {
   }
 };
 
+// The ranges validate() holds the fields to (RunParameter::accepted).
+Accepted at_least(double low) { return {low, false, std::nullopt, false}; }
+Accepted above(double low) { return {low, true, std::nullopt, false}; }
+const Accepted finite = {-HUGE_VAL, false, std::nullopt, true};
+const Accepted positive_finite = {0.0, true, std::nullopt, true};
+const Accepted fraction = {0.0, false, 1.0, false};  // [0, 1)
+
 std::vector<RunParameter> make_table() {
   using O = TiltOptions;
   using S = cd::Settings;
@@ -208,10 +219,12 @@ std::vector<RunParameter> make_table() {
   // and, declared here, tilt-cd's option: its group in --help, help text, unit and range
   rows.push_back(Row("rate_deg", "tilt_rate_deg_per_step", "degree", "rate", tilt)
                      .of(&O::rate_deg)
-                     .declared("Tilt", "tilt per time step", "deg", 1e-12, 90.0));
+                     .declared("Tilt", "tilt per time step", "deg", 1e-12, 90.0)
+                     .accepts(positive_finite));
   rows.push_back(Row("from_deg", "tilt_from_deg", "degree", "from", tilt)
                      .of(&O::from_deg)
-                     .declared("Tilt", "tilt at the start", "deg", -90.0, 90.0));
+                     .declared("Tilt", "tilt at the start", "deg", -90.0, 90.0)
+                     .accepts(finite));
   rows.push_back(
       Row("to_deg", "tilt_to_deg", "degree", "to", tilt)
           .of(&O::to_deg)
@@ -226,18 +239,22 @@ std::vector<RunParameter> make_table() {
   rows.push_back(Row("margin_deg", "avalanche_margin_deg", "degree", "margin", tilt)
                      .of(&O::margin_deg)
                      .declared("Tilt", "keep tilting this much after the avalanche is confirmed",
-                               "deg", 0.0, 180.0));
+                               "deg", 0.0, 180.0)
+                     .accepts(at_least(0.0)));
   // The avalanche rule's options are declared by its bundle (cli/avalanche_options.hpp),
   // shared with critical and localnu.
   rows.push_back(Row("avalanche_energy", "avalanche_energy", "", "avalanche-ek", tilt)
-                     .of(&O::avalanche_energy));
+                     .of(&O::avalanche_energy)
+                     .accepts(above(0.0)));
   rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
-                     .of(&O::avalanche_hold_deg));
+                     .of(&O::avalanche_hold_deg)
+                     .accepts(at_least(0.0)));
   rows.push_back(Row("eps", "critical_eps", "", "eps", tilt)
                      .of(&O::eps)
                      .declared("Avalanche",
                                "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
-                               "", 0.0, 0.999999));
+                               "", 0.0, 0.999999)
+                     .accepts(fraction));
   // Two options, --frame-every and --frame-every-deg, declared and read by tilt-cd.
   rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
                      .of(&O::frame_every)
@@ -373,7 +390,8 @@ std::vector<RunParameter> make_table() {
   rows.push_back(
       Row("checkpoint_every", "", "", "checkpoint-every", tilt)
           .of(&O::checkpoint_every)
-          .declared("Recording", "steps between checkpoints of OUTPUT.partial", "steps", 1, 1e12));
+          .declared("Recording", "steps between checkpoints of OUTPUT.partial", "steps", 1, 1e12)
+          .accepts(at_least(1.0)));
   std::vector<RunParameter> table;
   for (Row& r : rows) table.push_back(std::move(r.p));
   return table;
@@ -478,22 +496,39 @@ cd::Settings option_defaults() {
   return d;
 }
 
+namespace {
+// Whether `v` is in `a`, and the message that names `name` and the range if not.
+bool accepted(const Accepted& a, double v) {
+  return (!a.finite || std::isfinite(v)) && (a.low_open ? v > a.low : v >= a.low) &&
+         (!a.below || v < *a.below);
+}
+std::string refusal(const Accepted& a, const std::string& name) {
+  if (a.below)
+    return name + " must be in " + (a.low_open ? "(" : "[") + io::format_number(a.low) + ", " +
+           io::format_number(*a.below) + ")";
+  if (std::isfinite(a.low))
+    return name + " must be " + (a.low_open ? "> " : ">= ") + io::format_number(a.low);
+  return name + " must be finite";
+}
+double number(const io::Value& v) {
+  if (auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+  return std::get<double>(v);
+}
+}  // namespace
+
 void validate(const TiltOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
-  if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad(field("rate_deg") + " must be > 0");
-  if (!std::isfinite(o.from_deg)) bad(field("from_deg") + " must be finite");
+  for (const RunParameter& p : run_parameters())
+    if (p.accepted && !accepted(*p.accepted, number(p.get(o))))
+      bad(refusal(*p.accepted, field(p.field)));
   // The start is from_deg, or with a branch the tilt of the frame branched from.
   if (o.to_deg && !(*o.to_deg >= o.from_deg))
     bad(field("to_deg") + " " + io::format_number(*o.to_deg) + " is below the starting tilt " +
         io::format_number(o.from_deg) + " deg (" + field("from_deg") + ", or the frame of " +
         field("branch_at") + ")");
   if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= " + field("from_deg"));
-  if (!(o.margin_deg >= 0.0)) bad(field("margin_deg") + " must be >= 0");
-  if (!(o.avalanche_energy > 0.0)) bad(field("avalanche_energy") + " must be > 0");
-  if (!(o.avalanche_hold_deg >= 0.0)) bad(field("avalanche_hold_deg") + " must be >= 0");
+  // Set by two options (steps or degrees), so named by neither.
   if (o.frame_every < 1) bad("the frame interval must be >= 1 step");
-  if (o.checkpoint_every < 1) bad(field("checkpoint_every") + " must be >= 1");
-  if (!(o.eps >= 0.0 && o.eps < 1.0)) bad(field("eps") + " must be in [0, 1)");
   cd::validate(o.settings);
 }
 

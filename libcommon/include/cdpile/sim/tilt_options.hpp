@@ -8,6 +8,7 @@
 #include "cdpile/io/schema.hpp"
 #include "cdpile/option.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -64,6 +65,16 @@ struct PileScale {
   double diameter = 1.0, mass = 1.0, gravity = 1.0;
 };
 
+/// The values the library accepts for a field, whatever the front end (validate(); an
+/// option's declared range, the front end's, may be narrower): at least `low` (above it if
+/// `low_open`), below `below` if given, and finite if `finite`. A NaN is refused.
+struct Accepted {
+  double low = -HUGE_VAL;
+  bool low_open = false;
+  std::optional<double> below;
+  bool finite = false;
+};
+
 struct RunParameter {
   std::string field;        ///< the library's name (cdpile::field() spells it for messages)
   std::string key;          ///< the /parameters key; empty: not recorded
@@ -91,6 +102,9 @@ struct RunParameter {
   /// (the frame interval).
   std::optional<OptionDeclaration> declaration;
   OptionScale scale = OptionScale::none;  ///< the option's unit, if not the field's
+  /// The values validate() accepts, with a message naming the field and the range; empty:
+  /// any (or checked with another field, or by cd::validate for the engine's settings).
+  std::optional<Accepted> accepted;
   /// Sets the field from its option's value (in the field's unit); absent (an option
   /// without a default, not given) leaves an optional field empty (to_deg: none).
   std::function<void(TiltOptions& o, const std::optional<OptionValue>& v)> set_option;
@@ -119,7 +133,9 @@ cd::Settings settings_from_options(const OptionValues& values, const PileScale& 
 /// 1000 sweeps (docs/method.md, "Defaults and their reasons").
 cd::Settings option_defaults();
 
-/// Checks the options; throws cdpile::UsageError naming the bad one.
+/// Checks the options: each field's range (RunParameter::accepted), then the tilts against
+/// the start and the frame interval, then the engine's settings (cd::validate); throws
+/// cdpile::UsageError naming the first bad one.
 void validate(const TiltOptions& o);
 /// The options as run parameters (unit suffixes; docs/tools/tilt-cd.md lists them).
 io::Values tilt_parameters(const TiltOptions& o);
