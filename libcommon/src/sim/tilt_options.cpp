@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <type_traits>
 
 namespace cdpile::sim {
@@ -404,6 +405,12 @@ const std::vector<RunParameter>& run_parameters() {
   return table;
 }
 
+const std::string& parameter_key(const std::string& field) {
+  for (const RunParameter& p : run_parameters())
+    if (p.field == field) return p.key;
+  throw std::logic_error("no run parameter of the field " + field);
+}
+
 io::Values settings_parameters(const cd::Settings& s) {
   TiltOptions o;
   o.settings = s;
@@ -590,18 +597,21 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   }
   // The run's frame interval is an interval of tilt: at another rate it stays that many
   // degrees, not that many steps.
-  const double rate = std::get<double>(merged.at("tilt_rate_deg_per_step"));
-  if (!option_of.count("frame_every_steps") && rate != from_run.rate_deg)
-    merged["frame_every_steps"] = std::max<std::int64_t>(
+  const std::string &rate_key = parameter_key("rate_deg"),
+                    &frames_key = parameter_key("frame_every"),
+                    &from_key = parameter_key("from_deg");
+  const double rate = std::get<double>(merged.at(rate_key));
+  if (!option_of.count(frames_key) && rate != from_run.rate_deg)
+    merged[frames_key] = std::max<std::int64_t>(
         1, std::llround(static_cast<double>(from_run.frame_every) * from_run.rate_deg / rate));
-  if (start_deg) merged["tilt_from_deg"] = *start_deg;
+  if (start_deg) merged[from_key] = *start_deg;
   InheritedOptions out;
   out.options = tilt_options_from_parameters(merged, file);
   for (const RunParameter& p : run_parameters())  // not parameters: the command line's
     if (p.inherit == Inherit::as_asked)
       p.set(out.options, {{p.field, p.get(asked)}}, p.field, file);
   for (const RunParameter& p : run_parameters()) {
-    if (p.key.empty() || p.option.empty() || (start_deg && p.key == "tilt_from_deg")) continue;
+    if (p.key.empty() || p.option.empty() || (start_deg && p.key == from_key)) continue;
     if (merged.at(p.key) == before.at(p.key)) continue;
     const auto by = option_of.find(p.key);
     out.changes.push_back({by == option_of.end() ? "" : by->second, p.key,

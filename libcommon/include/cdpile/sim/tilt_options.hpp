@@ -113,6 +113,9 @@ struct RunParameter {
 /// Every run parameter, in the order a branch lists its changes (tilt-cd's options: the
 /// tilt, the avalanche, the recording, the friction, the solver).
 const std::vector<RunParameter>& run_parameters();
+/// The /parameters key of the run parameter of `field` (its row's), for the code that
+/// reads one parameter by name; std::logic_error if no row has that field.
+const std::string& parameter_key(const std::string& field);
 
 /// The options declared in run_parameters(), in its order: tilt-cd declares them
 /// (cli::Usage::declare) and reads them back into TiltOptions (set_declared_options and
