@@ -4,8 +4,8 @@
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
-#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
+#include "cdpile/sim/tilt_options.hpp"
 
 #include <cstdio>
 #include <iostream>
@@ -36,7 +36,8 @@ static void usage(cli::Usage& u) {
       "rest_speed, rest_steps, settle_max_steps, and the solver's time_step_s, theta, "
       "gravity_m_s2, "
       "mu_grain, mu_wall, alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, "
-      "solver, check_every, contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, sweep_order. "
+      "solver, check_every, contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, "
+      "sweep_order. "
       "Results: "
       "settled, settle_steps, settle_time_s, final_agitation, unconverged_steps, bed_height_m, "
       "bed_height_D, packing_fraction (with packing_slab_bottom_m, packing_slab_top_m), "
@@ -64,7 +65,8 @@ static void usage(cli::Usage& u) {
   u.integer("rest-steps", 100, "both held for this many consecutive steps", 1, 1000000000);
   u.integer("max-steps", 200000, "give up settling after this many steps (reported)", 1,
             1000000000000);
-  cli::declare_solver_options(u);
+  // The engine's options are declared in their rows (sim::run_parameters()), as tilt-cd's.
+  u.declare("Solver", sim::declared_options());
   u.alias("mu-grain", "mu");
   u.example("The paper's pile", "deposit --grains 4000 --seed 1 -o pile.h5",
             "4000 grains in a box 120 D wide; prints the bed height, packing fraction and z");
@@ -86,7 +88,8 @@ static int run(const cli::Args& a) {
   o.rest_speed = a.real("rest-speed");
   o.rest_steps = a.integer("rest-steps");
   o.max_steps = a.integer("max-steps");
-  o.settings = cli::solver_settings(a, o.diameter, sim::mean_mass(o), a.real("gravity"));
+  o.settings = sim::settings_from_options(cli::option_values(a, sim::declared_options()),
+                                          {o.diameter, sim::mean_mass(o), a.real("gravity")});
   o.settings.mu_grain = a.real("mu");
   o.settings.mu_wall = a.real("mu-wall");
   o.settings.gravity = a.real("gravity");

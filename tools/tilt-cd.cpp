@@ -6,7 +6,6 @@
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
 #include "cdpile/cli/progress.hpp"
-#include "cdpile/cli/solver_options.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/tilt.hpp"
 
@@ -117,7 +116,7 @@ static void usage(cli::Usage& u) {
   u.group("Friction");
   cli::declare_friction(u, "grain-grain friction coefficient (default: the pile's mu_grain)",
                         "grain-wall friction coefficient (default: the pile's mu_wall)");
-  cli::declare_solver_options(u);
+  u.declare("Solver", declared);
   u.alias("avalanche-energy", "avalanche-ek");  // critical's and localnu's name
   u.alias("mu-grain", "mu");
   u.example("The paper's run", "tilt-cd pile.h5 -o run.h5",
@@ -137,17 +136,21 @@ static void usage(cli::Usage& u) {
 // A branch's or a resume's are those given over the run's (inherited()), checked once
 // merged: --threads alone is then valid on a run in strips.
 static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) {
-  auto param = [&](const char* key, double fallback) {
+  auto param = [&](const std::string& key, double fallback) {
     return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
   };
   const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
-  const double gravity = param("gravity_m_s2", cd::Settings{}.gravity);
+  const double gravity = param(sim::parameter_key("gravity"), cd::Settings{}.gravity);
   sim::TiltOptions o;
-  o.settings = cli::solver_settings(a, diameter, analysis::mean_mass(pile.grains), gravity);
+  const OptionValues values = cli::option_values(a, sim::declared_options());
+  o.settings =
+      sim::settings_from_options(values, {diameter, analysis::mean_mass(pile.grains), gravity});
   o.settings.gravity = gravity;
-  o.settings.mu_grain = a.real_opt("mu").value_or(param("mu_grain", o.settings.mu_grain));
-  o.settings.mu_wall = a.real_opt("mu-wall").value_or(param("mu_wall", o.settings.mu_wall));
-  sim::set_declared_options(o, cli::option_values(a, sim::declared_options()));
+  o.settings.mu_grain =
+      a.real_opt("mu").value_or(param(sim::parameter_key("mu_grain"), o.settings.mu_grain));
+  o.settings.mu_wall =
+      a.real_opt("mu-wall").value_or(param(sim::parameter_key("mu_wall"), o.settings.mu_wall));
+  sim::set_declared_options(o, values);
   if (pile.branch) o.from_deg = pile.branch->tilt_deg;  // its frame's tilt, not --from
   const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);
   o.avalanche_energy = avalanche.threshold;
@@ -211,8 +214,8 @@ static sim::TiltOutcome resume(const cli::Args& a, const std::string& output,
                                const sim::TiltHooks& hooks, std::size_t& warned) {
   sim::PileInput partial = sim::read_partial(output);
   if (a.given("branch-at"))  // the run branched from is not read again: its tilt is in the partial
-    partial.branch =
-        sim::PileInput::Branch{0, io::as_real(partial.parameters, "tilt_from_deg", partial.name)};
+    partial.branch = sim::PileInput::Branch{
+        0, io::as_real(partial.parameters, sim::parameter_key("from_deg"), partial.name)};
   const sim::InheritedOptions inh = inherited(a, partial, options(a, partial), std::nullopt);
   if (!inh.changes.empty()) {  // the partial is the run: another value would change it halfway
     const sim::OptionChange& c = inh.changes.front();

@@ -1,4 +1,5 @@
 // Messages on hostile input: control bytes escaped, an output that is an input refused.
+#include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/fields.hpp"
 #include "cdpile/error.hpp"
@@ -70,8 +71,16 @@ TEST(OutputIsNotAnInput, SameFileByAnyNameIsRefused) {
   fs::remove_all(dir);
 }
 
-// The tools' spelling of the library's fields: the option that sets each one.
+// The tools' spelling of the library's fields: the option that sets each one, as declared
+// (the library's declaration of the option names the field).
 TEST(Fields, TheToolsSpellAFieldAsItsOption) {
+  OptionDeclaration rate;
+  rate.name = "rate";
+  rate.field = "rate_deg";
+  rate.group = "Tilt";
+  cli::Usage u;
+  u.declare(rate);
+  cli::declare_avalanche_rule(u, "", "");
   EXPECT_EQ(cli::option_of_field("rate_deg"), "--rate");
   EXPECT_EQ(cli::option_of_field("avalanche_energy"), "--avalanche-ek");
   EXPECT_EQ(cli::option_of_field("output"), "-o");

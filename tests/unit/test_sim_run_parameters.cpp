@@ -3,6 +3,8 @@
 // resume inherits every recorded parameter and applies every option given. An option
 // left out of the old hand-written table was silently not applied on a branch; these
 // tests go over the whole table, so a new row is checked without a new test.
+#include "cdpile/cli/avalanche_options.hpp"
+#include "cdpile/cli/command.hpp"
 #include "cdpile/cli/fields.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
@@ -172,20 +174,28 @@ TEST(RunParameters, ABranchAppliesEveryOptionGivenAndInheritsTheRest) {
   EXPECT_EQ(sim::tilt_parameters(same.options), stored);
 }
 
-// The tools spell a field by the option the table names for it wherever the field's own
-// name is not an option (cli/fields.cpp holds those spellings for the library's messages).
+// The tools spell a field by the option the table declares for it (Usage::declare), and
+// the others by their bundle's option or the field's own name: the table's, every one.
 TEST(RunParameters, TheToolsSpellFieldsAsTheTableNamesTheirOptions) {
+  cli::Usage u;
+  const std::vector<OptionDeclaration> declared = sim::declared_options();
+  for (const char* group : {"Tilt", "Avalanche", "Recording", "Solver"}) u.declare(group, declared);
+  cli::declare_avalanche_rule(u, "", "");
   for (const sim::RunParameter& p : sim::run_parameters()) {
     const std::string spelled = cli::option_of_field(p.field);
-    if (spelled != default_field_spelling(p.field)) {
+    if (p.declaration) {
+      EXPECT_EQ(spelled, "--" + p.option) << p.field;
+    } else if (spelled != default_field_spelling(p.field)) {
       EXPECT_EQ(spelled, "--" + p.option) << p.field;
     }
   }
   EXPECT_EQ(cli::option_of_field("contact_stiffness"), "--stiffness");
+  EXPECT_EQ(cli::option_of_field("avalanche_energy"), "--avalanche-ek");
 }
 
 // tilt-cd's options declared in the table: each option's default is its field's, and its
-// value sets the field (an optional one not given: none).
+// value sets the field (an optional one not given: none); the engine's, deposit's too,
+// default to option_defaults() and set the settings, converted from D and m g / D.
 TEST(RunParameters, DeclaredOptionsSetTheirFields) {
   const std::vector<OptionDeclaration> declared = sim::declared_options();
   ASSERT_FALSE(declared.empty());
@@ -198,7 +208,7 @@ TEST(RunParameters, DeclaredOptionsSetTheirFields) {
   sim::TiltOptions o = run_options();
   sim::set_declared_options(o, values);
   for (const sim::RunParameter& p : sim::run_parameters())
-    if (p.declaration) {
+    if (p.declaration && p.group == sim::ParameterGroup::tilt) {
       EXPECT_EQ(p.get(o), p.get(defaults)) << p.field;
     }
   values["rate"] = 0.25;
@@ -210,6 +220,55 @@ TEST(RunParameters, DeclaredOptionsSetTheirFields) {
   values["to"] = -1.0;  // a tilt, not the file's "none"
   sim::set_declared_options(o, values);
   EXPECT_EQ(o.to_deg, std::optional<double>(-1.0));
+
+  for (const OptionDeclaration& d : declared)
+    if (auto* name = std::get_if<std::string>(&d.default_value)) values[d.name] = *name;
+  const cd::Settings tool = sim::option_defaults();
+  cd::Settings s = sim::settings_from_options(values, {2e-3, 0.5, 10.0});
+  EXPECT_EQ(s.solver, tool.solver);
+  EXPECT_EQ(s.tolerance, tool.tolerance);
+  EXPECT_EQ(s.max_substeps, tool.max_substeps);
+  EXPECT_EQ(s.criterion, tool.criterion);
+  EXPECT_EQ(s.alert_distance, 0.1 * 2e-3);                  // 0.1 D
+  EXPECT_EQ(s.contact_stiffness, 1e6 * 0.5 * 10.0 / 2e-3);  // 1e6 m g / D
+  values["max-substeps"] = std::int64_t{3};
+  try {
+    sim::settings_from_options(values, {});
+    ADD_FAILURE() << "3 sub-steps accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--max-substeps: expected a power of two in [1, 1024], got '3'");
+  }
+}
+
+// validate() holds each field to its row's range (RunParameter::accepted), with the
+// messages it has always given, naming the field as the front end spells it.
+TEST(RunParameters, ValidateRefusesEachFieldOutOfItsRowsRange) {
+  set_field_spelling([](const std::string& f) { return "'" + f + "'"; });
+  auto refusal = [](auto change) -> std::string {
+    sim::TiltOptions o;
+    change(o);
+    try {
+      sim::validate(o);
+    } catch (const UsageError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  using O = sim::TiltOptions;
+  EXPECT_EQ(refusal([](O&) {}), "accepted");
+  EXPECT_EQ(refusal([](O& o) { o.rate_deg = 0.0; }), "'rate_deg' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.rate_deg = HUGE_VAL; }), "'rate_deg' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.from_deg = NAN; }), "'from_deg' must be finite");
+  EXPECT_EQ(refusal([](O& o) { o.margin_deg = -1.0; }), "'margin_deg' must be >= 0");
+  EXPECT_EQ(refusal([](O& o) { o.avalanche_energy = 0.0; }), "'avalanche_energy' must be > 0");
+  EXPECT_EQ(refusal([](O& o) { o.avalanche_hold_deg = -0.5; }),
+            "'avalanche_hold_deg' must be >= 0");
+  EXPECT_EQ(refusal([](O& o) { o.eps = 1.0; }), "'eps' must be in [0, 1)");
+  EXPECT_EQ(refusal([](O& o) { o.checkpoint_every = 0; }), "'checkpoint_every' must be >= 1");
+  EXPECT_EQ(refusal([](O& o) { o.frame_every = 0; }), "the frame interval must be >= 1 step");
+  EXPECT_EQ(refusal([](O& o) { o.max_deg = -1.0; }), "the maximum angle must be >= 'from_deg'");
+  set_field_spelling(nullptr);
 }
 
 // The observables are one table: the series has its columns and units, and a step

@@ -367,24 +367,47 @@ Usage& Usage::text_list(const std::string& n, const std::string& help,
 
 Usage& Usage::declare(const OptionDeclaration& d) {
   group(d.group);
-  OptionSpec s;
-  s.name = d.name;
-  s.help = d.help;
-  s.unit = d.unit;
-  s.kind = d.integer ? Kind::integer : Kind::real;
-  // The default's text as integer() and real() write it.
-  if (auto* x = std::get_if<double>(&d.default_value)) s.default_text = format_number(*x);
-  if (auto* i = std::get_if<std::int64_t>(&d.default_value)) s.default_text = std::to_string(*i);
-  s.has_default = !std::holds_alternative<std::monostate>(d.default_value);
-  s.min = d.min;
-  s.max = d.max;
-  return add(s);
+  // The library's messages name the field by this option (fields.hpp, option_of_field).
+  if (!d.field.empty()) spell_field(d.field, "--" + d.name);
+  if (!d.choices.empty()) {
+    text(d.name, std::get<std::string>(d.default_value), d.help, d.choices);
+  } else {
+    OptionSpec s;
+    s.name = d.name;
+    s.help = d.help;
+    s.unit = d.unit;
+    s.kind = d.integer ? Kind::integer : Kind::real;
+    // The default's text as integer() and real() write it.
+    if (auto* x = std::get_if<double>(&d.default_value)) s.default_text = format_number(*x);
+    if (auto* i = std::get_if<std::int64_t>(&d.default_value)) s.default_text = std::to_string(*i);
+    s.has_default = !std::holds_alternative<std::monostate>(d.default_value);
+    s.min = d.min;
+    s.max = d.max;
+    add(s);
+  }
+  if (!d.old_name.empty()) alias(d.old_name, d.name);
+  return *this;
 }
 
 Usage& Usage::declare(const std::string& title, const std::vector<OptionDeclaration>& declared) {
   group(title);
   for (const OptionDeclaration& d : declared)
     if (d.group == title) declare(d);
+  // Then those listed elsewhere than in the declarations' order.
+  auto at = [&](const std::string& n) {
+    return std::find_if(options.begin(), options.end(),
+                        [&](const OptionSpec& o) { return o.name == n; });
+  };
+  for (const OptionDeclaration& d : declared) {
+    if (d.group != title || d.after.empty()) continue;
+    const auto moved = at(d.name), before = at(d.after);
+    if (before == options.end())
+      throw std::logic_error("--" + d.name + " after an undeclared --" + d.after);
+    if (moved < before)
+      std::rotate(moved, moved + 1, before + 1);
+    else
+      std::rotate(before + 1, moved, moved + 1);
+  }
   return *this;
 }
 
@@ -507,7 +530,9 @@ OptionValues option_values(const Args& a, const std::vector<OptionDeclaration>& 
   OptionValues v;
   for (const OptionDeclaration& d : declared)
     if (a.has(d.name))
-      v[d.name] = d.integer ? OptionValue(a.integer(d.name)) : OptionValue(a.real(d.name));
+      v[d.name] = !d.choices.empty() ? OptionValue(a.text(d.name))
+                  : d.integer        ? OptionValue(a.integer(d.name))
+                                     : OptionValue(a.real(d.name));
   return v;
 }
 

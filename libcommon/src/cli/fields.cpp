@@ -7,21 +7,23 @@
 
 namespace cdpile::cli {
 
+namespace {
+// Field -> option. The options the library declares (sim::run_parameters()) enter here as
+// a tool declares them (Usage::declare), so their spelling is written once, in their row.
+// The others whose option is not their field's name are spelled where they are declared:
+// the avalanche rule's bundle (shared with tools that do not link sim) and the output.
+std::map<std::string, std::string>& spellings() {
+  static std::map<std::string, std::string> table = {{"output", "-o"}};
+  return table;
+}
+}  // namespace
+
+void spell_field(const std::string& field, const std::string& option) {
+  spellings()[field] = option;
+}
+
 std::string option_of_field(const std::string& field) {
-  // The fields whose option is not their name: sim::TiltOptions' fields carry their unit
-  // (docs/tools/tilt-cd.md lists the options), the output is -o. The run parameters'
-  // options are declared in sim::run_parameters() (cli cannot read sim, a layer of its
-  // level): a unit test (test_sim_run_parameters.cpp) checks these entries against it.
-  static const std::map<std::string, std::string> table = {
-      {"rate_deg", "--rate"},
-      {"from_deg", "--from"},
-      {"to_deg", "--to"},
-      {"max_deg", "--max-angle"},
-      {"margin_deg", "--margin"},
-      {"avalanche_energy", "--avalanche-ek"},
-      {"avalanche_hold_deg", "--avalanche-hold"},
-      {"contact_stiffness", "--stiffness"},
-      {"output", "-o"}};
+  const auto& table = spellings();
   const auto it = table.find(field);
   return it != table.end() ? it->second : default_field_spelling(field);
 }

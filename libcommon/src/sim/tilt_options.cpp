@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <type_traits>
 
 namespace cdpile::sim {
@@ -90,12 +91,19 @@ void bind(RunParameter& p, M C::*field) {
   };
 }
 
+// The options' defaults: TiltOptions' own, its engine settings option_defaults().
+TiltOptions option_defaults_of_tilt() {
+  TiltOptions o;
+  o.settings = option_defaults();
+  return o;
+}
+
 // The option of a field of class C: real for a real field, else an integer, and the
 // field's default value as the option's default (an empty optional: none).
 template <class C, class M>
 OptionDeclaration option_of(M C::*field) {
   OptionDeclaration d;
-  const TiltOptions defaults;
+  const TiltOptions defaults = option_defaults_of_tilt();
   const M& x = owner<C>(defaults).*field;
   if constexpr (std::is_same_v<M, std::optional<double>>) {
     if (x) d.default_value = *x;
@@ -112,6 +120,9 @@ template <class C, class E>
 void bind_text(RunParameter& p, E C::*field, const char* (*to_name)(E),
                E (*from_name)(const std::string&)) {
   p.text = true;
+  p.set_option = [=](TiltOptions& o, const std::optional<OptionValue>& v) {
+    if (v) owner<C>(o).*field = from_name(std::get<std::string>(*v));
+  };
   p.get = [=](const TiltOptions& o) -> io::Value {
     return std::string(to_name(owner<C>(o).*field));
   };
@@ -138,9 +149,9 @@ struct Row {
     return std::move(*this);
   }
   // tilt-cd's option declared here: its group in --help, help text, unit and range.
-  Row&& declared(const char* group, const char* help, const char* unit, double min,
-                 double max) && {
+  Row&& declared(const char* group, const char* help, const char* unit, double min, double max) && {
     declaration.name = p.option;
+    declaration.field = p.field;
     declaration.group = group;
     declaration.help = help;
     declaration.unit = unit;
@@ -149,9 +160,34 @@ struct Row {
     p.declaration = declaration;
     return std::move(*this);
   }
+  // A name, one of `choices`, the field's default's name as the option's default.
+  Row&& declared(const char* group, const char* help, std::vector<std::string> choices) && {
+    declaration.choices = std::move(choices);
+    return std::move(*this).declared(group, help, "", -1e308, 1e308);
+  }
   template <class C, class E>
   Row&& of_text(E C::*field, const char* (*to_name)(E), E (*from_name)(const std::string&)) && {
     bind_text(p, field, to_name, from_name);
+    declaration.default_value = std::string(to_name(owner<C>(option_defaults_of_tilt()).*field));
+    return std::move(*this);
+  }
+  // The option in D or m g / D, its default in that unit.
+  Row&& scaled(OptionScale scale, double option_default) && {
+    p.scale = scale;
+    declaration.default_value = option_default;
+    return std::move(*this);
+  }
+  // Of the declared option: listed after `option` in --help; its old spelling.
+  Row&& after(const char* option) && {
+    p.declaration->after = option;
+    return std::move(*this);
+  }
+  Row&& old_name(const char* name) && {
+    p.declaration->old_name = name;
+    return std::move(*this);
+  }
+  Row&& accepts(Accepted a) && {
+    p.accepted = a;
     return std::move(*this);
   }
   Row&& pre_seam(io::Value v) && {
@@ -168,6 +204,13 @@ struct Row {
   }
 };
 
+// The ranges validate() holds the fields to (RunParameter::accepted).
+Accepted at_least(double low) { return {low, false, std::nullopt, false}; }
+Accepted above(double low) { return {low, true, std::nullopt, false}; }
+const Accepted finite = {-HUGE_VAL, false, std::nullopt, true};
+const Accepted positive_finite = {0.0, true, std::nullopt, true};
+const Accepted fraction = {0.0, false, 1.0, false};  // [0, 1)
+
 std::vector<RunParameter> make_table() {
   using O = TiltOptions;
   using S = cd::Settings;
@@ -177,10 +220,12 @@ std::vector<RunParameter> make_table() {
   // and, declared here, tilt-cd's option: its group in --help, help text, unit and range
   rows.push_back(Row("rate_deg", "tilt_rate_deg_per_step", "degree", "rate", tilt)
                      .of(&O::rate_deg)
-                     .declared("Tilt", "tilt per time step", "deg", 1e-12, 90.0));
+                     .declared("Tilt", "tilt per time step", "deg", 1e-12, 90.0)
+                     .accepts(positive_finite));
   rows.push_back(Row("from_deg", "tilt_from_deg", "degree", "from", tilt)
                      .of(&O::from_deg)
-                     .declared("Tilt", "tilt at the start", "deg", -90.0, 90.0));
+                     .declared("Tilt", "tilt at the start", "deg", -90.0, 90.0)
+                     .accepts(finite));
   rows.push_back(
       Row("to_deg", "tilt_to_deg", "degree", "to", tilt)
           .of(&O::to_deg)
@@ -188,73 +233,166 @@ std::vector<RunParameter> make_table() {
           .declared("Tilt",
                     "run to this tilt, avalanche or not (default: the avalanche plus --margin)",
                     "deg", -90.0, 90.0));
-  rows.push_back(
-      Row("max_deg", "tilt_max_deg", "degree", "max-angle", tilt)
-          .of(&O::max_deg)
-          .declared("Tilt", "without --to, stop here if no avalanche is detected", "deg", -90.0,
-                    90.0));
+  rows.push_back(Row("max_deg", "tilt_max_deg", "degree", "max-angle", tilt)
+                     .of(&O::max_deg)
+                     .declared("Tilt", "without --to, stop here if no avalanche is detected", "deg",
+                               -90.0, 90.0));
   rows.push_back(Row("margin_deg", "avalanche_margin_deg", "degree", "margin", tilt)
                      .of(&O::margin_deg)
                      .declared("Tilt", "keep tilting this much after the avalanche is confirmed",
-                               "deg", 0.0, 180.0));
+                               "deg", 0.0, 180.0)
+                     .accepts(at_least(0.0)));
   // The avalanche rule's options are declared by its bundle (cli/avalanche_options.hpp),
   // shared with critical and localnu.
   rows.push_back(Row("avalanche_energy", "avalanche_energy", "", "avalanche-ek", tilt)
-                     .of(&O::avalanche_energy));
+                     .of(&O::avalanche_energy)
+                     .accepts(above(0.0)));
   rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
-                     .of(&O::avalanche_hold_deg));
-  rows.push_back(
-      Row("eps", "critical_eps", "", "eps", tilt)
-          .of(&O::eps)
-          .declared("Avalanche", "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
-                    "", 0.0, 0.999999));
+                     .of(&O::avalanche_hold_deg)
+                     .accepts(at_least(0.0)));
+  rows.push_back(Row("eps", "critical_eps", "", "eps", tilt)
+                     .of(&O::eps)
+                     .declared("Avalanche",
+                               "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
+                               "", 0.0, 0.999999)
+                     .accepts(fraction));
   // Two options, --frame-every and --frame-every-deg, declared and read by tilt-cd.
   rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
                      .of(&O::frame_every)
                      .also("frame-every-deg"));
+  // The friction's options are declared by their bundle (cli/friction_options.hpp), shared
+  // with the analysis tools; the engine's others, the "Solver" group, here: deposit and
+  // tilt-cd declare them alike (docs/method.md gives each default's reason).
   rows.push_back(Row("mu_grain", "mu_grain", "", "mu", engine).of(&S::mu_grain));
   rows.push_back(Row("mu_wall", "mu_wall", "", "mu-wall", engine).of(&S::mu_wall));
-  rows.push_back(Row("time_step", "time_step_s", "s", "time-step", engine).of(&S::time_step));
-  rows.push_back(Row("theta", "theta", "", "theta-method", engine).of(&S::theta));
-  rows.push_back(Row("tolerance", "tolerance", "", "tolerance", engine).of(&S::tolerance));
-  rows.push_back(Row("max_sweeps", "max_sweeps", "", "max-sweeps", engine).of(&S::max_sweeps));
-  rows.push_back(Row("criterion", "criterion", "", "criterion", engine)
-                     .of_text(&S::criterion, cd::criterion_name, cd::criterion_from_name));
+  rows.push_back(
+      Row("time_step", "time_step_s", "s", "time-step", engine)
+          .of(&S::time_step)
+          .declared("Solver", "time step h (h sqrt(g/D) = 0.0099 at D = 1 mm)", "s", 1e-12, 1.0));
+  // The option's old spelling, beside theta the tilt everywhere else.
+  rows.push_back(
+      Row("theta", "theta", "", "theta-method", engine)
+          .of(&S::theta)
+          .declared(
+              "Solver",
+              "theta-method parameter of the Moreau-Jean scheme (theta, the tilt, is another)", "",
+              0.5, 1.0)
+          .old_name("theta"));
+  rows.push_back(
+      Row("tolerance", "tolerance", "", "tolerance", engine)
+          .of(&S::tolerance)
+          .declared("Solver",
+                    "NSGS convergence threshold of --criterion, relative to the velocity scale", "",
+                    1e-15, 1.0));
+  rows.push_back(Row("max_sweeps", "max_sweeps", "", "max-sweeps", engine)
+                     .of(&S::max_sweeps)
+                     .declared("Solver",
+                               "cap of NSGS sweeps per step (hitting it is counted and reported)",
+                               "", 1, 100000000));
+  rows.push_back(
+      Row("criterion", "criterion", "", "criterion", engine)
+          .of_text(&S::criterion, cd::criterion_name, cd::criterion_from_name)
+          .declared("Solver",
+                    "when NSGS stops: 'maxm', every contact's velocity correction <= tolerance; "
+                    "'quad', their root mean square <= tolerance; 'qm16', quad and every "
+                    "correction <= 16.66 tolerance (LMGC90's names); 'law', the contact law's "
+                    "residual <= tolerance g h, whatever the solver; 'err', the error estimated "
+                    "from the largest correction and the measured contraction per sweep <= "
+                    "tolerance (docs/method.md)",
+                    {"maxm", "quad", "qm16", "law", "err"}));
   rows.push_back(Row("check_every", "check_every", "", "check-every", engine)
                      .of(&S::check_every)
-                     .pre_seam(std::int64_t{1}));
-  rows.push_back(Row("solver", "solver", "", "solver", engine)
-                     .of_text(&S::solver, cd::solver_name, cd::solver_from_name)
-                     .pre_seam(std::string("nsgs")));
-  // The option is in m g / D (cli::solver_settings converts); the record in N/m^2.
-  rows.push_back(Row("contact_stiffness", "contact_stiffness_N_m2", "N m-2", "stiffness", engine)
-                     .of(&S::contact_stiffness)
-                     .pre_seam(0.0));
-  rows.push_back(Row("scramble", "scramble_seed", "", "scramble", engine)
-                     .of(&S::scramble)
-                     .pre_seam(std::int64_t{0}));
-  rows.push_back(Row("max_substeps", "max_substeps", "", "max-substeps", engine)
-                     .of(&S::max_substeps)
-                     .pre_seam(std::int64_t{1}));
-  rows.push_back(Row("substep_after", "substep_after", "", "substep-after", engine)
-                     .of(&S::substep_after)
-                     .pre_seam(std::int64_t{100}));
-  rows.push_back(Row("sweep_order", "sweep_order", "", "sweep-order", engine)
-                     .of_text(&S::sweep_order, cd::sweep_order_name, cd::sweep_order_from_name)
-                     .pre_seam(std::string("pair")));
-  // The option is in D (cli::solver_settings converts); the record in m.
+                     .pre_seam(std::int64_t{1})
+                     .declared("Solver",
+                               "sweeps between two tests of --criterion (LMGC90 tests every 50)",
+                               "", 1, 100000000));
   rows.push_back(
-      Row("alert_distance", "alert_distance_m", "m", "alert", engine).of(&S::alert_distance));
+      Row("solver", "solver", "", "solver", engine)
+          .of_text(&S::solver, cd::solver_name, cd::solver_from_name)
+          .pre_seam(std::string("nsgs"))
+          .declared("Solver",
+                    "contact solver: 'nsgs', non-smooth Gauss-Seidel; 'nncg', NSGS with a "
+                    "nonlinear conjugate-gradient step after each sweep; 'pcg', NSGS alternating "
+                    "with conjugate gradients on the contacts' active set, for compliant "
+                    "contacts; 'newton', NSGS alternating with exact Newton steps on the active "
+                    "set by a sparse LU, for compliant contacts (docs/method.md)",
+                    {"nsgs", "nncg", "pcg", "newton"}));
+  // The option is in m g / D, by default compliant contacts whose steps converge
+  // (docs/method.md, "Defaults and their reasons"); the record in N/m^2.
+  rows.push_back(
+      Row("contact_stiffness", "contact_stiffness_N_m2", "N m-2", "stiffness", engine)
+          .of(&S::contact_stiffness)
+          .pre_seam(0.0)
+          .scaled(OptionScale::weight_per_diameter, 1e6)
+          .declared("Solver",
+                    "contact stiffness k of the force-selection rule, in m g / D (m the mean "
+                    "grain mass, D the mean diameter): the compliance 1/(k h^2) anchored at the "
+                    "previous step's impulses picks the step's forces near the previous ones; 0 "
+                    "for rigid contacts, with --tolerance 1e-4 --solver nsgs as the rigid "
+                    "studies (docs/method.md, \"Force selection\")",
+                    "m g/D", 0.0, 1e300));
+  rows.push_back(
+      Row("scramble", "scramble_seed", "", "scramble", engine)
+          .of(&S::scramble)
+          .pre_seam(std::int64_t{0})
+          .declared("Solver",
+                    "0: sweeps in pair order; else the seed of a random sweep order drawn anew "
+                    "every step (LMGC90's quick scramble): another solver path through the same "
+                    "steps",
+                    "", 0, 1e308)
+          .after("substep-after"));
+  rows.push_back(
+      Row("max_substeps", "max_substeps", "", "max-substeps", engine)
+          .of(&S::max_substeps)
+          .pre_seam(std::int64_t{1})
+          .declared("Solver",
+                    "adaptive sub-steps: a step not converged after --substep-after sweeps is "
+                    "done again as two half steps under the same gravity, recursively, down to h "
+                    "/ this (a power of two; 1: none) (docs/method.md, \"Sub-steps\")",
+                    "", 1, cd::max_substeps_limit));
+  rows.push_back(
+      Row("substep_after", "substep_after", "", "substep-after", engine)
+          .of(&S::substep_after)
+          .pre_seam(std::int64_t{100})
+          .declared("Solver",
+                    "sweeps a step may take before it is split into two (with --max-substeps > 1)",
+                    "", 1, 100000000));
+  rows.push_back(
+      Row("sweep_order", "sweep_order", "", "sweep-order", engine)
+          .of_text(&S::sweep_order, cd::sweep_order_name, cd::sweep_order_from_name)
+          .pre_seam(std::string("pair"))
+          .declared(
+              "Solver",
+              "the order of the sweeps: 'pair', the contacts in pair order (or --scramble's); "
+              "'strips', the box cut into vertical strips two largest diameters wide or "
+              "more, the even strips then the odd ones, which --threads share "
+              "(docs/method.md, \"Threads\")",
+              {"pair", "strips"}));
+  // The option is in D; the record in m.
+  rows.push_back(
+      Row("alert_distance", "alert_distance_m", "m", "alert", engine)
+          .of(&S::alert_distance)
+          .scaled(OptionScale::diameter, 0.1)
+          .declared("Solver", "alert distance: contact candidates within this gap", "D", 0.0, 10.0)
+          .after("threads"));
   // No option: the pile's gravity; the sweeps alternate in every run.
   rows.push_back(Row("gravity", "gravity_m_s2", "m s-2", "", engine).of(&S::gravity));
   rows.push_back(
       Row("symmetric_sweeps", "symmetric_sweeps", "", "", engine).of(&S::symmetric_sweeps));
   // Not recorded: how fast a run goes, not what it computes (docs/method.md, "Threads").
-  rows.push_back(Row("threads", "", "", "threads", engine).of(&S::threads));
-  rows.push_back(Row("checkpoint_every", "", "", "checkpoint-every", tilt)
-                     .of(&O::checkpoint_every)
-                     .declared("Recording", "steps between checkpoints of OUTPUT.partial", "steps",
-                               1, 1e12));
+  rows.push_back(
+      Row("threads", "", "", "threads", engine)
+          .of(&S::threads)
+          .declared("Solver",
+                    "threads that share the strips of a sweep (with --sweep-order strips): the run "
+                    "is the same, bit for bit, on any number; not recorded, so a run resumes or "
+                    "branches on any (docs/method.md, \"Threads\")",
+                    "", 1, cd::max_threads));
+  rows.push_back(
+      Row("checkpoint_every", "", "", "checkpoint-every", tilt)
+          .of(&O::checkpoint_every)
+          .declared("Recording", "steps between checkpoints of OUTPUT.partial", "steps", 1, 1e12)
+          .accepts(at_least(1.0)));
   std::vector<RunParameter> table;
   for (Row& r : rows) table.push_back(std::move(r.p));
   return table;
@@ -265,6 +403,12 @@ std::vector<RunParameter> make_table() {
 const std::vector<RunParameter>& run_parameters() {
   static const std::vector<RunParameter> table = make_table();
   return table;
+}
+
+const std::string& parameter_key(const std::string& field) {
+  for (const RunParameter& p : run_parameters())
+    if (p.field == field) return p.key;
+  throw std::logic_error("no run parameter of the field " + field);
 }
 
 io::Values settings_parameters(const cd::Settings& s) {
@@ -316,30 +460,82 @@ std::vector<OptionDeclaration> declared_options() {
   return out;
 }
 
-void set_declared_options(TiltOptions& o, const OptionValues& values) {
-  for (const RunParameter& p : run_parameters()) {
-    if (!p.declaration) continue;
-    const auto v = values.find(p.option);
-    p.set_option(o, v == values.end() ? std::nullopt : std::optional<OptionValue>(v->second));
+namespace {
+// The value of p's option in the field's unit, if given or defaulted.
+std::optional<OptionValue> option_value(const RunParameter& p, const OptionValues& values,
+                                        const PileScale& s) {
+  const auto v = values.find(p.option);
+  if (v == values.end()) return std::nullopt;
+  switch (p.scale) {
+    case OptionScale::diameter: return std::get<double>(v->second) * s.diameter;
+    case OptionScale::weight_per_diameter:
+      return std::get<double>(v->second) * s.mass * s.gravity / s.diameter;
+    case OptionScale::none: break;
   }
+  return v->second;
 }
+}  // namespace
+
+void set_declared_options(TiltOptions& o, const OptionValues& values) {
+  for (const RunParameter& p : run_parameters())
+    if (p.declaration && p.group == ParameterGroup::tilt)
+      p.set_option(o, option_value(p, values, {}));
+}
+
+cd::Settings settings_from_options(const OptionValues& values, const PileScale& scale) {
+  TiltOptions o;
+  for (const RunParameter& p : run_parameters())
+    if (p.declaration && p.group == ParameterGroup::settings)
+      p.set_option(o, option_value(p, values, scale));
+  const int n = o.settings.max_substeps;
+  if ((n & (n - 1)) != 0)
+    throw UsageError(field("max_substeps") + ": expected a power of two in [1, " +
+                     std::to_string(cd::max_substeps_limit) + "], got '" + std::to_string(n) + "'");
+  return o.settings;
+}
+
+cd::Settings option_defaults() {
+  cd::Settings d;
+  d.solver = cd::SolverKind::pcg;
+  d.tolerance = 1e-6;
+  d.max_substeps = 64;
+  d.substep_after = 1000;
+  return d;
+}
+
+namespace {
+// Whether `v` is in `a`, and the message that names `name` and the range if not.
+bool accepted(const Accepted& a, double v) {
+  return (!a.finite || std::isfinite(v)) && (a.low_open ? v > a.low : v >= a.low) &&
+         (!a.below || v < *a.below);
+}
+std::string refusal(const Accepted& a, const std::string& name) {
+  if (a.below)
+    return name + " must be in " + (a.low_open ? "(" : "[") + io::format_number(a.low) + ", " +
+           io::format_number(*a.below) + ")";
+  if (std::isfinite(a.low))
+    return name + " must be " + (a.low_open ? "> " : ">= ") + io::format_number(a.low);
+  return name + " must be finite";
+}
+double number(const io::Value& v) {
+  if (auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+  return std::get<double>(v);
+}
+}  // namespace
 
 void validate(const TiltOptions& o) {
   auto bad = [](const std::string& what) { throw UsageError(what); };
-  if (!(o.rate_deg > 0.0) || !std::isfinite(o.rate_deg)) bad(field("rate_deg") + " must be > 0");
-  if (!std::isfinite(o.from_deg)) bad(field("from_deg") + " must be finite");
+  for (const RunParameter& p : run_parameters())
+    if (p.accepted && !accepted(*p.accepted, number(p.get(o))))
+      bad(refusal(*p.accepted, field(p.field)));
   // The start is from_deg, or with a branch the tilt of the frame branched from.
   if (o.to_deg && !(*o.to_deg >= o.from_deg))
     bad(field("to_deg") + " " + io::format_number(*o.to_deg) + " is below the starting tilt " +
         io::format_number(o.from_deg) + " deg (" + field("from_deg") + ", or the frame of " +
         field("branch_at") + ")");
   if (!(o.max_deg >= o.from_deg)) bad("the maximum angle must be >= " + field("from_deg"));
-  if (!(o.margin_deg >= 0.0)) bad(field("margin_deg") + " must be >= 0");
-  if (!(o.avalanche_energy > 0.0)) bad(field("avalanche_energy") + " must be > 0");
-  if (!(o.avalanche_hold_deg >= 0.0)) bad(field("avalanche_hold_deg") + " must be >= 0");
+  // Set by two options (steps or degrees), so named by neither.
   if (o.frame_every < 1) bad("the frame interval must be >= 1 step");
-  if (o.checkpoint_every < 1) bad(field("checkpoint_every") + " must be >= 1");
-  if (!(o.eps >= 0.0 && o.eps < 1.0)) bad(field("eps") + " must be in [0, 1)");
   cd::validate(o.settings);
 }
 
@@ -401,18 +597,21 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   }
   // The run's frame interval is an interval of tilt: at another rate it stays that many
   // degrees, not that many steps.
-  const double rate = std::get<double>(merged.at("tilt_rate_deg_per_step"));
-  if (!option_of.count("frame_every_steps") && rate != from_run.rate_deg)
-    merged["frame_every_steps"] = std::max<std::int64_t>(
+  const std::string &rate_key = parameter_key("rate_deg"),
+                    &frames_key = parameter_key("frame_every"),
+                    &from_key = parameter_key("from_deg");
+  const double rate = std::get<double>(merged.at(rate_key));
+  if (!option_of.count(frames_key) && rate != from_run.rate_deg)
+    merged[frames_key] = std::max<std::int64_t>(
         1, std::llround(static_cast<double>(from_run.frame_every) * from_run.rate_deg / rate));
-  if (start_deg) merged["tilt_from_deg"] = *start_deg;
+  if (start_deg) merged[from_key] = *start_deg;
   InheritedOptions out;
   out.options = tilt_options_from_parameters(merged, file);
   for (const RunParameter& p : run_parameters())  // not parameters: the command line's
     if (p.inherit == Inherit::as_asked)
       p.set(out.options, {{p.field, p.get(asked)}}, p.field, file);
   for (const RunParameter& p : run_parameters()) {
-    if (p.key.empty() || p.option.empty() || (start_deg && p.key == "tilt_from_deg")) continue;
+    if (p.key.empty() || p.option.empty() || (start_deg && p.key == from_key)) continue;
     if (merged.at(p.key) == before.at(p.key)) continue;
     const auto by = option_of.find(p.key);
     out.changes.push_back({by == option_of.end() ? "" : by->second, p.key,

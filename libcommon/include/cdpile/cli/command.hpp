@@ -88,9 +88,12 @@ class Usage {
   Usage& text_list(const std::string& name, const std::string& help,
                    const std::vector<std::string>& choices);
   /// An option declared by the library (sim::run_parameters()), in the declaration's group
-  /// of --help; the current group is that group afterwards.
+  /// of --help (a name with its choices, else a number); the current group is that group
+  /// afterwards. Its field is then spelled as this option in the library's messages
+  /// (cli/fields.hpp), and its old name is an alias.
   Usage& declare(const OptionDeclaration& d);
-  /// Those of `declared` in `group`, in their order, at this point of --help.
+  /// Those of `declared` in `group`, in their order (one with `after` moved after that
+  /// option), at this point of --help.
   Usage& declare(const std::string& group, const std::vector<OptionDeclaration>& declared);
   /// Moves the option declared last to just after the declared option `name`: a tool's own
   /// option beside one the library declares (tilt-cd's --branch-at after --from, the

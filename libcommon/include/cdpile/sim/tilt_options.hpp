@@ -8,6 +8,7 @@
 #include "cdpile/io/schema.hpp"
 #include "cdpile/option.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -54,6 +55,26 @@ enum class Inherit {
 /// and tilt-cd record them) or the tilt protocol's (tilt-cd only).
 enum class ParameterGroup { settings, tilt };
 
+/// The unit an option is given in where it is not its field's SI unit: the pile's mean
+/// diameter D (the alert distance), or m g / D, a mean grain's weight per diameter (the
+/// contact stiffness), so that one value suits piles of any grain size.
+enum class OptionScale { none, diameter, weight_per_diameter };
+/// The pile's scales that convert those options: D [m], the mean grain mass m [kg/m] (per
+/// unit thickness) and g [m/s^2].
+struct PileScale {
+  double diameter = 1.0, mass = 1.0, gravity = 1.0;
+};
+
+/// The values the library accepts for a field, whatever the front end (validate(); an
+/// option's declared range, the front end's, may be narrower): at least `low` (above it if
+/// `low_open`), below `below` if given, and finite if `finite`. A NaN is refused.
+struct Accepted {
+  double low = -HUGE_VAL;
+  bool low_open = false;
+  std::optional<double> below;
+  bool finite = false;
+};
+
 struct RunParameter {
   std::string field;        ///< the library's name (cdpile::field() spells it for messages)
   std::string key;          ///< the /parameters key; empty: not recorded
@@ -75,26 +96,49 @@ struct RunParameter {
                      const std::string& file)>
       set;
   bool text = false;  ///< recorded as text (an enum's name)
-  /// The option's declaration, its kind and default from the field's type and default
-  /// value; empty for an option declared by one of the tools' bundles (the avalanche rule,
-  /// the friction, the solver: cli/*_options.hpp) or by tilt-cd itself (the frame interval).
+  /// The option's declaration, its kind and default from the field's type and its default
+  /// as an option (option_defaults()); empty for an option declared by one of the tools'
+  /// bundles (the avalanche rule, the friction: cli/*_options.hpp) or by tilt-cd itself
+  /// (the frame interval).
   std::optional<OptionDeclaration> declaration;
-  /// Sets the field from its option's value; absent (an option without a default, not
-  /// given) leaves an optional field empty (to_deg: none).
+  OptionScale scale = OptionScale::none;  ///< the option's unit, if not the field's
+  /// The values validate() accepts, with a message naming the field and the range; empty:
+  /// any (or checked with another field, or by cd::validate for the engine's settings).
+  std::optional<Accepted> accepted;
+  /// Sets the field from its option's value (in the field's unit); absent (an option
+  /// without a default, not given) leaves an optional field empty (to_deg: none).
   std::function<void(TiltOptions& o, const std::optional<OptionValue>& v)> set_option;
 };
 
 /// Every run parameter, in the order a branch lists its changes (tilt-cd's options: the
 /// tilt, the avalanche, the recording, the friction, the solver).
 const std::vector<RunParameter>& run_parameters();
+/// The /parameters key of the run parameter of `field` (its row's), for the code that
+/// reads one parameter by name; std::logic_error if no row has that field.
+const std::string& parameter_key(const std::string& field);
 
 /// The options declared in run_parameters(), in its order: tilt-cd declares them
-/// (cli::Usage::declare) and reads them back into TiltOptions (set_declared_options).
+/// (cli::Usage::declare) and reads them back into TiltOptions (set_declared_options and
+/// settings_from_options); deposit declares and reads those of the engine's settings, the
+/// "Solver" group.
 std::vector<OptionDeclaration> declared_options();
-/// Sets the fields of declared_options() from their values (cli::option_values).
+/// Sets the tilt protocol's fields of declared_options() from their values
+/// (cli::option_values).
 void set_declared_options(TiltOptions& o, const OptionValues& values);
+/// The engine's settings from the values of declared_options() (cli::option_values), the
+/// options in D or m g / D converted by `scale`; those without an option (gravity, the
+/// friction) are cd::Settings' defaults. Throws cdpile::UsageError for a number of
+/// sub-steps that is not a power of two.
+cd::Settings settings_from_options(const OptionValues& values, const PileScale& scale);
+/// The engine's settings the options default to: cd::Settings' with the solver that
+/// converges the compliant steps (pcg), the tolerance at which their critical contacts
+/// converge (1e-6), and sub-steps that rescue the rare step pcg leaves unconverged after
+/// 1000 sweeps (docs/method.md, "Defaults and their reasons").
+cd::Settings option_defaults();
 
-/// Checks the options; throws cdpile::UsageError naming the bad one.
+/// Checks the options: each field's range (RunParameter::accepted), then the tilts against
+/// the start and the frame interval, then the engine's settings (cd::validate); throws
+/// cdpile::UsageError naming the first bad one.
 void validate(const TiltOptions& o);
 /// The options as run parameters (unit suffixes; docs/tools/tilt-cd.md lists them).
 io::Values tilt_parameters(const TiltOptions& o);
