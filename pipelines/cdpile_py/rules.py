@@ -3,6 +3,9 @@ critical set of one frame's contacts, the agitation of a partial run). Each mirr
 C++ it names and must change with it; a script takes the tools' tables and observables
 (critical's steps table, critical_grain, contacts_grain, results/avalanche_angle_deg)
 where they have what it needs."""
+import os
+import sys
+
 import numpy as np
 
 
@@ -15,8 +18,13 @@ def critical(fn, ft, mu, eps):
 
 def contact_friction(run, j):
     """mu of each contact: the run's mu_wall against a wall plane (j < 0), mu_grain otherwise
-    (glued floor grains too), as analysis::static_bound and tilt-cd's critical count."""
-    mu_grain = float(run.parameters.get("mu_grain", 0.5))
+    (glued floor grains too), as analysis::static_bound and tilt-cd's critical count. A
+    file without mu_grain is refused, as analysis::choose_friction refuses it without --mu
+    (no friction is assumed); mu_wall defaults to mu_grain, as in files of before mu_wall."""
+    if "mu_grain" not in run.parameters:
+        raise SystemExit(f"{os.path.basename(sys.argv[0])}: {run.path}: /parameters: no mu_grain, "
+                         "so the critical test has no friction")
+    mu_grain = float(run.parameters["mu_grain"])
     mu_wall = float(run.parameters.get("mu_wall", mu_grain))
     return np.where(j < 0, mu_wall, mu_grain)
 
