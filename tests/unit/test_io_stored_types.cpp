@@ -1,7 +1,8 @@
 // Every number read is checked against the types the schema names before HDF5 converts
 // it (io/h5.cpp, check_number_type; docs/schema.md, "Types"): one test per property of a
 // stored type (class, size, precision, bit offset, sign, byte order, the float's fields),
-// the data space (rank, extent, a null space) and the attributes; and the damaged file of
+// the data space (rank, extent, a null space), the attributes and their text (class,
+// character set, padding); and the damaged file of
 // the earlier format that made correlate die with SIGBUS in HDF5's conversion. A byte order
 // other than little- or big-endian cannot be stored: HDF5 1.10 decodes a float written in
 // VAX order as big-endian, so the first test's two orders are all a file can claim.
@@ -15,7 +16,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -65,6 +65,33 @@ h5::Handle int32_altered(Alter&& alter) {
 }
 
 const std::vector<std::int32_t> kInts = {1, 2, 3};
+
+/// The image of a file of the earlier format (superblock version 0: no checksums) that
+/// `build` filled, with the bytes `from` found in it replaced by `to`: damage that HDF5
+/// opens without complaint, and that the child rewriting such files copies as it is.
+template <class Build>
+std::vector<char> earlier_format_with(Build&& build, const std::vector<char>& from,
+                                      const std::vector<char>& to) {
+  std::vector<char> bytes;
+  {
+    h5::Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+    H5Pset_fapl_core(fapl.id(), 1 << 16, 0);
+    H5Pset_libver_bounds(fapl.id(), H5F_LIBVER_EARLIEST, H5F_LIBVER_LATEST);
+    const h5::File w(h5::Handle(H5Fcreate(("cdpile-earlier-" + std::to_string(::getpid())).c_str(),
+                                          H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id())),
+                     "old.h5");
+    EXPECT_TRUE(w.valid());
+    build(w);
+    H5Fflush(w.id(), H5F_SCOPE_LOCAL);
+    bytes.resize(static_cast<std::size_t>(H5Fget_file_image(w.id(), nullptr, 0)));
+    H5Fget_file_image(w.id(), bytes.data(), bytes.size());
+  }
+  const auto at = std::search(bytes.begin(), bytes.end(), from.begin(), from.end());
+  EXPECT_NE(at, bytes.end());
+  if (at != bytes.end()) std::copy(to.begin(), to.end(), at);
+  EXPECT_EQ(h5::superblock_version(bytes), 0);
+  return bytes;
+}
 
 }  // namespace
 
@@ -254,36 +281,20 @@ TEST(StoredTypes, AttributesAreCheckedLikeDatasets) {
 // size. The child that rewrites such files copies the type as it is; HDF5's
 // integer-to-float conversion in the tool's process then read outside its buffer (SIGBUS).
 TEST(StoredTypes, ADamagedTypeInAFileOfTheEarlierFormatIsRefusedNotConverted) {
-  const fs::path path =
-      fs::temp_directory_path() / ("cdpile-types-" + std::to_string(::getpid()) + ".h5");
-  {
-    h5::Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
-    H5Pset_libver_bounds(fapl.id(), H5F_LIBVER_EARLIEST, H5F_LIBVER_LATEST);
-    h5::Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id()));
-    ASSERT_TRUE(file.valid());
-    const hsize_t n = 3;
-    h5::Handle space(H5Screate_simple(1, &n, nullptr));
-    h5::Handle d(H5Dcreate2(file.id(), "/theta", H5T_STD_I32LE, space.id(), H5P_DEFAULT,
-                            H5P_DEFAULT, H5P_DEFAULT));
-    H5Dwrite(d.id(), H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, kInts.data());
-  }
-  std::vector<char> bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
   // The datatype message of a signed little-endian 4-byte integer (version 1, fixed point):
   // flags, size 4, bit offset 0, precision 32. Its precision becomes 16384 bits.
-  const std::vector<char> message = {0x10, 0x08, 0, 0, 4, 0, 0, 0, 0, 0, 0x20, 0};
-  auto at = std::search(bytes.begin(), bytes.end(), message.begin(), message.end());
-  ASSERT_NE(at, bytes.end());
-  at[10] = 0x00;
-  at[11] = 0x40;
+  const std::vector<char> bytes = earlier_format_with(
+      [](const h5::File& w) {
+        add_dataset(w, H5T_STD_I32LE, H5T_NATIVE_INT32, kInts.data(), 3, "/theta");
+      },
+      {0x10, 0x08, 0, 0, 4, 0, 0, 0, 0, 0, 0x20, 0}, {0x10, 0x08, 0, 0, 4, 0, 0, 0, 0, 0, 0, 0x40});
+  // By path, as correlate read the file reported.
+  const fs::path path =
+      fs::temp_directory_path() / ("cdpile-types-" + std::to_string(::getpid()) + ".h5");
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   }
-  ASSERT_EQ(h5::superblock_version(path.string()), 0);
   const std::string why = refusal([&] {
     const h5::File f = h5::open_read(path.string(), "old.h5");
     h5::read<double>(f, "/theta", {3});
@@ -293,6 +304,42 @@ TEST(StoredTypes, ADamagedTypeInAFileOfTheEarlierFormatIsRefusedNotConverted) {
             "old.h5: /theta: stored as a 4-byte signed integer of 16384 bits at bit offset 0, "
             "little-endian, not a standard integer or IEEE float type (damaged, or written by "
             "another program): refused before conversion");
+}
+
+// A text attribute is read with its own stored type (HDF5 converts nothing), so what is
+// checked is that it is text the schema can store: a class of text, a character set and
+// padding HDF5 names, at least one byte. HDF5's API writes no other set or padding; the
+// file of the earlier format below is damaged to hold them, as another program could.
+TEST(StoredTypes, AttributesOfTextAreTextOfAKnownSetAndPadding) {
+  const std::vector<char> image = image_with([](const h5::File& w) {
+    h5::set_attr(w, "/", "number", 2.5);
+    h5::set_attr(w, "/", "text", std::string("abc"));
+    h5::set_attr(w, "/", "list", std::vector<std::string>{"a", "b"});
+  });
+  const h5::File f = h5::open_image(image, "types.h5");
+  EXPECT_EQ(refusal([&] { h5::attr_string(f, "/", "number"); }),
+            "types.h5: /: attribute 'number' is not text");
+  EXPECT_EQ(refusal([&] { h5::attr_double(f, "/", "text"); }),
+            "types.h5: /: attribute 'text' is not a number");
+  EXPECT_EQ(refusal([&] { h5::attr_int(f, "/", "number"); }),
+            "types.h5: /: attribute 'number' should be an integer");
+  EXPECT_EQ(refusal([&] { h5::attr_string(f, "/", "list"); }),
+            "types.h5: /: attribute 'list' should hold one text");
+  EXPECT_EQ(h5::attr_string(f, "/", "text"), "abc");
+
+  // The datatype message of the 4-byte text "abc" (version 1, class string): its flags
+  // hold the padding (low 4 bits: 0, NUL-terminated) and the character set (high 4: 1,
+  // UTF-8), then its size.
+  const std::vector<char> stored = {0x13, 0x10, 0, 0, 4, 0, 0, 0};
+  const auto damaged = [&](const std::vector<char>& to) {
+    const std::vector<char> bytes = earlier_format_with(
+        [](const h5::File& w) { h5::set_attr(w, "/", "author", std::string("abc")); }, stored, to);
+    return refusal([&] { h5::attr_string(h5::open_image(bytes, "old.h5"), "/", "author"); });
+  };
+  EXPECT_EQ(damaged({0x13, 0x20, 0, 0, 4, 0, 0, 0}),
+            "old.h5: /: attribute 'author': text of unknown character set (code 2)");
+  EXPECT_EQ(damaged({0x13, 0x13, 0, 0, 4, 0, 0, 0}),
+            "old.h5: /: attribute 'author': text of unknown padding (code 3)");
 }
 
 // An external link names another file: HDF5 would open it and hand its data over as this
@@ -354,4 +401,24 @@ TEST(StoredStructure, OnlyTheSchemasFiltersAndFletcher32AreRead) {
   EXPECT_EQ(refusal([&] { h5::read_rows<double>(f, "/scaled", 0, 2); }),
             "types.h5: /scaled: stored through the scale-offset filter: the readers take chunks "
             "through deflate, shuffle and Fletcher-32 only");
+}
+
+// The links the structure mutator breaks: a group where the schema has a dataset and a
+// dataset where it has a group, a link removed, a soft link to nothing or to itself. Each
+// is refused when the path is opened, before anything under it is read.
+TEST(StoredStructure, AnObjectOfTheOtherKindOrNoneIsRefused) {
+  const std::vector<char> image = image_with([](const h5::File& w) {
+    h5::create_group(w, "/x");
+    h5::write(w, "/g", std::vector<double>{1, 2, 3});
+    H5Lcreate_soft("/nowhere", w.id(), "/dangling", H5P_DEFAULT, H5P_DEFAULT);
+    H5Lcreate_soft("/self", w.id(), "/self", H5P_DEFAULT, H5P_DEFAULT);
+  });
+  const h5::File f = h5::open_image(image, "types.h5");
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/x", {3}); }), "types.h5: /x: not a dataset");
+  EXPECT_EQ(refusal([&] { h5::members(f, "/g"); }), "types.h5: /g: not a group");
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/y", {3}); }), "types.h5: /y: missing dataset");
+  EXPECT_EQ(refusal([&] { h5::members(f, "/y"); }), "types.h5: /y: missing group");
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/dangling", {3}); }),
+            "types.h5: /dangling: not a dataset");
+  EXPECT_EQ(refusal([&] { h5::read<double>(f, "/self", {3}); }), "types.h5: /self: not a dataset");
 }
