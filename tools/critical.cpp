@@ -171,12 +171,15 @@ static void run(const cli::Args& a) {
 
   std::vector<analysis::RunRecord> runs;
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every run
+  // A partial run's note is said once every run has been read and analysed: a file that
+  // is refused gets its one line, not a note before it.
+  std::vector<std::string> notes;
   std::string inputs;
   cli::refuse_repeated_inputs(a.arguments("runs"));
   for (const std::string& path : a.arguments("runs")) {
     io::Input in(io::run_or_partial(path));  // a run tilt-cd is still computing: its partial
     io::RunReader rr(in.hdf5());
-    if (const std::string note = io::partial_run_note(rr); !note.empty()) cli::warn(note);
+    if (std::string note = io::partial_run_note(rr); !note.empty()) notes.push_back(std::move(note));
     histories.emplace_back(in.name(), rr.header().provenance);
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu = io::run_friction(rr.header(), cli::friction_choice(a), in.name());
@@ -191,6 +194,7 @@ static void run(const cli::Args& a) {
     runs.push_back(std::move(r));
   }
   analysis::Product p = analysis::critical_study(runs, opt);
+  for (const std::string& note : notes) cli::warn(note);
   for (const std::string& w : analysis::product_warnings(p)) cli::warn(w);
   std::vector<io::Provenance> history = io::merge_histories(histories);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));

@@ -69,7 +69,6 @@ static void run(const cli::Args& a) {
   }
   io::Input in(io::run_or_partial(a.argument("run")));  // a run still computed: its partial
   const io::RunReader r(in.hdf5());
-  if (const std::string note = io::partial_run_note(r); !note.empty()) cli::warn(note);
   io::lammps::ExportOptions opt;
   if (auto v = a.integer_opt("first")) opt.first = static_cast<std::size_t>(*v);
   if (auto v = a.integer_opt("last")) opt.last = static_cast<std::size_t>(*v);
@@ -85,6 +84,8 @@ static void run(const cli::Args& a) {
     const double eps = io::recorded_rule(r.header(), in.name()).eps.value_or(analysis::default_eps);
     io::lammps::write_contacts_dump(contacts->text(), r, opt, mu, eps);
   }
+  // said once the run has been read: a file that is refused gets its one line, not a note
+  if (const std::string note = io::partial_run_note(r); !note.empty()) cli::warn(note);
   out.commit();
   if (contacts) contacts->commit();
   cli::info(std::to_string(n) + " snapshots of " + std::to_string(r.grain_count()) + " grains -> " +

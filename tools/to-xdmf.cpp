@@ -101,10 +101,11 @@ static void run(const cli::Args& a) {
     opt.mu = cli::friction_choice(a);
     opt.walls = a.flag("walls");
     const io::RunReader r(in.hdf5());
-    if (const std::string note = io::partial_run_note(r); !note.empty())
-      cli::warn(note + "; the views name the partial: run to-xdmf again on the finished run");
     s = io::xdmf::write_run(xml.text(), network->text(), side.create_hdf5(), r, data_ref, side_ref,
                             opt);
+    // said once the run has been read: a file that is refused gets its one line, not a note
+    if (const std::string note = io::partial_run_note(r); !note.empty())
+      cli::warn(note + "; the views name the partial: run to-xdmf again on the finished run");
   } else {
     s = io::xdmf::write_localnu(xml.text(), side.create_hdf5(), in.hdf5(), data_ref, side_ref);
   }

@@ -10,12 +10,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 
 namespace cdpile::analysis {
 
 namespace {
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 std::string radius_name(double r) {
   // nu_r6 or nu_r2.5: shortest round-trip text, '.' kept (valid in TSV and HDF5 names)

@@ -1,4 +1,4 @@
-# The structure mutator's findings (tests/fuzz/*/structure-*, valid checksummed files with a wrong structure) and the damaged type of tests/fuzz/product/ give one line naming the file and the object, exit 1 and no output, in every tool that reads them, by path and from standard input.
+# The structure mutator's findings (tests/fuzz/*/structure-*, valid checksummed files with a wrong structure), a damaged partial run (tests/fuzz/run/partial-*) and the damaged type of tests/fuzz/product/ give one line naming the file and the object, exit 1 and no output, in every tool that reads them, by path and from standard input.
 src="$CDPILE_SOURCE/tests/fuzz"
 # expect_refused NAME TOOL ARGS...: exit 1, one line "TOOL: NAME: /PATH...: ..." on stderr
 # (the object named), nothing written.
@@ -24,6 +24,16 @@ for gz in "$src"/run/structure-*.h5.gz; do
   expect_refused "$f" to-lammps "$f" -o out.dump
   expect_refused stdin critical - -o out.tsv < "$f"
 done
+# A partial run whose series is damaged (fuzz_run's finding): the tools that read the
+# series refuse it in one line, without the partial run's note before it.
+for gz in "$src"/run/partial-*.h5.gz; do
+  found=$((found + 1))
+  f=$(basename "$gz" .gz)
+  gunzip -c "$gz" > "$f"
+  expect_refused "$f" critical "$f" -o out.tsv
+  expect_refused "$f" localnu "$f" -o out.h5
+  expect_refused stdin critical - -o out.tsv < "$f"
+done
 for gz in "$src"/product/*.h5.gz; do
   found=$((found + 1))
   f=$(basename "$gz" .gz)
@@ -32,4 +42,4 @@ for gz in "$src"/product/*.h5.gz; do
   expect_refused "$f" clusterfit "$f" -o out.tsv
   expect_refused stdin correlate - -o out.tsv < "$f"
 done
-[[ $found -ge 2 ]]
+[[ $found -ge 3 ]]
