@@ -1,7 +1,8 @@
 # Pairs the runs of RUNS_TSV (first argument) seed by seed with the pcg runs of PCG_TSV
 # (second argument; default ../stiff-limit/runs.tsv) (docs/figures/newton-1e7/README.md,
-# docs/figures/newton-gmres/README.md): a table per seed, then the mean of the per-seed
-# ratios or differences with its standard error.
+# docs/figures/newton-gmres/README.md, docs/figures/following-rounds/README.md): a table per
+# seed, then the mean of the per-seed ratios or differences with its standard error. The
+# third argument names the runs of RUNS_TSV (default newton), the base's pcg.
 import sys, math
 def read(p):
     rows = {}
@@ -14,8 +15,9 @@ import os
 base = read(sys.argv[2] if len(sys.argv) > 2 else
             os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'stiff-limit', 'runs.tsv'))
 new = read(sys.argv[1])
+label = sys.argv[3] if len(sys.argv) > 3 else 'newton'
 out = []
-print('seed\tcpu_pcg\tcpu_newton\tsweeps_pcg\tsweeps_newton\tsubsteps_pcg\tsubsteps_newton\ttheta_pcg\ttheta_newton\tnu_pcg\tnu_newton')
+print('\t'.join(['seed'] + [f'{q}_{w}' for q in ('cpu', 'sweeps', 'substeps', 'theta', 'nu') for w in ('pcg', label)]))
 for run, r in sorted(new.items(), key=lambda kv: int(kv[0].split('seed=')[1].split()[0])):
     b = base.get(run)
     if not b: continue
@@ -27,6 +29,6 @@ def ms(x):
     se = math.sqrt(sum((v - m) ** 2 for v in x) / (n - 1) / n) if n > 1 else float('nan')
     return m, se
 if out:
-    for i, name in enumerate(['cpu per step ratio newton/pcg', 'theta_c newton - pcg [deg]', 'nu_0_10 newton - pcg', 'sweeps ratio newton/pcg']):
+    for i, name in enumerate([f'cpu per step ratio {label}/pcg', f'theta_c {label} - pcg [deg]', f'nu_0_10 {label} - pcg', f'sweeps ratio {label}/pcg']):
         m, se = ms([o[i] for o in out])
         print(f'# {name}: {m:.4f} +- {se:.4f} ({len(out)} pairs)')

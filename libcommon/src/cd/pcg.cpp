@@ -19,8 +19,8 @@ namespace {
 using Local = FaceValue;
 
 /// A row of the face: its normal component is free; its tangential one too when the
-/// contact sticks (in a gradient round a sliding contact keeps its R_t; in a Newton step
-/// its R_t follows s mu R_n, face_newton.hpp).
+/// contact sticks (in a gradient round a sliding contact keeps its R_t, or in a following
+/// round and a Newton step its R_t follows s mu R_n, face_newton.hpp).
 using FreeRow = FaceRow;
 
 /// The local velocity H_a v of row r from the bodies' velocities v.
@@ -64,13 +64,18 @@ double largest(const std::vector<Local>& a, Team* team) {
 /// numbers on any number of threads.
 class Face {
  public:
-  Face(ContactSystem& s, const Schedule& plan) : s_(s) {
+  Face(ContactSystem& s, const Schedule& plan, bool follow = false) : s_(s) {
     scratch_.bodies = s.bodies;
     auto active = [&](std::uint32_t a) { return s.rows[a].rn > 0.0; };
     // In pair order the face is the active rows in pair order, whatever the scramble.
     std::vector<std::uint32_t> kept;
     schedule_ = sub_schedule(plan.coloured ? plan : row_schedule(s, SweepOrder::pair, {}), active, kept);
-    for (const std::uint32_t a : kept) rows_.push_back({a, s.rows[a].status == ContactStatus::stick});
+    for (const std::uint32_t a : kept) {
+      const ContactRow& r = s.rows[a];
+      const bool t = r.status == ContactStatus::stick;
+      rows_.push_back({a, t});
+      slope_.push_back(follow && !t ? (r.rt < 0.0 ? -r.mu : r.mu) : 0.0);
+    }
   }
   std::size_t size() const { return rows_.size(); }
 
@@ -104,7 +109,7 @@ class Face {
               rows_[k].t ? (res[k].t - u.t - s_.compliance_t * z[k].t) / r.w_tt : 0.0;
           z[k].n += dn;
           z[k].t += dt;
-          scratch_.apply_impulse(r, dn, dt);
+          scratch_.apply_impulse(r, dn, rows_[k].t ? dt : slope_[k] * dn);
         }
       });
   }
@@ -115,7 +120,7 @@ class Face {
     for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t) {
       for (std::size_t i = first; i < last; ++i) {
         const std::size_t k = schedule_.positions[i];
-        scratch_.apply_impulse(s_.rows[rows_[k].row], p[k].n, p[k].t);
+        scratch_.apply_impulse(s_.rows[rows_[k].row], p[k].n, rows_[k].t ? p[k].t : slope_[k] * p[k].n);
       }
     });
     for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
@@ -151,7 +156,7 @@ class Face {
       for (std::size_t k = first; k < last; ++k) {
         ContactRow& r = s_.rows[rows_[k].row];
         r.rn += alpha * p[k].n;
-        r.rt += alpha * p[k].t;
+        r.rt += alpha * (rows_[k].t ? p[k].t : slope_[k] * p[k].n);
       }
     });
     for_each_range(s_.bodies.size(), s_.team, [&](std::size_t first, std::size_t last) {
@@ -195,14 +200,22 @@ class Face {
   ContactSystem& s_;
   ContactSystem scratch_;  // bodies only
   std::vector<FreeRow> rows_;
+  // dR_t / dR_n of each row: s mu for a sliding row whose friction follows its normal
+  // impulse (a following round), else 0
+  std::vector<double> slope_;
   Schedule schedule_;  // positions are indices into rows_
 };
 
 /// One round of conjugate gradients on the face the last sweep left (pcg.hpp); returns
 /// its iterations. It ends at the first iterate that leaves the cone (projected onto
 /// it), when the face's residual is at most `target` [m/s], or after `budget` iterations.
-int gradient_round(ContactSystem& s, const Schedule& plan, double target, int budget) {
-  Face face(s, plan);
+/// With `follow` a sliding contact's friction follows its normal impulse along its cone
+/// (R_t = s mu R_n, SolverSettings::following_until): the face's operator is then not
+/// symmetric, so the iterates are conjugate-gradient steps of no optimality, which the
+/// projection and the sweeps after the round judge.
+int gradient_round(ContactSystem& s, const Schedule& plan, double target, int budget,
+                   bool follow = false) {
+  Face face(s, plan, follow);
   const std::size_t f = face.size();
   if (f == 0 || budget <= 0) return 0;
   std::vector<Local> res(f), z(f), p(f), q(f);
@@ -251,6 +264,11 @@ struct RoundResult {
 
 RoundResult gradient_rounds(ContactSystem& s, const Schedule& plan, double target, int budget) {
   return {gradient_round(s, plan, target, budget), false};
+}
+
+/// A round whose sliding contacts' friction follows their normal impulse (pcg.hpp).
+RoundResult following_rounds(ContactSystem& s, const Schedule& plan, double target, int budget) {
+  return {gradient_round(s, plan, target, budget, true), false};
 }
 
 /// The impulses, statuses and velocities a round starts from, to undo it.
@@ -362,8 +380,9 @@ SolveReport NewtonSolver::solve(ContactSystem& system, double gravity_velocity) 
 
 SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) const {
   const RoundKind gradient{gradient_rounds, iterations_per_round};
-  return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, gradient,
-                           settings_.max_sweeps);
+  const RoundKind following{following_rounds, iterations_per_round};
+  return sweeps_and_rounds(settings_, system, gravity_velocity, following, gradient,
+                           settings_.following_until);
 }
 
 }  // namespace cdpile::cd

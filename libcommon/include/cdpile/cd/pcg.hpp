@@ -15,7 +15,10 @@
 /// projected onto the cone (R_n >= 0, |R_t| <= mu R_n) and the sweeps take over, which
 /// settle the statuses it changed. In a rearrangement that is mostly after one
 /// iteration, an exactly line-searched step along the preconditioned gradient of the
-/// face.
+/// face. The rounds before SolverSettings::following_until sweeps and iterations hold a
+/// sliding contact's friction on its cone as its normal impulse changes
+/// (R_t = s mu R_n) rather than its R_t, so that the projection does not cut them short
+/// where R_n falls; the later ones hold R_t.
 ///
 /// The local solves are NSGS's and the criterion is tested after sweeps only: the solver
 /// returns the impulses of a sweep (admissible, the law measured as for NSGS), and a step

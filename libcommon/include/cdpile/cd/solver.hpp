@@ -66,6 +66,14 @@ struct SolverSettings {
   /// (docs/performance.md, "The pcg solver").
   int krylov_after = 20;
   int sweeps_between_rounds = 6;
+  /// pcg only: the step's rounds before it has taken this many sweeps and iterations hold
+  /// a sliding contact's friction on its cone as its normal impulse changes
+  /// (R_t = s mu R_n), later ones hold its R_t. The first rounds of a step then go
+  /// further before the projection stops them (a quarter fewer sweeps in the paper pile's
+  /// quiet and loading windows); in a rearrangement such rounds, whose operator is not
+  /// symmetric, cost more than they save (docs/performance.md, "Friction that follows the
+  /// normal impulse in the first rounds"). The path only, not the solution.
+  int following_until = 30;
   /// newton only (pcg.hpp, NewtonSolver): the sweeps and iterations a step takes with
   /// pcg's gradient rounds before its rounds become Newton steps. A Newton step costs
   /// a sparse LU (some 80 sweeps' worth at 4000 grains), so the quiet steps that pcg
