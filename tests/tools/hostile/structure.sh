@@ -13,11 +13,15 @@ expect_refused() {
   test -z "$(ls out.* 2> /dev/null)"
 }
 found=0
+# unpack GZ: the input, gunzipped into the working folder as $f, counted in $found
+unpack() {
+  found=$((found + 1))
+  f=$(basename "$1" .gz)
+  gunzip -c "$1" > "$f"
+}
 for gz in "$src"/run/structure-*.h5.gz; do
   [[ -e $gz ]] || continue
-  found=$((found + 1))
-  f=$(basename "$gz" .gz)
-  gunzip -c "$gz" > "$f"
+  unpack "$gz"
   expect_refused "$f" critical "$f" -o out.tsv
   expect_refused "$f" localnu "$f" -o out.h5
   expect_refused "$f" to-xdmf "$f" -o out.xdmf
@@ -27,17 +31,13 @@ done
 # A partial run whose series is damaged (fuzz_run's finding): the tools that read the
 # series refuse it in one line, without the partial run's note before it.
 for gz in "$src"/run/partial-*.h5.gz; do
-  found=$((found + 1))
-  f=$(basename "$gz" .gz)
-  gunzip -c "$gz" > "$f"
+  unpack "$gz"
   expect_refused "$f" critical "$f" -o out.tsv
   expect_refused "$f" localnu "$f" -o out.h5
   expect_refused stdin critical - -o out.tsv < "$f"
 done
 for gz in "$src"/product/*.h5.gz; do
-  found=$((found + 1))
-  f=$(basename "$gz" .gz)
-  gunzip -c "$gz" > "$f"
+  unpack "$gz"
   expect_refused "$f" correlate "$f" -o out.tsv
   expect_refused "$f" clusterfit "$f" -o out.tsv
   expect_refused stdin correlate - -o out.tsv < "$f"
