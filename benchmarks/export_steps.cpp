@@ -9,6 +9,8 @@
 // writes into OUTDIR, which must not exist:
 //   step-K.dat   the step's problem (cd::Engine::delassus_problem, io::write_siconos_fc2d)
 //   step-K.r     the impulses the engine ended the step with, 2m values on one line
+//   step-K.r0    the impulses it started from (the previous step's, matched by the pair
+//                as the engine's warm start matches them; 0 for a new pair), same layout
 // and prints one line per step on stdout (TSV): the step K after the branch, tilt [deg],
 // contact candidates m, active contacts, sweeps, the engine's residual (its maxm
 // measure, docs/method.md) and the natural-map residual of its impulses (Siconos'
@@ -28,6 +30,9 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <utility>
+#include <vector>
 #include <numbers>
 #include <string>
 
@@ -46,6 +51,30 @@ void write_text(const std::string& path, const auto& fill) {
   io::Output out(path, false);
   fill(out.text());
   out.commit();
+}
+
+void write_row(std::ostream& o, const Eigen::VectorXd& values) {
+  char v[32];
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    std::snprintf(v, sizeof v, "%.17g", values[i]);
+    o << v << (i + 1 < values.size() ? " " : "\n");
+  }
+}
+
+/// The warm start of the step in the problem's row order: the stored impulse of each row's
+/// pair (i, j), 0 where the pair is new. (The engine matches by the pair too; a step split
+/// in sub-steps starts its later parts elsewhere, so this is the start of the first.)
+Eigen::VectorXd matched_start(const std::vector<cd::StoredImpulse>& start, const cdpile::Contacts& rows) {
+  std::map<std::pair<std::int32_t, std::int32_t>, std::pair<double, double>> by_pair;
+  for (const cd::StoredImpulse& s : start) by_pair[{s.i, s.j}] = {s.rn, s.rt};
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t a = 0; a < rows.size(); ++a) {
+    const auto it = by_pair.find({rows.i[a], rows.j[a]});
+    if (it == by_pair.end()) continue;
+    r[2 * static_cast<Eigen::Index>(a)] = it->second.first;
+    r[2 * static_cast<Eigen::Index>(a) + 1] = it->second.second;
+  }
+  return r;
 }
 
 }  // namespace
@@ -74,6 +103,7 @@ int main(int argc, char** argv) {
     std::printf("step\ttilt_deg\tcandidates\tcontacts\tsweeps\tresidual\tnatural_map\tfile\n");
     for (long k = 1; k <= steps; ++k) {
       const double deg = pile.branch->tilt_deg + static_cast<double>(k) * rate_deg;
+      const std::vector<cd::StoredImpulse> start = engine.state().impulses;
       const cd::StepReport r = engine.step(deg * std::numbers::pi / 180.0);
       const cd::DelassusProblem p = engine.delassus_problem();
       const Eigen::VectorXd impulses = engine.local_impulses();
@@ -83,12 +113,9 @@ int main(int argc, char** argv) {
         std::snprintf(name, sizeof name, "step-%06ld", k);
         file = std::string(name) + ".dat";
         write_text(dir + "/" + file, [&](std::ostream& o) { io::write_siconos_fc2d(o, p); });
-        write_text(dir + "/" + name + ".r", [&](std::ostream& o) {
-          char v[32];
-          for (Eigen::Index i = 0; i < impulses.size(); ++i) {
-            std::snprintf(v, sizeof v, "%.17g", impulses[i]);
-            o << v << (i + 1 < impulses.size() ? " " : "\n");
-          }
+        write_text(dir + "/" + name + ".r", [&](std::ostream& o) { write_row(o, impulses); });
+        write_text(dir + "/" + name + ".r0", [&](std::ostream& o) {
+          write_row(o, matched_start(start, engine.contacts()));
         });
       }
       std::printf("%ld\t%.3f\t%d\t%d\t%d\t%.3e\t%.3e\t%s\n", k, deg, r.candidates, r.contacts,
