@@ -3,6 +3,7 @@
 // engine settings' parameters (common.hpp) derive too.
 #include "cdpile/sim/tilt_options.hpp"
 
+#include "cdpile/analysis/critical_option.hpp"
 #include "cdpile/cd/schedule.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
@@ -160,6 +161,17 @@ struct Row {
     p.declaration = declaration;
     return std::move(*this);
   }
+  // tilt-cd's option as the library declares it for other tools too: the same option, so
+  // its name must be the row's and its default the field's.
+  Row&& declared(OptionDeclaration shared) && {
+    if (shared.name != p.option || shared.default_value != declaration.default_value)
+      throw std::logic_error("--" + shared.name + " declared for the row of " + p.field +
+                             " with another name or default");
+    shared.field = p.field;
+    declaration = shared;
+    p.declaration = declaration;
+    return std::move(*this);
+  }
   // A name, one of `choices`, the field's default's name as the option's default.
   Row&& declared(const char* group, const char* help, std::vector<std::string> choices) && {
     declaration.choices = std::move(choices);
@@ -250,11 +262,10 @@ std::vector<RunParameter> make_table() {
   rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
                      .of(&O::avalanche_hold_deg)
                      .accepts(at_least(0.0)));
+  // Declared with the analysis tools' --eps (analysis/critical_option.hpp).
   rows.push_back(Row("eps", "critical_eps", "", "eps", tilt)
                      .of(&O::eps)
-                     .declared("Avalanche",
-                               "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
-                               "", 0.0, 0.999999)
+                     .declared(analysis::eps_option("Avalanche"))
                      .accepts(fraction));
   // Two options, --frame-every and --frame-every-deg, declared and read by tilt-cd.
   rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
