@@ -8,6 +8,7 @@
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/parameter_keys.hpp"
 #include "cdpile/sim/avalanche.hpp"
 #include "cdpile/sim/common.hpp"
 
@@ -263,7 +264,7 @@ std::vector<RunParameter> make_table() {
                      .of(&O::avalanche_hold_deg)
                      .accepts(at_least(0.0)));
   // Declared with the analysis tools' --eps (analysis/critical_option.hpp).
-  rows.push_back(Row("eps", "critical_eps", "", "eps", tilt)
+  rows.push_back(Row("eps", keys::critical_eps, "", "eps", tilt)
                      .of(&O::eps)
                      .declared(analysis::eps_option("Avalanche"))
                      .accepts(fraction));
@@ -274,8 +275,8 @@ std::vector<RunParameter> make_table() {
   // The friction's options are declared by their bundle (cli/friction_options.hpp), shared
   // with the analysis tools; the engine's others, the "Solver" group, here: deposit and
   // tilt-cd declare them alike (docs/method.md gives each default's reason).
-  rows.push_back(Row("mu_grain", "mu_grain", "", "mu", engine).of(&S::mu_grain));
-  rows.push_back(Row("mu_wall", "mu_wall", "", "mu-wall", engine).of(&S::mu_wall));
+  rows.push_back(Row("mu_grain", keys::mu_grain, "", "mu", engine).of(&S::mu_grain));
+  rows.push_back(Row("mu_wall", keys::mu_wall, "", "mu-wall", engine).of(&S::mu_wall));
   rows.push_back(
       Row("time_step", "time_step_s", "s", "time-step", engine)
           .of(&S::time_step)
@@ -387,7 +388,7 @@ std::vector<RunParameter> make_table() {
           .declared("Solver", "alert distance: contact candidates within this gap", "D", 0.0, 10.0)
           .after("threads"));
   // No option: the pile's gravity; the sweeps alternate in every run.
-  rows.push_back(Row("gravity", "gravity_m_s2", "m s-2", "", engine).of(&S::gravity));
+  rows.push_back(Row("gravity", keys::gravity_m_s2, "m s-2", "", engine).of(&S::gravity));
   rows.push_back(
       Row("symmetric_sweeps", "symmetric_sweeps", "", "", engine).of(&S::symmetric_sweeps));
   // Not recorded: how fast a run goes, not what it computes (docs/method.md, "Threads").
