@@ -423,6 +423,27 @@ const std::string& parameter_key(const std::string& field) {
   throw std::logic_error("no run parameter of the field " + field);
 }
 
+namespace {
+// A recorded value as the messages and the help write it.
+std::string value_text(const io::Value& v) {
+  if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
+  if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
+  return std::get<std::string>(v);
+}
+}  // namespace
+
+std::string recorded_keys(ParameterGroup group) {
+  std::string text;
+  for (const RunParameter& p : run_parameters()) {
+    if (p.group != group || p.key.empty()) continue;
+    text += (text.empty() ? "" : ", ") + p.key;
+    // a value recorded for a word: tilt_to_deg (-1 if none)
+    if (p.shown_as)
+      text += " (" + value_text(p.shown_as->first) + " if " + p.shown_as->second + ")";
+  }
+  return text;
+}
+
 io::Values settings_parameters(const cd::Settings& s) {
   TiltOptions o;
   o.settings = s;
@@ -586,9 +607,7 @@ TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string&
 namespace {
 std::string message_text(const RunParameter& p, const io::Value& v) {
   if (p.shown_as && v == p.shown_as->first) return p.shown_as->second;  // tilt_to_deg -1: "none"
-  if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
-  if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
-  return std::get<std::string>(v);
+  return value_text(v);
 }
 }  // namespace
 
