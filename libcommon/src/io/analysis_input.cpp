@@ -111,7 +111,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers, double slip_speed,
-                                    double rest_speed) {
+                                    double rest_speed, bool per_contact) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
@@ -120,7 +120,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
     analysis::FrameRecord f;
     try {
       f = analysis::frame_record(fr.contacts, fr.grains, set, r, rule.eps, rattlers, slip_speed,
-                                 rest_speed);
+                                 rest_speed, per_contact);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
