@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
       pile = sim::read_branch(in.hdf5(), at_deg);
     }
     const cd::Settings settings = sim::settings_from_parameters(pile.parameters, run);
-    const double rate_deg = io::as_real(pile.parameters, "tilt_rate_deg_per_step", run);
+    const double rate_deg = io::as_real(pile.parameters, sim::parameter_key("rate_deg"), run);
     cd::Engine engine(pile.box, pile.grains, settings);
     engine.set_state(sim::warm_start_state(pile.contacts, settings.time_step));
     std::filesystem::create_directories(dir);

@@ -27,34 +27,29 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cdpile_py import rules  # noqa: E402
 from cdpile_py.runfile import Run  # noqa: E402
 from cdpile_py.tables import read_times, write_tsv  # noqa: E402
+from cdpile_py.tools import Critical  # noqa: E402
 
 
 class Branch(Run):
     """A branch of accuracy.sh: its nu per step and, at its frames, its critical pairs and
-    its grains' force balance."""
+    its grains' force balance. nu and the critical contacts are critical's, by the branch's
+    own critical_eps and mu_grain (grain-grain contacts between free grains: its default
+    rule)."""
 
     def __init__(self, path):
         super().__init__(path)
-        self.mu = float(self.parameters["mu_grain"])
-        self.eps = float(self.parameters["critical_eps"])
-        self.theta = self.observable("tilt_angle")
-        self.nu = rules.step_nu(self)
+        self.critical = Critical(path, "--eps", repr(float(self.parameters["critical_eps"])))
+        self.theta = self.critical.steps["theta"]
+        self.nu = self.critical.steps["nu"]
         self.sweeps = self.observable("sweeps")
         self.converged = self.observable("converged")
 
     def critical_pairs(self, k):
         """Active and critical grain-grain contacts between free grains, as sets of pairs."""
-        c = self.contacts(k)
-        i, j, fn, ft = c["i"], c["j"], c["fn"], c["ft"]
-        grain = j >= 0
-        grain[grain] &= self.free[i[grain]] & self.free[j[grain]]
-        active = grain & (fn > 0)
-        crit = active & rules.critical(fn, ft, self.mu, self.eps)
-        key = i.astype(np.int64) * (1 << 32) + np.where(j >= 0, j, 0)
-        return set(key[active].tolist()), set(key[crit].tolist())
+        counted = self.critical.frame(k)
+        return set(counted), self.critical.critical_pairs(k)
 
     def balance(self, k):
         """Force and torque residuals of the free grains at frame k (see the module doc)."""

@@ -100,6 +100,10 @@ static void usage(cli::Usage& u) {
              true, true);
   cli::declare_product_output(u, analysis::critical_table_names(analysis::CriticalOptions{}));
   u.flag("no-steps", "leave the per-step table out");
+  u.text_opt("contacts",
+             "also write every counted contact of every frame to this file, a product of one "
+             "table (run, frame, theta, i, j, critical, sliding, slip; TSV for a name ending in "
+             ".tsv, else HDF5): a contact's state by the rule and --slip-speed, for scripts");
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
   u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
   u.group("Series, ensemble and envelope");
@@ -168,6 +172,15 @@ static void run(const cli::Args& a) {
   // an unknown --table is refused by the parser; one left out by --no-steps here, before any run is
   // read
   cli::refuse_table_if(a, "steps", !opt.step_table, "with --no-steps");
+  const bool per_contact = a.given("contacts");
+  if (per_contact) {  // a bad target refused before the work, as -o's
+    cli::refuse_output_named_twice(a, "contacts");
+    const std::string& path = a.text("contacts");
+    if (path == "-" && a.output().empty())
+      throw UsageError("--contacts - and the product both on standard output; give -o FILE");
+    io::Output check(path, a.force(),
+                     io::resolve_format(path, io::Format::automatic) == io::Format::hdf5);
+  }
 
   std::vector<analysis::RunRecord> runs;
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every run
@@ -188,7 +201,7 @@ static void run(const cli::Args& a) {
       analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule,
                                   mu);
     analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers,
-                                                opt.slip_speed, opt.rest.speed);
+                                                opt.slip_speed, opt.rest.speed, per_contact);
     cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
               std::to_string(r.frames.size()) + " frames");
     runs.push_back(std::move(r));
@@ -199,6 +212,9 @@ static void run(const cli::Args& a) {
   std::vector<io::Provenance> history = io::merge_histories(histories);
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
   cli::emit_product(a, p, history);
+  if (per_contact)
+    io::emit(analysis::critical_contacts(runs, opt), history, a.text("contacts"), a.force(),
+             io::Format::automatic);
 }
 
 CDPILE_TOOL(usage, run)

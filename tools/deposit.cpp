@@ -33,17 +33,15 @@ static void usage(cli::Usage& u) {
       "first the pile is written anyway with results/settled = 0 and a warning.",
       "Parameters: grains, floor_grains, diameter_mean_m, diameter_ratio, diameter_min_m, "
       "diameter_max_m, box_width_m, box_width_D, density_kg_m3, rough_floor, seed, rest_energy, "
-      "rest_speed, rest_steps, settle_max_steps, and the solver's time_step_s, theta, "
-      "gravity_m_s2, "
-      "mu_grain, mu_wall, alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, "
-      "solver, check_every, contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, "
-      "sweep_order. "
-      "Results: "
-      "settled, settle_steps, settle_time_s, final_agitation, unconverged_steps, bed_height_m, "
-      "bed_height_D, packing_fraction (with packing_slab_bottom_m, packing_slab_top_m), "
-      "coordination_number (grain-grain contacts of free grains, rattlers with fewer than 2 "
-      "excluded), coordination_number_all, max_overlap_m. Every settling step's observables are "
-      "recorded too (docs/schema.md)."};
+      "rest_speed, rest_steps, settle_max_steps, and the solver's " +
+          sim::recorded_keys(sim::ParameterGroup::settings) +
+          ". "
+          "Results: "
+          "settled, settle_steps, settle_time_s, final_agitation, unconverged_steps, bed_height_m, "
+          "bed_height_D, packing_fraction (with packing_slab_bottom_m, packing_slab_top_m), "
+          "coordination_number (grain-grain contacts of free grains, rattlers with fewer than 2 "
+          "excluded), coordination_number_all, max_overlap_m. Every settling step's observables "
+          "are recorded too (docs/schema.md)."};
   u.output("output pile file ('-' for standard output)");
   u.group("Pile");
   u.integer("grains", 4000, "number of free grains", 1, 100000000);

@@ -74,19 +74,15 @@ static void usage(cli::Usage& u) {
       "and exits with 130 (SIGTERM: 143) within a second (docs/cluster.md). The "
       "finished run is renamed onto OUTPUT and the partial removed; --resume on a finished OUTPUT "
       "does nothing. Writing to standard output (-o -) has no checkpoints.",
-      "Parameters: the pile's, then tilt_rate_deg_per_step, tilt_from_deg, tilt_to_deg (-1 if "
-      "none), "
-      "tilt_max_deg, avalanche_margin_deg, avalanche_energy, avalanche_hold_deg, "
-      "frame_every_steps, "
-      "critical_eps and the solver's (time_step_s, theta, gravity_m_s2, mu_grain, mu_wall, "
-      "alert_distance_m, tolerance, max_sweeps, symmetric_sweeps, criterion, solver, check_every, "
-      "contact_stiffness_N_m2, scramble_seed, max_substeps, substep_after, sweep_order). Results: "
-      "steps, "
-      "final_angle_deg, "
-      "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
-      "unconverged_steps, max_overlap_m, max_overlap_grown_m (beyond the pile's own overlaps), "
-      "stop_reason (avalanche, to or max_angle), warnings and "
-      "warning_messages.",
+      "Parameters: the pile's, then " + sim::recorded_keys(sim::ParameterGroup::tilt) +
+          " and the solver's (" + sim::recorded_keys(sim::ParameterGroup::settings) +
+          "). Results: "
+          "steps, "
+          "final_angle_deg, "
+          "avalanche_detected, avalanche_angle_deg, avalanche_step, avalanche_confirmed_step, "
+          "unconverged_steps, max_overlap_m, max_overlap_grown_m (beyond the pile's own overlaps), "
+          "stop_reason (avalanche, to or max_angle), warnings and "
+          "warning_messages.",
       "Warnings (on stderr, even with --quiet, and in /results): more than 1 % of the steps at the "
       "sweep "
       "cap, or overlaps grown beyond 1e-3 D in the run (docs/method.md, \"Warnings\")."};

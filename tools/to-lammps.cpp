@@ -6,11 +6,9 @@
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/lammps.hpp"
 
-#include <filesystem>
 #include <optional>
 
 using namespace cdpile;
-namespace fs = std::filesystem;
 
 static void usage(cli::Usage& u) {
   u.writes_hdf5 = false;
@@ -60,12 +58,8 @@ static void run(const cli::Args& a) {
   io::Output out(a.output(), a.force());  // refuse a bad target before the work
   std::optional<io::Output> contacts;
   if (a.given("contacts")) {
-    const std::string& path = a.text("contacts");
-    if (path == a.output() ||
-        (path != "-" && a.output() != "-" &&
-         fs::absolute(path).lexically_normal() == fs::absolute(a.output()).lexically_normal()))
-      throw UsageError("--contacts and -o name the same file " + path);
-    contacts.emplace(path, a.force());
+    cli::refuse_output_named_twice(a, "contacts");
+    contacts.emplace(a.text("contacts"), a.force());
   }
   io::Input in(io::run_or_partial(a.argument("run")));  // a run still computed: its partial
   const io::RunReader r(in.hdf5());

@@ -1,5 +1,6 @@
 // to-xdmf: an XDMF description of a pile, run or localnu map, so that ParaView opens it
 // (docs/analysis.md, "Seeing the grains"). The work is in libcommon (io/xdmf.hpp).
+#include "cdpile/analysis/critical_option.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
 #include "cdpile/io/checkpoint.hpp"
@@ -50,8 +51,7 @@ static void usage(cli::Usage& u) {
              "the partial exists");
   u.output("output XDMF file (default: INPUT with the extension .xdmf)");
   u.real("nu-radius", 6.0, "radius of the grains' local state nu", "D", 1e-6, 1e6);
-  u.real_opt("eps", "tolerance of the critical test (default: the run's critical_eps, else 0.001)",
-             "", 0.0, 0.999999);
+  u.declare(analysis::eps_option("Options", analysis::EpsDefault::from_run));
   cli::declare_friction(u, "grain-grain friction coefficient (default: the run's mu_grain)",
                         "grain-wall friction coefficient (default: the run's mu_wall)");
   u.flag("walls", "nu counts the contacts with walls and glued floor grains too");

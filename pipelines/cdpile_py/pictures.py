@@ -10,8 +10,8 @@ import numpy as np
 from matplotlib.collections import LineCollection, PatchCollection
 from matplotlib.patches import Circle
 
-from . import rules
 from .style import plt, save_png
+from .tools import Critical
 
 RED = (0.85, 0.0, 0.0)
 
@@ -21,12 +21,19 @@ def box_width(run):
     return float(run.parameters["box_width_m"])
 
 
+_critical = {}  # critical's tables of each run drawn, read once for all its frames
+
+
 def frame(run, k):
-    """Grain centres, and the contacts of frame k: i, j, fn, ft, point, and critical (by the
-    run's critical_eps, mu_grain and mu_wall)."""
+    """Grain centres, and the contacts of frame k: i, j, fn, ft, point, and critical (as
+    critical says of every active contact, walls included, by the run's critical_eps,
+    mu_grain and mu_wall)."""
     c = run.contacts(k, ("i", "j", "fn", "ft", "point"))
-    eps = float(run.parameters.get("critical_eps", 1e-3))
-    c["critical"] = rules.critical(c["fn"], c["ft"], rules.contact_friction(run, c["j"]), eps)
+    if run.path not in _critical:
+        eps = ["--eps", repr(float(run.parameters["critical_eps"]))] if "critical_eps" in run.parameters else []
+        _critical[run.path] = Critical(run.path, "--walls", "--floor-grains", "grain", *eps)
+    critical = _critical[run.path].critical_pairs(k)
+    c["critical"] = np.array([(int(i), int(j)) in critical for i, j in zip(c["i"], c["j"])], dtype=bool)
     return run.positions(k), c
 
 

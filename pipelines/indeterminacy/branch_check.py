@@ -9,8 +9,8 @@ near ANGLE) or "wait: <reason>" (a partial run has not tilted past the window ye
 frame branched from is the last one at or below ANGLE (tilt-cd's --branch-at rule); it
 must lie within one frame interval of ANGLE. The avalanche: a finished run's
 results/avalanche_angle_deg; for a partial run, the first step of the window where the
-agitation Ek / (Np m g D) reaches the run's avalanche_energy (tilt-cd's --avalanche-ek,
-1e-3 by default).
+agitation Ek / (Np m g D) (ek_norm of critical's steps table) reaches the run's
+avalanche_energy (tilt-cd's --avalanche-ek, 1e-3 by default).
 """
 import os
 import sys
@@ -18,8 +18,8 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from cdpile_py import rules  # noqa: E402
 from cdpile_py.runfile import Run  # noqa: E402
+from cdpile_py.tools import Critical  # noqa: E402
 
 MATCH = 1e-9
 
@@ -45,11 +45,13 @@ def verdict(path, angle, window):
             return f"wait: the partial run is at {theta[-1] if theta.size else 0:.4g} deg"
         # tilt-cd's avalanche rule on the steps so far, with the run's own threshold
         threshold = float(run.parameters.get("avalanche_energy", 1e-3))
-        ek = run.observable("kinetic_energy") / rules.agitation_scale(run)
-        inside = (theta >= angle) & (theta <= angle + window)
-        if np.any(ek[inside] >= threshold):
-            return f"skip: agitation reaches {threshold} m g D per grain within the window"
-        return "go"
+    # the tilt and agitation of one reading: tilt-cd may have checkpointed more steps since
+    steps = Critical(path).steps
+    theta, ek = steps["theta"], steps["ek_norm"]
+    inside = (theta >= angle) & (theta <= angle + window)
+    if np.any(ek[inside] >= threshold):
+        return f"skip: agitation reaches {threshold} m g D per grain within the window"
+    return "go"
 
 
 if __name__ == "__main__":

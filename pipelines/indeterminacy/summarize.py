@@ -5,17 +5,17 @@
                  --rules "1e7 0" --eps 1e-3 --study-rule 1e6 > OUT/summary.md
 
 reads OUT/run-S/theta-A/{path-P,k<K>}.h5 (branches of the same window from the same frame),
-their static steps (path-P.steps.tsv, critical's steps table) and their nu_bar(r)
-(path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one row per branch),
+critical's tables of each (its steps and its contacts, run here with --eps) and their
+nu_bar(r) (path-P.states.tsv, localnu's states table), writes OUT/paths.tsv (one row per branch),
 OUT/spread.tsv (one row per run and angle) and OUT/figure.png, and prints summary.md. Definitions (docs/reproduction.md, "Systematic error"):
 
-- nu of a branch: Nc/N over the contacts between two free grains (observables critical_grain
-  and contacts_grain), averaged over the window's steps; nu_static the same over its static
-  steps (converged, (Ek + Erot) per free grain below 1e-6 m g D, every grain slower than
-  1e-2 sqrt(g D), no grain without an active contact: the column static of critical's steps
-  table, path-P.steps.tsv), NA if none.
+- nu of a branch: Nc/N over the contacts between two free grains (the column nu of critical's
+  steps table, from the observables critical_grain and contacts_grain), averaged over the
+  window's steps; nu_static the same over its static steps (converged, (Ek + Erot) per free
+  grain below 1e-6 m g D, every grain slower than 1e-2 sqrt(g D), no grain without an active
+  contact: the column static of the same table), NA if none.
 - critical set: the pairs (i, j) of free grains critical at the window's end (last frame),
-  |f_t| >= (1 - eps) mu f_n, f_n > 0. Jaccard(A, B) = |A & B| / |A | B|.
+  |f_t| >= (1 - eps) mu f_n, f_n > 0 (critical --contacts). Jaccard(A, B) = |A & B| / |A | B|.
 - nu_bar(r): the mean local state around critical contacts, pooled over the frames of the
   window after its start (the start frame is the same on every path).
 - spread across paths at the study's rule (paths 0..K, 0 the run's own order): the sample
@@ -36,38 +36,27 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from cdpile_py import rules  # noqa: E402
 from cdpile_py.runfile import Run  # noqa: E402
-from cdpile_py.tables import fmt, read_product_table, read_tsv, write_tsv  # noqa: E402
-
-
-def static_steps(steps_path, n):
-    """Which of a branch's n steps are static, from critical's steps table of it (its rest
-    rule, docs/analysis.md "Static and moving states"); None when the table does not say."""
-    rows = read_product_table(steps_path, "steps") if os.path.exists(steps_path) else []
-    if len(rows) != n or any(r.get("static") not in ("0", "1") for r in rows):
-        return None
-    return np.array([r["static"] == "1" for r in rows])
+from cdpile_py.tables import fmt, read_tsv, write_tsv  # noqa: E402
+from cdpile_py.tools import Critical  # noqa: E402
 
 
 def branch(path, eps):
-    """nu over the window, over its static steps, the critical set at its end, cost."""
+    """nu over the window, over its static steps, the critical set at its end, cost. The
+    static steps follow critical's rest rule (docs/analysis.md, "Static and moving
+    states"); none are known when a step's column is NA."""
+    critical = Critical(path, "--eps", repr(eps))  # grain-grain contacts of free grains
+    nu, static = critical.steps["nu"], critical.steps["static"]
+    static = None if np.any(np.isnan(static)) else static == 1
     with Run(path) as run:
-        nu = rules.step_nu(run)
-        static = static_steps(path[:-len(".h5")] + ".steps.tsv", nu.size)
-        c = run.contacts(-1)
-        i, j, fn, ft = c["i"], c["j"], c["fn"], c["ft"]
-        free = run.free
-        grain = j >= 0
-        grain[grain] &= free[i[grain]] & free[j[grain]]
-        crit = grain & rules.critical(fn, ft, float(run.parameters["mu_grain"]), eps)
+        last = run.frames - 1
         sweeps, converged = run.observable("sweeps"), run.observable("converged")
         return {
             "nu": float(np.nanmean(nu)) if nu.size else math.nan,
             "nu_end": float(nu[-1]) if nu.size else math.nan,
             "nu_static": float(np.nanmean(nu[static])) if static is not None and np.any(static) else math.nan,
             "static_fraction": float(np.mean(static)) if static is not None else math.nan,
-            "critical": set(zip(i[crit].tolist(), j[crit].tolist())),
+            "critical": critical.critical_pairs(last),
             "steps": int(nu.size),
             "sweeps": int(np.sum(sweeps)),
             "capped": int(np.sum(converged == 0)),

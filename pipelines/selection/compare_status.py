@@ -16,15 +16,17 @@ the solver tolerance changes (pipelines/selection/Makefile runs it).
 
 Contacts are matched by their pair (i, j) (j < 0 a wall). A contact is counted when it is
 active (f_n > 0) in either branch; one absent from a frame has f_n = 0 there. Critical:
-f_n > 0 and |f_t| >= (1 - eps) mu f_n, mu the run's mu_grain, mu_wall when j < 0 (glued
-floor grains are grains; pipelines/cdpile_py/rules.py). A disagreement is a counted contact critical in one branch and not
+f_n > 0 and |f_t| >= (1 - eps) mu f_n, mu the run's mu_grain, mu_wall when j < 0, as
+critical --walls --floor-grains grain --contacts says of each (glued floor grains are
+grains). A disagreement is a counted contact critical in one branch and not
 in the other; fraction = disagreements / counted contacts. The *_grain columns repeat the
 count over contacts between two free grains (the N of nu). sliding_disagree counts the
 contacts whose solver status is slide (2) in exactly one branch. capped = 1 when a branch hit
 its sweep cap (its tolerance was not reached: the pair then does not compare what it says).
 
 The window is "rearranging" when the run's agitation a = Ek / (Np m g D) (translational
-kinetic energy over free grains, m and D their mean mass and diameter) exceeds --quiet-ek
+kinetic energy over free grains, m and D their mean mass and diameter: ek_norm of
+critical's steps table) exceeds --quiet-ek
 at some step within --window degrees of the branch point (either side), else "quiet".
 capped_near counts the run's steps in that window that hit the sweep cap (reported, not
 used in the classification).
@@ -36,9 +38,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from cdpile_py import rules  # noqa: E402
 from cdpile_py.runfile import Run  # noqa: E402
 from cdpile_py.tables import fmt, read_tsv, write_tsv  # noqa: E402
+from cdpile_py.tools import Critical  # noqa: E402
 
 COLUMNS = ["rule", "seed", "angle_deg", "start_deg", "end_deg", "tol_loose", "tol_tight", "window",
            "agitation_max", "capped_near", "active", "critical_loose", "critical_tight", "disagree",
@@ -71,15 +73,16 @@ def cmd_to(a):
         print(f"{start + a.rate:.12g}")
 
 
-def last_frame(path):
-    """Contacts of the last frame by pair: {(i, j): (fn, ft, status)}, with the branch's
-    start and end tilt and its solver record."""
+def last_frame(path, eps):
+    """The active contacts of the last frame by pair: {(i, j): (critical, sliding)} (every
+    active contact, walls included), with the branch's start and end tilt and its solver
+    record."""
+    critical = Critical(path, "--walls", "--floor-grains", "grain", "--eps", repr(eps))
     with Run(path) as run:
-        c = run.contacts(-1, ("i", "j", "fn", "ft", "status"))
+        contacts = critical.frame(run.frames - 1)
         p = run.parameters
         converged = run.observable("converged")
         info = {
-            "mu_grain": float(p["mu_grain"]), "mu_wall": float(p["mu_wall"]),
             "start": float(p["branch_tilt_deg"]) if "branch_tilt_deg" in p else float(run.frame_tilt[0]),
             "end": float(run.frame_tilt[-1]),
             "steps": run.steps_recorded("sweeps"),
@@ -87,22 +90,19 @@ def last_frame(path):
             "converged": int(np.min(converged)) if converged.shape[0] else 1,
             "species": run.species,
         }
-    contacts = {(int(a), int(b)): (float(x), float(y), int(s))
-                for a, b, x, y, s in zip(c["i"], c["j"], c["fn"], c["ft"], c["status"])}
     return contacts, info
 
 
 def window_state(path, start, rate, width, quiet_ek):
     """(rearranging?, max agitation, capped steps) of the run within WIDTH deg of START."""
+    steps = Critical(path).steps
+    theta = steps["theta"]
     with Run(path) as run:
-        scale = rules.agitation_scale(run)
-        theta = run.observable("tilt_angle")
-        ek = run.observable("kinetic_energy")
         conv = run.observable("converged")
     near = (theta >= start - width - FRAME_MATCH_DEG) & (theta <= start + rate + width + FRAME_MATCH_DEG)
     if not near.any():
         return None, float("nan"), 0
-    a = ek[near] / scale
+    a = steps["ek_norm"][near]
     amax = float(a.max())
     return amax > quiet_ek, amax, int(np.sum(conv[near] == 0))
 
@@ -116,7 +116,7 @@ def cmd_compare(a):
         return
     if len(a.branches) != 2:
         sys.exit("compare_status.py: compare needs the two branch files (loose, tight) or --skip")
-    (cl, il), (ct, it) = last_frame(a.branches[0]), last_frame(a.branches[1])
+    (cl, il), (ct, it) = last_frame(a.branches[0], a.eps), last_frame(a.branches[1], a.eps)
     for key in ("start", "end"):
         if abs(il[key] - it[key]) > 1e-9:
             sys.exit(f"compare_status.py: {a.branches[0]} and {a.branches[1]}: {key} tilt differs "
@@ -125,26 +125,20 @@ def cmd_compare(a):
     rearranging, amax, capped = window_state(a.run, il["start"], rate, a.window, a.quiet_ek)
     free = il["species"] == 0
 
-    def critical(v, j):
-        return bool(rules.critical(v[0], v[1], il["mu_wall"] if j < 0 else il["mu_grain"], a.eps))
-
-    none = (0.0, 0.0, 0)
+    inactive = (0, False)  # (critical, sliding) of a contact absent from a frame
     n = n_grain = crit_l = crit_t = dis = dis_grain = changed = slide = 0
     for pair in set(cl) | set(ct):
-        vl, vt = cl.get(pair, none), ct.get(pair, none)
-        if not (vl[0] > 0 or vt[0] > 0):
-            continue
+        (kl, sl), (kt, st) = cl.get(pair, inactive), ct.get(pair, inactive)
         i, j = pair
         grain = j >= 0 and bool(free[i]) and bool(free[j])
         n += 1
         n_grain += grain
-        kl, kt = critical(vl, j), critical(vt, j)
         crit_l += kl
         crit_t += kt
         dis += kl != kt
         dis_grain += grain and kl != kt
-        changed += (vl[0] > 0) != (vt[0] > 0)
-        slide += (vl[0] > 0 and vl[2] == 2) != (vt[0] > 0 and vt[2] == 2)
+        changed += (pair in cl) != (pair in ct)
+        slide += sl != st
     row.update(start_deg=il["start"], end_deg=il["end"],
                window="NA" if rearranging is None else ("rearranging" if rearranging else "quiet"),
                agitation_max=amax, capped_near=capped, active=n, critical_loose=crit_l, critical_tight=crit_t,

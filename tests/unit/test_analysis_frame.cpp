@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 using namespace cdpile;
 using namespace cdpile::analysis;
@@ -76,9 +77,11 @@ TEST(FrameFields, ColourRangesOverFrames) {
 
 namespace {
 // frame_record of frame() in a run of 3 free grains of D = 1 m under gravity `g` [m/s^2]
-// (0: unknown), with the default rule.
-FrameRecord record(double g) {
-  const Frame fr = frame();
+// (0: unknown), with the default rule; grain 0 moving up at `speed` [m/s] (at g = 9.81 the
+// slip speed 1e-4 sqrt(g D) is 3.1e-4 m/s); with `per_contact`, each contact's state kept.
+FrameRecord record(double g, bool per_contact = false, double speed = 0.0) {
+  Frame fr = frame();
+  fr.grains.velocity[0] = Vec2(0.0, speed);
   RunRecord run;
   run.free_grains = 3;
   run.diameter = 1.0;
@@ -86,7 +89,7 @@ FrameRecord record(double g) {
   run.mu = mu;
   const ContactSet set = select_contacts(fr.contacts, fr.grains.species, mu, CriticalRule{});
   return frame_record(fr.contacts, fr.grains, set, run, default_eps, RattlerRule::exclude,
-                      default_slip_speed, RestRule{}.speed);
+                      default_slip_speed, RestRule{}.speed, per_contact);
 }
 }  // namespace
 
@@ -127,4 +130,57 @@ TEST(FrameRecord, WithoutGravityNothingIsCountedAsSlippingOrAtRest) {
   EXPECT_FALSE(f.slipping);
   EXPECT_FALSE(f.contacts_at_rest);
   EXPECT_EQ(f.state.critical, 1);
+}
+
+// critical --contacts: each counted contact's flags are those the frame's counts add up.
+TEST(FrameRecord, PerContactStatesAddUpToTheCounts) {
+  EXPECT_FALSE(record(9.81).contacts);  // kept only when asked
+  const FrameRecord f = record(9.81, true, 1.0);
+  ASSERT_TRUE(f.contacts);
+  const FrameContacts& c = *f.contacts;
+  // the two grain-grain contacts, in the frame's order
+  EXPECT_EQ(c.i, (std::vector<std::int32_t>{0, 1}));
+  EXPECT_EQ(c.j, (std::vector<std::int32_t>{1, 2}));
+  EXPECT_EQ(c.critical, (std::vector<std::uint8_t>{1, 0}));
+  EXPECT_EQ(c.sliding, (std::vector<std::uint8_t>{1, 0}));
+  // grain 0 moves across contact 0's normal (along x): it slips; contact 1 does not
+  EXPECT_EQ(c.slip, (std::vector<std::uint8_t>{1, 0}));
+  EXPECT_EQ(f.slipping, 1);
+  EXPECT_EQ(f.critical_slipping, 1);
+  // without g nothing is known to slip: no flags, as no count
+  const FrameRecord unknown = record(0.0, true, 1.0);
+  ASSERT_TRUE(unknown.contacts);
+  EXPECT_FALSE(unknown.contacts->slip);
+  EXPECT_FALSE(unknown.slipping);
+}
+
+TEST(CriticalContacts, OneRowPerCountedContactOfEveryFrame) {
+  RunRecord a, b;
+  FrameRecord f = record(9.81, true, 1.0);
+  f.frame = 3;
+  f.theta = 12.5;
+  a.frames = {f};
+  f.contacts->sliding.reset();  // a contact table without a status column
+  f.contacts->slip.reset();
+  b.frames = {f, f};
+  const Product p = critical_contacts({a, b}, CriticalOptions{});
+  EXPECT_EQ(p.kind, "critical_contacts");
+  const Table& t = p.table("contacts");
+  ASSERT_EQ(t.column("run").num.size(), 6u);  // 2 contacts in each of the 3 frames
+  EXPECT_EQ(t.column("run").num, (std::vector<double>{0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(t.column("frame").num, (std::vector<double>{3, 3, 3, 3, 3, 3}));
+  EXPECT_EQ(t.column("theta").num[0], 12.5);
+  EXPECT_EQ(t.column("i").num, (std::vector<double>{0, 1, 0, 1, 0, 1}));
+  EXPECT_EQ(t.column("j").num, (std::vector<double>{1, 2, 1, 2, 1, 2}));
+  EXPECT_EQ(t.column("critical").num, (std::vector<double>{1, 0, 1, 0, 1, 0}));
+  EXPECT_EQ(t.column("slip").num[0], 1.0);
+  EXPECT_EQ(t.column("slip").num[1], 0.0);
+  // NA where the frame says nothing
+  EXPECT_TRUE(std::isnan(t.column("sliding").num[2]));
+  EXPECT_TRUE(std::isnan(t.column("slip").num[5]));
+  EXPECT_EQ(p.parameters.at("eps"), Value(default_eps));
+  // a frame read without its contacts is the caller's bug
+  RunRecord without;
+  without.frames = {record(9.81)};
+  EXPECT_THROW(critical_contacts({without}, CriticalOptions{}), std::logic_error);
 }

@@ -7,6 +7,7 @@
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
+#include "cdpile/parameter_keys.hpp"
 
 #include "critical_study_tables.hpp"
 
@@ -320,10 +321,10 @@ std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec,
       differ.push_back(std::string(what) + " " + exact(asked) + " asked, " + exact(*recorded) +
                        " recorded");
   };
-  compare("eps", "critical_eps", rule.eps, rec.eps);
-  compare("mu", "mu_grain", mu.grain, rec.mu_grain);
+  compare("eps", keys::critical_eps, rule.eps, rec.eps);
+  compare("mu", keys::mu_grain, mu.grain, rec.mu_grain);
   if (rule.include_walls)
-    compare("mu_wall", "mu_wall", mu.wall, rec.mu_wall);
+    compare("mu_wall", keys::mu_wall, mu.wall, rec.mu_wall);
   else if (!rule.floor_grains_are_walls)
     differ.push_back("floor grains counted as grains, not in critical_grain");
   // A known difference says more than a missing parameter.

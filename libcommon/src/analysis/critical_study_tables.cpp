@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -446,5 +447,50 @@ void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOpt
 }
 
 }  // namespace critical_parts
+
+Product critical_contacts(const std::vector<RunRecord>& runs, const CriticalOptions& opt) {
+  Product p;
+  p.kind = "critical_contacts";
+  p.parameters = {{"eps", opt.rule.eps},
+                  {"include_walls", std::int64_t{opt.rule.include_walls}},
+                  {"floor_grains_are_walls", std::int64_t{opt.rule.floor_grains_are_walls}},
+                  {"slip_speed_sqrt_gD", opt.slip_speed}};
+  p.notes = {
+      "one row per counted contact of every frame (active, f_n > 0; grain-grain unless "
+      "include_walls), in the frame's order; run: the input's index, as in critical's tables",
+      "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; sliding: the solver's status slide "
+      "(NA without a status); slip: |u_t| above slip_speed sqrt(g D) (NA without velocities, "
+      "g or D)"};
+  Table& t = p.add_table("contacts", "one row per counted contact of a frame");
+  critical_parts::add_columns(t, {{"run", "", ColumnKind::integer},
+                                  {"frame", "", ColumnKind::integer},
+                                  {"theta", "deg", ColumnKind::real},
+                                  {"i", "", ColumnKind::integer},
+                                  {"j", "", ColumnKind::integer},
+                                  {"critical", "", ColumnKind::integer},
+                                  {"sliding", "", ColumnKind::integer},
+                                  {"slip", "", ColumnKind::integer}});
+  // NA, not 0, where the input says nothing (a flag absent for the whole frame)
+  auto flag = [](const std::optional<std::vector<std::uint8_t>>& v, std::size_t q) {
+    return v ? std::optional<double>((*v)[q]) : std::nullopt;
+  };
+  for (std::size_t run = 0; run < runs.size(); ++run)
+    for (const FrameRecord& f : runs[run].frames) {
+      if (!f.contacts)
+        throw std::logic_error("critical_contacts: a frame read without its contacts");
+      const FrameContacts& c = *f.contacts;
+      for (std::size_t q = 0; q < c.i.size(); ++q) {
+        t.column("run").add_int(static_cast<std::int64_t>(run));
+        t.column("frame").add_int(f.frame);
+        t.column("theta").add(f.theta);
+        t.column("i").add_int(c.i[q]);
+        t.column("j").add_int(c.j[q]);
+        t.column("critical").add_int(c.critical[q]);
+        t.column("sliding").add(flag(c.sliding, q));
+        t.column("slip").add(flag(c.slip, q));
+      }
+    }
+  return p;
+}
 
 }  // namespace cdpile::analysis

@@ -7,8 +7,12 @@ namespace cdpile::analysis {
 
 FrameRecord frame_record(const Contacts& c, const Grains& g, const ContactSet& set,
                          const RunRecord& run, double eps, RattlerRule rattlers, double slip_speed,
-                         double rest_speed) {
+                         double rest_speed, bool per_contact) {
   FrameRecord f;
+  if (per_contact) {
+    f.contacts = FrameContacts{set.i, set.j, set.critical, std::nullopt, std::nullopt};
+    if (set.has_status) f.contacts->sliding = set.sliding;
+  }
   // the slip threshold in m/s: slip_speed sqrt(g D), unknown without g or D
   const double slip = run.gravity > 0.0 && run.diameter > 0.0
                           ? slip_speed * std::sqrt(run.gravity * run.diameter)
@@ -23,10 +27,12 @@ FrameRecord frame_record(const Contacts& c, const Grains& g, const ContactSet& s
   if (slip > 0.0 && motion.max_speed) {
     const std::vector<double> u = slip_speeds(c, set, g);
     std::int64_t slipping = 0, critical = 0;
+    if (per_contact) f.contacts->slip.emplace(u.size(), std::uint8_t{0});
     for (std::size_t q = 0; q < u.size(); ++q) {
       if (!(u[q] > slip)) continue;
       ++slipping;
       critical += set.critical[q];
+      if (per_contact) (*f.contacts->slip)[q] = 1;
     }
     f.slipping = slipping;
     f.critical_slipping = critical;

@@ -1,5 +1,6 @@
 #include "cdpile/cli/analysis_options.hpp"
 
+#include "cdpile/analysis/critical_option.hpp"
 #include "cdpile/io/products.hpp"
 
 #include <algorithm>
@@ -66,9 +67,7 @@ void check_output(const Args& a) {
 }
 
 void declare_critical_rule(Usage& u, const std::string& mu_help) {
-  u.group("Critical contacts");
-  u.real("eps", analysis::default_eps, "tolerance of the Coulomb test |f_t| >= (1 - eps) mu f_n",
-         "", 0.0, 0.999999);
+  u.declare(analysis::eps_option("Critical contacts"));
   declare_friction(u, mu_help,
                    "grain-wall friction coefficient (default: the run's mu_wall, else --mu)");
   u.flag("walls", "count contacts with walls (and glued floor grains)");

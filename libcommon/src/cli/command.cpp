@@ -789,6 +789,15 @@ void check_output_is_not_an_input(const Args& a) {
   }
 }
 
+void refuse_output_named_twice(const Args& a, const std::string& option) {
+  namespace fs = std::filesystem;
+  const std::string &path = a.text(option), &out = a.output();
+  if (path == out ||
+      (path != "-" && !out.empty() && out != "-" &&  // no -o, or -o -: standard output
+       fs::absolute(path).lexically_normal() == fs::absolute(out).lexically_normal()))
+    throw UsageError("--" + option + " and -o name the same file " + path);
+}
+
 const std::string& tool_name() { return g_tool; }
 
 void warn(const std::string& what) {

@@ -4,6 +4,7 @@
 #include "cdpile/fields.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/parameter_keys.hpp"
 
 #include <cmath>
 #include <limits>
@@ -58,9 +59,9 @@ void require_table_options(const LocalNuReading& o, const std::string& file) {
 }  // namespace
 
 analysis::RecordedRule recorded_rule(const RunHeader& h, const std::string& file) {
-  return {real_parameter(h.parameters, "critical_eps", file),
-          real_parameter(h.parameters, "mu_grain", file),
-          real_parameter(h.parameters, "mu_wall", file)};
+  return {real_parameter(h.parameters, keys::critical_eps, file),
+          real_parameter(h.parameters, keys::mu_grain, file),
+          real_parameter(h.parameters, keys::mu_wall, file)};
 }
 
 analysis::Friction run_friction(const RunHeader& h, const analysis::FrictionChoice& given,
@@ -99,7 +100,7 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
   r.free_grains = analysis::free_grain_count(g);
   r.diameter = analysis::mean_diameter(g);
   r.mean_mass = analysis::mean_mass(g);
-  r.gravity = real_parameter(h.parameters, "gravity_m_s2", file).value_or(0.0);
+  r.gravity = real_parameter(h.parameters, keys::gravity_m_s2, file).value_or(0.0);
   r.recorded_avalanche = real_parameter(h.results, "avalanche_angle_deg", file);
   r.recorded_rule = recorded_rule(h, file);
   r.steps = steps_from_series(rr.series(), rule.include_walls, file);
@@ -110,7 +111,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers, double slip_speed,
-                                    double rest_speed) {
+                                    double rest_speed, bool per_contact) {
   analysis::RunRecord r = read_run_steps(rr, file, rule);
   r.mu = mu;
   for (std::size_t k = 0; k < rr.frame_count(); ++k) {
@@ -119,7 +120,7 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
     analysis::FrameRecord f;
     try {
       f = analysis::frame_record(fr.contacts, fr.grains, set, r, rule.eps, rattlers, slip_speed,
-                                 rest_speed);
+                                 rest_speed, per_contact);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }

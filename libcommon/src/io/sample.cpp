@@ -1,5 +1,7 @@
 #include "cdpile/io/sample.hpp"
 
+#include "cdpile/parameter_keys.hpp"
+
 #include <random>
 
 namespace cdpile::io {
@@ -8,8 +10,8 @@ RunHeader sample_header(double diameter) {
   RunHeader h;
   h.kind = "pile";
   h.box = {10 * diameter * 4, 10 * diameter};
-  h.parameters = {{"mu_grain", 0.5},           {"mu_wall", 0.5},
-                  {"gravity_m_s2", 9.81},      {"density_kg_m3", 2500.0},
+  h.parameters = {{keys::mu_grain, 0.5},       {keys::mu_wall, 0.5},
+                  {keys::gravity_m_s2, 9.81},      {"density_kg_m3", 2500.0},
                   {"grains", std::int64_t{0}}, {"note", std::string("sample")}};
   return h;
 }

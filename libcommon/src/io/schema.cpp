@@ -1,5 +1,7 @@
 #include "cdpile/io/schema.hpp"
 
+#include "cdpile/parameter_keys.hpp"
+
 #include <pwd.h>
 #include <unistd.h>
 
@@ -607,7 +609,7 @@ double RunReader::length_scale() const { return std::max(header_.box.width, head
 
 double RunReader::speed_bound() const {
   double g = 9.81;
-  if (auto it = header_.parameters.find("gravity_m_s2"); it != header_.parameters.end())
+  if (auto it = header_.parameters.find(keys::gravity_m_s2); it != header_.parameters.end())
     if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v))
       g = *v;
   return 1e3 * std::sqrt(g * length_scale());

@@ -4,6 +4,7 @@
 #include "cdpile/error.hpp"
 #include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/parameter_keys.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,7 +80,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
   };
   const analysis::Friction mu = run_friction(h, opt.mu, file);
   analysis::CriticalRule rule;
-  rule.eps = opt.eps ? *opt.eps : param("critical_eps").value_or(analysis::default_eps);
+  rule.eps = opt.eps ? *opt.eps : param(keys::critical_eps).value_or(analysis::default_eps);
   rule.include_walls = opt.walls;
   analysis::validate(rule, mu);
   const double diameter = analysis::mean_diameter(run.grain_properties());

@@ -2,6 +2,7 @@
 #include "cdpile/sim/tilt_input.hpp"
 
 #include "cdpile/error.hpp"
+#include "cdpile/parameter_keys.hpp"
 #include "cdpile/sim/recorder.hpp"
 
 #include <algorithm>
@@ -26,9 +27,9 @@ void check_pile_parameters(const io::Values& v, const std::string& file) {
       throw Error(file, "/parameters", what);
     }
   };
-  check("mu_grain", false);
-  check("mu_wall", false);
-  check("gravity_m_s2", false);
+  check(keys::mu_grain, false);
+  check(keys::mu_wall, false);
+  check(keys::gravity_m_s2, false);
   check("diameter_mean_m", true);
 }
 

@@ -3,10 +3,12 @@
 // engine settings' parameters (common.hpp) derive too.
 #include "cdpile/sim/tilt_options.hpp"
 
+#include "cdpile/analysis/critical_option.hpp"
 #include "cdpile/cd/schedule.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/parameter_keys.hpp"
 #include "cdpile/sim/avalanche.hpp"
 #include "cdpile/sim/common.hpp"
 
@@ -160,6 +162,17 @@ struct Row {
     p.declaration = declaration;
     return std::move(*this);
   }
+  // tilt-cd's option as the library declares it for other tools too: the same option, so
+  // its name must be the row's and its default the field's.
+  Row&& declared(OptionDeclaration shared) && {
+    if (shared.name != p.option || shared.default_value != declaration.default_value)
+      throw std::logic_error("--" + shared.name + " declared for the row of " + p.field +
+                             " with another name or default");
+    shared.field = p.field;
+    declaration = shared;
+    p.declaration = declaration;
+    return std::move(*this);
+  }
   // A name, one of `choices`, the field's default's name as the option's default.
   Row&& declared(const char* group, const char* help, std::vector<std::string> choices) && {
     declaration.choices = std::move(choices);
@@ -250,11 +263,10 @@ std::vector<RunParameter> make_table() {
   rows.push_back(Row("avalanche_hold_deg", "avalanche_hold_deg", "degree", "avalanche-hold", tilt)
                      .of(&O::avalanche_hold_deg)
                      .accepts(at_least(0.0)));
-  rows.push_back(Row("eps", "critical_eps", "", "eps", tilt)
+  // Declared with the analysis tools' --eps (analysis/critical_option.hpp).
+  rows.push_back(Row("eps", keys::critical_eps, "", "eps", tilt)
                      .of(&O::eps)
-                     .declared("Avalanche",
-                               "tolerance of the critical-contact test |f_t| >= (1 - eps) mu f_n",
-                               "", 0.0, 0.999999)
+                     .declared(analysis::eps_option("Avalanche"))
                      .accepts(fraction));
   // Two options, --frame-every and --frame-every-deg, declared and read by tilt-cd.
   rows.push_back(Row("frame_every", "frame_every_steps", "", "frame-every", tilt)
@@ -263,8 +275,8 @@ std::vector<RunParameter> make_table() {
   // The friction's options are declared by their bundle (cli/friction_options.hpp), shared
   // with the analysis tools; the engine's others, the "Solver" group, here: deposit and
   // tilt-cd declare them alike (docs/method.md gives each default's reason).
-  rows.push_back(Row("mu_grain", "mu_grain", "", "mu", engine).of(&S::mu_grain));
-  rows.push_back(Row("mu_wall", "mu_wall", "", "mu-wall", engine).of(&S::mu_wall));
+  rows.push_back(Row("mu_grain", keys::mu_grain, "", "mu", engine).of(&S::mu_grain));
+  rows.push_back(Row("mu_wall", keys::mu_wall, "", "mu-wall", engine).of(&S::mu_wall));
   rows.push_back(
       Row("time_step", "time_step_s", "s", "time-step", engine)
           .of(&S::time_step)
@@ -376,7 +388,7 @@ std::vector<RunParameter> make_table() {
           .declared("Solver", "alert distance: contact candidates within this gap", "D", 0.0, 10.0)
           .after("threads"));
   // No option: the pile's gravity; the sweeps alternate in every run.
-  rows.push_back(Row("gravity", "gravity_m_s2", "m s-2", "", engine).of(&S::gravity));
+  rows.push_back(Row("gravity", keys::gravity_m_s2, "m s-2", "", engine).of(&S::gravity));
   rows.push_back(
       Row("symmetric_sweeps", "symmetric_sweeps", "", "", engine).of(&S::symmetric_sweeps));
   // Not recorded: how fast a run goes, not what it computes (docs/method.md, "Threads").
@@ -409,6 +421,27 @@ const std::string& parameter_key(const std::string& field) {
   for (const RunParameter& p : run_parameters())
     if (p.field == field) return p.key;
   throw std::logic_error("no run parameter of the field " + field);
+}
+
+namespace {
+// A recorded value as the messages and the help write it.
+std::string value_text(const io::Value& v) {
+  if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
+  if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
+  return std::get<std::string>(v);
+}
+}  // namespace
+
+std::string recorded_keys(ParameterGroup group) {
+  std::string text;
+  for (const RunParameter& p : run_parameters()) {
+    if (p.group != group || p.key.empty()) continue;
+    text += (text.empty() ? "" : ", ") + p.key;
+    // a value recorded for a word: tilt_to_deg (-1 if none)
+    if (p.shown_as)
+      text += " (" + value_text(p.shown_as->first) + " if " + p.shown_as->second + ")";
+  }
+  return text;
 }
 
 io::Values settings_parameters(const cd::Settings& s) {
@@ -574,9 +607,7 @@ TiltOptions tilt_options_from_parameters(const io::Values& v, const std::string&
 namespace {
 std::string message_text(const RunParameter& p, const io::Value& v) {
   if (p.shown_as && v == p.shown_as->first) return p.shown_as->second;  // tilt_to_deg -1: "none"
-  if (auto* d = std::get_if<double>(&v)) return io::format_number(*d);
-  if (auto* i = std::get_if<std::int64_t>(&v)) return std::to_string(*i);
-  return std::get<std::string>(v);
+  return value_text(v);
 }
 }  // namespace
 

@@ -143,6 +143,17 @@ struct RunSteps {
   std::vector<std::int64_t> grains_without_contact;  ///< free grains in flight, if recorded
 };
 
+/// Every counted contact of one frame (critical --contacts), in the order of the frame's
+/// contacts: its bodies, critical by the rule, the solver's status `slide` (empty without a
+/// status), and whether it slips, |u_t| above the slip speed (empty when FrameRecord::
+/// slipping is: no velocities, or no g or D). So that a script reads a contact's state from
+/// the tool instead of applying the rules again.
+struct FrameContacts {
+  std::vector<std::int32_t> i, j;
+  std::vector<std::uint8_t> critical;
+  std::optional<std::vector<std::uint8_t>> sliding, slip;
+};
+
 struct FrameRecord {
   std::int64_t frame = 0, step = 0;
   double theta = 0.0;  ///< [deg]
@@ -163,6 +174,7 @@ struct FrameRecord {
   std::optional<std::int64_t> contacts_at_rest{}, critical_at_rest{};
   /// counted contacts per bin of |f_t| / (mu f_n) (mobilisation_bins); empty: not computed
   std::vector<std::int64_t> mobilisation{};
+  std::optional<FrameContacts> contacts{};  ///< kept only when asked (frame_record)
 };
 
 struct RunRecord {
@@ -184,11 +196,17 @@ struct RunRecord {
 /// bodies slower than `rest_speed` sqrt(g D), not slipping) and the histogram of the
 /// mobilisation (docs/analysis.md). `run` gives the free grains, D, g and mu; without g or
 /// D nothing is counted as slipping or at rest. frame, step and theta are the caller's.
+/// With `per_contact`, the record keeps every counted contact's state too (contacts).
 /// Throws cdpile::Error as static_bound (a force not finite, mu or eps invalid).
 FrameRecord frame_record(const Contacts& c, const Grains& g, const ContactSet& set,
                          const RunRecord& run, double eps, RattlerRule rattlers,
                          double slip_speed = default_slip_speed,
-                         double rest_speed = RestRule{}.speed);
+                         double rest_speed = RestRule{}.speed, bool per_contact = false);
+
+/// The product of critical --contacts: one table `contacts`, a row per counted contact of
+/// every frame of `runs` read with per_contact (run, frame, theta, i, j, critical, sliding,
+/// slip), with the rule and the slip speed of `opt` as parameters.
+Product critical_contacts(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
 
 Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions& opt);
 

@@ -161,6 +161,10 @@ OptionValues option_values(const Args& a, const std::vector<OptionDeclaration>& 
 /// `--help` and `--version` are handled by run_tool, not here.
 Args parse(const Usage& usage, const std::vector<std::string>& argv);
 
+/// A second output, the file of the text option --`option` (to-lammps' and critical's
+/// --contacts): refused (UsageError) when it names the file -o names.
+void refuse_output_named_twice(const Args& a, const std::string& option);
+
 /// Refuses an output (-o) that is the same file as an input (an argument, or a file named
 /// by a text option), with or without --force: a UsageError. run_tool calls it.
 void check_output_is_not_an_input(const Args& a);

@@ -40,13 +40,15 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 /// `rule` and `mu`, then analysis::frame_record (the pile state, the static bound, how the
 /// grains move, the slipping contacts, those at rest, the mobilisation). Every frame is
 /// read whole, so a non-finite grain state is an error naming its dataset; an error of the
-/// analysis names the frame.
+/// analysis names the frame. With `per_contact`, each frame record keeps its contacts'
+/// states (analysis::FrameContacts, for critical --contacts).
 analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers,
                                     double slip_speed = analysis::default_slip_speed,
-                                    double rest_speed = analysis::RestRule{}.speed);
+                                    double rest_speed = analysis::RestRule{}.speed,
+                                    bool per_contact = false);
 
 /// How `localnu` reads its inputs.
 struct LocalNuReading {

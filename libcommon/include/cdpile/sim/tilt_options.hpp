@@ -116,6 +116,10 @@ const std::vector<RunParameter>& run_parameters();
 /// The /parameters key of the run parameter of `field` (its row's), for the code that
 /// reads one parameter by name; std::logic_error if no row has that field.
 const std::string& parameter_key(const std::string& field);
+/// The keys `group` records, in the table's order, comma-separated, a value recorded for a
+/// word said ("tilt_to_deg (-1 if none)"): deposit's and tilt-cd's --help list the
+/// parameters from here, so a new row is listed with no other edit.
+std::string recorded_keys(ParameterGroup group);
 
 /// The options declared in run_parameters(), in its order: tilt-cd declares them
 /// (cli::Usage::declare) and reads them back into TiltOptions (set_declared_options and
