@@ -39,7 +39,7 @@ except ImportError:
              "(Debian package python3-siconos)")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from siconos_reference import natural_map_residual  # noqa: E402
+from fc2d import natural_map_residual  # noqa: E402
 
 warnings.filterwarnings("ignore", message=".*Performance warning.*")
 

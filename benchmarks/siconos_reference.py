@@ -23,6 +23,9 @@ import time
 import numpy as np
 import scipy.sparse  # noqa: F401  (Siconos' wrappers convert matrices through it)
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fc2d import natural_map_residual  # noqa: E402
+
 try:
     import siconos.numerics as sn
 except ImportError:
@@ -34,25 +37,6 @@ FILES = [
     "fc2d_granularflowonwall_02020_00213.dat",
     "fc2d_granularflowonwall_07002_00801.dat",
 ]
-
-
-def natural_map_residual(W, q, mu, r):
-    """||r - Proj_K(r - u_hat)|| / ||q|| (not divided when ||q|| <= DBL_EPSILON),
-    u = W r + q, u_hat = (u_n + mu |u_t|, u_t), as cd::natural_map_residual."""
-    u = W @ r + q
-    rn, rt = r[0::2], r[1::2]
-    xn = rn - (u[0::2] + mu * np.abs(u[1::2]))
-    xt = rt - u[1::2]
-    nt = np.abs(xt)
-    pn, pt = xn.copy(), xt.copy()
-    polar = mu * nt <= -xn
-    pn[polar], pt[polar] = 0.0, 0.0
-    out = ~polar & (nt > mu * xn)
-    pn[out] = (mu[out] * nt[out] + xn[out]) / (mu[out] ** 2 + 1.0)
-    pt[out] = mu[out] * pn[out] * np.sign(xt[out])
-    error = np.sqrt(np.sum((rn - pn) ** 2 + (rt - pt) ** 2))
-    norm_q = np.linalg.norm(q)
-    return error / norm_q if norm_q > np.finfo(float).eps else error
 
 
 def solve(path, repeat):

@@ -23,8 +23,14 @@ iterations are what export_steps printed for the step.
 """
 import sys
 
+import os
+import sys
+
 import numpy as np
 import scipy.sparse as sp
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fc2d import natural_map_residual as natural_map  # noqa: E402
 
 
 def load(path):
@@ -51,20 +57,6 @@ def load(path):
     mu = np.array(lines[k + 1].split(), float)
     W = sp.csr_matrix((vals, (rows, cols)), shape=(2 * m, 2 * m))
     return W, q, mu, np.loadtxt(path[:-4] + ".r"), np.loadtxt(path[:-4] + ".r0")
-
-
-def natural_map(W, q, mu, r):
-    """||r - Proj_K(r - u_hat)|| / ||q||, u_hat = (u_n + mu |u_t|, u_t): Siconos' measure
-    (cd::natural_map_residual)."""
-    u = W @ r + q
-    zn = r[0::2] - (u[0::2] + mu * np.abs(u[1::2]))
-    zt = r[1::2] - u[1::2]
-    inside = np.abs(zt) <= mu * zn
-    polar = mu * np.abs(zt) <= -zn
-    a = (zn + mu * np.abs(zt)) / (1 + mu**2)
-    pn = np.where(inside, zn, np.where(polar, 0.0, a))
-    pt = np.where(inside, zt, np.where(polar, 0.0, mu * a * np.sign(zt)))
-    return np.hypot(np.linalg.norm(r[0::2] - pn), np.linalg.norm(r[1::2] - pt)) / np.linalg.norm(q)
 
 
 class Products:
