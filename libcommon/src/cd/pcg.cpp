@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace cdpile::cd {
@@ -55,6 +56,23 @@ double largest(const std::vector<Local>& a, Team* team) {
   return *std::max_element(part.begin(), part.end());
 }
 
+/// What the rounds of one step reuse (a step builds a face every few sweeps): the scratch
+/// bodies, with the grains' masses (their velocities are set by every use), the rows in
+/// pair order, and the storage of the face and of its vectors.
+struct FaceSpace {
+  explicit FaceSpace(const ContactSystem& s) {
+    scratch.bodies = s.bodies;
+    pair_plan = row_schedule(s, SweepOrder::pair, {});
+  }
+  ContactSystem scratch;  // bodies only
+  Schedule pair_plan;
+  Schedule schedule;
+  std::vector<std::uint32_t> kept;
+  std::vector<FreeRow> rows;
+  std::vector<double> slope;
+  std::vector<Local> res, z, p, q;
+};
+
 /// The linear problem of the face the last sweep left: A = W + C on the free components,
 /// applied without being formed (A x = H M^-1 H^T x + c x, scratch bodies carrying
 /// M^-1 H^T x as the system's bodies carry M^-1 H^T R). Its rows are the active rows of
@@ -64,13 +82,15 @@ double largest(const std::vector<Local>& a, Team* team) {
 /// numbers on any number of threads.
 class Face {
  public:
-  Face(ContactSystem& s, const Schedule& plan, bool follow = false) : s_(s) {
-    scratch_.bodies = s.bodies;
-    auto active = [&](std::uint32_t a) { return s.rows[a].rn > 0.0; };
+  Face(ContactSystem& s, const Schedule& plan, FaceSpace& space, bool follow = false)
+      : s_(s), scratch_(space.scratch), rows_(space.rows), slope_(space.slope),
+        schedule_(space.schedule) {
     // In pair order the face is the active rows in pair order, whatever the scramble.
-    std::vector<std::uint32_t> kept;
-    schedule_ = sub_schedule(plan.coloured ? plan : row_schedule(s, SweepOrder::pair, {}), active, kept);
-    for (const std::uint32_t a : kept) {
+    sub_schedule(plan.coloured ? plan : space.pair_plan,
+                 [&](std::uint32_t a) { return s.rows[a].rn > 0.0; }, space.kept, schedule_);
+    rows_.clear();
+    slope_.clear();
+    for (const std::uint32_t a : space.kept) {
       const ContactRow& r = s.rows[a];
       const bool t = r.status == ContactStatus::stick;
       rows_.push_back({a, t});
@@ -198,12 +218,12 @@ class Face {
 
  private:
   ContactSystem& s_;
-  ContactSystem scratch_;  // bodies only
-  std::vector<FreeRow> rows_;
+  ContactSystem& scratch_;  // bodies only
+  std::vector<FreeRow>& rows_;
   // dR_t / dR_n of each row: s mu for a sliding row whose friction follows its normal
   // impulse (a following round), else 0
-  std::vector<double> slope_;
-  Schedule schedule_;  // positions are indices into rows_
+  std::vector<double>& slope_;
+  Schedule& schedule_;  // positions are indices into rows_
 };
 
 /// One round of conjugate gradients on the face the last sweep left (pcg.hpp); returns
@@ -213,12 +233,15 @@ class Face {
 /// (R_t = s mu R_n, SolverSettings::following_until): the face's operator is then not
 /// symmetric, so the iterates are conjugate-gradient steps of no optimality, which the
 /// projection and the sweeps after the round judge.
-int gradient_round(ContactSystem& s, const Schedule& plan, double target, int budget,
-                   bool follow = false) {
-  Face face(s, plan, follow);
+int gradient_round(ContactSystem& s, const Schedule& plan, FaceSpace& space, double target,
+                   int budget, bool follow = false) {
+  Face face(s, plan, space, follow);
   const std::size_t f = face.size();
   if (f == 0 || budget <= 0) return 0;
-  std::vector<Local> res(f), z(f), p(f), q(f);
+  std::vector<Local>&res = space.res, &z = space.z, &p = space.p, &q = space.q;
+  res.resize(f);
+  z.resize(f);
+  q.resize(f);
   face.residual(res);
   if (largest(res, s.team) <= target) return 0;
   face.precondition(res, z);
@@ -262,13 +285,15 @@ struct RoundResult {
   bool undone = false;
 };
 
-RoundResult gradient_rounds(ContactSystem& s, const Schedule& plan, double target, int budget) {
-  return {gradient_round(s, plan, target, budget), false};
+RoundResult gradient_rounds(ContactSystem& s, const Schedule& plan, FaceSpace& space,
+                            double target, int budget) {
+  return {gradient_round(s, plan, space, target, budget), false};
 }
 
 /// A round whose sliding contacts' friction follows their normal impulse (pcg.hpp).
-RoundResult following_rounds(ContactSystem& s, const Schedule& plan, double target, int budget) {
-  return {gradient_round(s, plan, target, budget, true), false};
+RoundResult following_rounds(ContactSystem& s, const Schedule& plan, FaceSpace& space,
+                             double target, int budget) {
+  return {gradient_round(s, plan, space, target, budget, true), false};
 }
 
 /// The impulses, statuses and velocities a round starts from, to undo it.
@@ -285,13 +310,13 @@ struct SavedIterate {
 /// solution's (a stack loaded from zero forces) the steps can carry the iterate away
 /// from the solution: a round that leaves the law's residual (its root mean square,
 /// law_residual) higher than it found it is undone.
-RoundResult newton_round(ContactSystem& s, const Schedule& plan, double target, int budget,
-                         FaceFactor& factor) {
+RoundResult newton_round(ContactSystem& s, const Schedule& plan, FaceSpace& space, double target,
+                         int budget, FaceFactor& factor) {
   const SavedIterate start{s.rows, s.bodies};
   const double before = law_residual(s, 1.0).rms;
   RoundResult out;
   while (out.iterations < budget) {
-    Face face(s, plan);
+    Face face(s, plan, space);
     if (face.size() == 0) break;
     std::vector<Local> res(face.size());
     face.residual(res);
@@ -312,7 +337,8 @@ RoundResult newton_round(ContactSystem& s, const Schedule& plan, double target, 
   return out;
 }
 
-using Round = std::function<RoundResult(ContactSystem&, const Schedule&, double, int)>;
+using Round =
+    std::function<RoundResult(ContactSystem&, const Schedule&, FaceSpace&, double, int)>;
 
 /// A kind of round and the most iterations it takes.
 struct RoundKind {
@@ -330,6 +356,7 @@ SolveReport sweeps_and_rounds(const SolverSettings& settings, ContactSystem& sys
   if (system.rows.empty()) return report;
   Schedule plan = sweep_schedule(system, settings);
   const RowsInScheduleOrder in_order(system, plan);
+  std::optional<FaceSpace> space;  // made at the first round: most steps need none
   int work = 0, sweeps = 0, since_round = 0;
   bool late_ok = true;
   while (work < settings.max_sweeps) {
@@ -354,7 +381,8 @@ SolveReport sweeps_and_rounds(const SolverSettings& settings, ContactSystem& sys
     // at most max_sweeps - work - 1 iterations: the step always ends on a sweep
     const RoundKind& r = late_ok && work >= late_after ? late : early;
     const RoundResult done =
-        r.round(system, plan, target, std::min(r.budget, settings.max_sweeps - work - 1));
+        r.round(system, plan, space ? *space : space.emplace(system), target,
+                std::min(r.budget, settings.max_sweeps - work - 1));
     work += done.iterations;
     if (done.undone) late_ok = false;
     since_round = 0;
@@ -371,8 +399,9 @@ SolveReport NewtonSolver::solve(ContactSystem& system, double gravity_velocity) 
   if (!(system.compliance_n > 0.0 && system.compliance_t > 0.0))
     return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, gradient,
                              settings_.max_sweeps);
-  const Round newton = [this](ContactSystem& s, const Schedule& plan, double target, int budget) {
-    return newton_round(s, plan, target, budget, factor_);
+  const Round newton = [this](ContactSystem& s, const Schedule& plan, FaceSpace& space,
+                              double target, int budget) {
+    return newton_round(s, plan, space, target, budget, factor_);
   };
   return sweeps_and_rounds(settings_, system, gravity_velocity, gradient,
                            {newton, steps_per_round}, settings_.newton_after);

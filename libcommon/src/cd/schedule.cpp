@@ -90,25 +90,6 @@ Schedule row_schedule(const ContactSystem& s, SweepOrder order,
   return strip_schedule(s, base);
 }
 
-Schedule sub_schedule(const Schedule& s, const std::function<bool(std::uint32_t)>& keep,
-                      std::vector<std::uint32_t>& kept) {
-  // The same colours and blocks, each keeping its positions that pass (an emptied block
-  // stays, empty: the blocks of a colour are what the threads share).
-  kept.clear();
-  Schedule out;
-  out.coloured = s.coloured;
-  out.colour_start = s.colour_start;
-  out.block_start.push_back(0);
-  for (std::size_t b = 0; b < s.blocks(); ++b) {
-    for (std::uint32_t q = s.block_start[b]; q < s.block_start[b + 1]; ++q)
-      if (keep(s.positions[q])) kept.push_back(s.positions[q]);
-    out.block_start.push_back(static_cast<std::uint32_t>(kept.size()));
-  }
-  out.positions.resize(kept.size());
-  for (std::size_t k = 0; k < kept.size(); ++k) out.positions[k] = static_cast<std::uint32_t>(k);
-  return out;
-}
-
 RowsInScheduleOrder::RowsInScheduleOrder(ContactSystem& s, Schedule& plan) : s_(s) {
   if (!plan.coloured) return;
   row_of_ = plan.positions;

@@ -58,10 +58,25 @@ struct Schedule {
 Schedule row_schedule(const ContactSystem& s, SweepOrder order, std::span<const std::uint32_t> base);
 
 /// The sub-schedule of the positions for which keep(position) holds, in the same colours
-/// and order, renumbered 0, 1, ... in visiting order: `kept` receives the original
-/// positions (pcg's face of the active contacts).
-Schedule sub_schedule(const Schedule& s, const std::function<bool(std::uint32_t)>& keep,
-                      std::vector<std::uint32_t>& kept);
+/// and order, renumbered 0, 1, ... in visiting order, into `out`: `kept` receives the
+/// original positions (pcg's face of the active contacts). Both are overwritten, their
+/// storage reused: a step builds a face every few sweeps.
+template <class Keep>
+void sub_schedule(const Schedule& s, Keep keep, std::vector<std::uint32_t>& kept, Schedule& out) {
+  // The same colours and blocks, each keeping its positions that pass (an emptied block
+  // stays, empty: the blocks of a colour are what the threads share).
+  kept.clear();
+  out.coloured = s.coloured;
+  out.colour_start = s.colour_start;
+  out.block_start.assign(1, 0);
+  for (std::size_t b = 0; b < s.blocks(); ++b) {
+    for (std::uint32_t q = s.block_start[b]; q < s.block_start[b + 1]; ++q)
+      if (keep(s.positions[q])) kept.push_back(s.positions[q]);
+    out.block_start.push_back(static_cast<std::uint32_t>(kept.size()));
+  }
+  out.positions.resize(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) out.positions[k] = static_cast<std::uint32_t>(k);
+}
 
 
 /// The strips of a box `width` wide for grains of largest radius `r_max` (SweepOrder::
