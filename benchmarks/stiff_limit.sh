@@ -8,7 +8,8 @@
 #       tilts it to its avalanche at each stiffness of KS (in m g / D) with SOLVER
 #       (default "--solver pcg --tolerance 1e-6 --max-substeps 64 --substep-after 1000",
 #       the tools' defaults: every step converges, and sub-steps only rescue the rare step
-#       that does not within 1000 sweeps). Appends one row per run to OUTDIR/runs.tsv and the run's nu per degree
+#       that does not within 1000 sweeps; RULE=NAME labels the runs PREP-NAME, for another
+#       SOLVER on the same piles: a stopping rule, a tolerance). Appends one row per run to OUTDIR/runs.tsv and the run's nu per degree
 #       of tilt to OUTDIR/nu_theta.tsv; a run already in runs.tsv is not made again, so
 #       an interrupted call resumes and two calls over other seeds can share OUTDIR.
 #   benchmarks/stiff_limit.sh report OUTDIR
@@ -41,9 +42,9 @@ case "${1:-}" in
         --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
         --quiet -o "$pile"
       for k in "${ks[@]}"; do
-        label="$prep seed=$seed k=$k"
+        label="$prep${RULE:+-$RULE} seed=$seed k=$k"
         [[ -e $out/runs.tsv ]] && grep -q "^$label"$'\t' "$out/runs.tsv" && continue
-        file=$out/run-$prep-$seed-k$k.h5
+        file=$out/run-$prep${RULE:+-$RULE}-$seed-k$k.h5
         t=$(mktemp)
         /usr/bin/time -f "%U" -o "$t" "$bin/tilt-cd" "$pile" --stiffness "$k" "${solver[@]}" \
           "${tilt[@]}" -o "$file" --force --quiet 2> /dev/null
