@@ -238,7 +238,10 @@ int gradient_round(ContactSystem& s, const Schedule& plan, FaceSpace& space, dou
   Face face(s, plan, space, follow);
   const std::size_t f = face.size();
   if (f == 0 || budget <= 0) return 0;
-  std::vector<Local>&res = space.res, &z = space.z, &p = space.p, &q = space.q;
+  std::vector<Local>& res = space.res;
+  std::vector<Local>& z = space.z;
+  std::vector<Local>& p = space.p;
+  std::vector<Local>& q = space.q;
   res.resize(f);
   z.resize(f);
   q.resize(f);
