@@ -15,6 +15,14 @@
 #   benchmarks/stiff_limit.sh report OUTDIR
 #       the means and paired differences against the stiffest k of each preparation
 #       (OUTDIR/summary.txt) and the chart OUTDIR/stiff_limit.png.
+#   benchmarks/stiff_limit.sh tolerance OUTDIR SEED "ANGLES" ["KS"]
+#       how much of nu's change with k is the stopping point's: the loose pile of SEED
+#       (made by `runs`) tilted at each k of KS (default "1e6 1e7 1e8"; the run of `runs`
+#       when OUTDIR has it, else a run to the largest angle + 0.2 deg), each run branched
+#       at each of ANGLES for 200 steps at the default tolerance (1e-6) and at 1e-8 (cap
+#       20 000 sweeps, sub-steps only at the cap). One row per window to
+#       OUTDIR/tolerance.tsv (nu over the window, sweeps per step, sub-steps, the largest
+#       law residual, CPU), then the per-k mean of (nu at 1e-6 - nu at 1e-8) / nu at 1e-8.
 #
 # Tools from $CDPILE_BIN (default: build/bin beside this script). Heavy (about 2, 2 and 6
 # CPU-minutes per pile at k = 1e6, 1e7 and 1e8): run it detached and niced.
@@ -140,8 +148,65 @@ fig.tight_layout()
 fig.savefig(f"{out}/stiff_limit.png", dpi=120)
 PY
     ;;
+  tolerance)
+    [[ $# -ge 4 ]] || { echo "stiff_limit.sh tolerance OUTDIR SEED \"ANGLES\" [\"KS\"]" >&2; exit 2; }
+    out=$2 seed=$3
+    read -r -a angles <<< "$4"
+    read -r -a ks <<< "${5:-1e6 1e7 1e8}"
+    pile=$out/pile-loose-$seed.h5
+    [[ -e $pile ]] || { echo "stiff_limit.sh: no $pile (make it with runs)" >&2; exit 1; }
+    top=$(printf '%s\n' "${angles[@]}" | sort -g | tail -1)
+    mkdir -p "$out/tolerance"
+    for k in "${ks[@]}"; do
+      run=$out/run-loose-$seed-k$k.h5
+      if [[ ! -e $run ]]; then
+        run=$out/tolerance/run-$seed-k$k.h5
+        [[ -e $run ]] || "$bin/tilt-cd" "$pile" --stiffness "$k" "${solver[@]}" \
+          --to "$(echo "$top + 0.2" | bc)" --quiet -o "$run"
+      fi
+      for a in "${angles[@]}"; do
+        for tol in 1e-6 1e-8; do
+          w=$out/tolerance/w-$seed-a$a-k$k-t$tol.h5
+          if [[ ! -e $w ]]; then
+            /usr/bin/time -f "%U" -o "$w.cpu" "$bin/tilt-cd" "$run" --branch-at "$a" \
+              --to "$(echo "$a + 0.2" | bc)" --tolerance "$tol" --max-sweeps 20000 \
+              --substep-after 20000 --quiet -o "$w" 2> /dev/null
+          fi
+          label="$seed"$'\t'"$a"$'\t'"$k"$'\t'"$tol"
+          [[ -e $out/tolerance.tsv ]] && grep -q "^$label"$'\t' "$out/tolerance.tsv" && continue
+          "$py" - "$w" "$label" "$out/tolerance.tsv" <<'PY'
+import sys, h5py, numpy as np
+path, label, table = sys.argv[1:]
+with h5py.File(path, "r") as f:
+    v = lambda k: f["observables"][k]["value"][:]
+    ratio = v("critical").astype(float) / np.maximum(v("contacts").astype(float), 1.0)
+    row = (f"{label}\t{ratio.mean():.4f}\t{v('sweeps').mean():.0f}\t{int((v('converged') == 0).sum())}"
+           f"\t{v('substeps').mean():.2f}\t{v('law_residual').max():.1e}\t{float(open(path + '.cpu').read().split()[-1]):.1f}")
+with open(table, "a") as t:
+    if t.tell() == 0:
+        t.write("seed\tangle_deg\tk\ttolerance\tnu_window\tsweeps_per_step\tcapped\tsubsteps_mean"
+                "\tlaw_residual_max\tcpu_s\n")
+    t.write(row + "\n")
+PY
+        done
+      done
+    done
+    "$py" - "$out/tolerance.tsv" <<'PY'
+import sys, numpy as np
+rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1])][1:]
+nu = {(r[0], r[1], r[2], r[3]): float(r[4]) for r in rows}
+for k in sorted({r[2] for r in rows}, key=float):
+    rel = np.array([nu[(s, a, kk, "1e-6")] / nu[(s, a, kk, "1e-8")] - 1 for (s, a, kk, t) in nu
+                    if kk == k and t == "1e-8" and (s, a, kk, "1e-6") in nu])
+    if len(rel) == 0:
+        continue
+    se = rel.std(ddof=1) / np.sqrt(len(rel)) if len(rel) > 1 else float("nan")
+    print(f"k={k}: nu at 1e-6 against 1e-8 {rel.mean():+.1%} +- {se:.1%} ({len(rel)} windows; "
+          f"median {np.median(rel):+.1%}, |.| median {np.median(np.abs(rel)):.1%})")
+PY
+    ;;
   *)
-    echo "usage: stiff_limit.sh runs OUTDIR \"SEEDS\" \"KS\" [PREP] | report OUTDIR" >&2
+    echo "usage: stiff_limit.sh runs OUTDIR \"SEEDS\" \"KS\" [PREP] | report OUTDIR | tolerance OUTDIR SEED \"ANGLES\" [\"KS\"]" >&2
     exit 2
     ;;
 esac
