@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -169,6 +170,72 @@ TEST(Schedule, StripsShareNoMovingBodyWithinAColour) {
   EXPECT_EQ(cd::strip_count(1.0, 1.0), 1);
   EXPECT_EQ(cd::sweep_order_from_name("strips"), cd::SweepOrder::strips);
   EXPECT_THROW(cd::sweep_order_from_name("colour"), cdpile::UsageError);
+}
+
+// A face's sub-schedule keeps the colours and blocks and, in each block, the kept
+// positions in order; made on a team it is the same as on one thread. The blocks of a
+// pass are shared among the threads in ranges of unequal numbers of blocks (about equal
+// positions): every block is visited once, its colour after the colour before.
+TEST(Schedule, SubScheduleAndPassesSameOnEveryTeam) {
+  cd::Schedule plan;
+  plan.coloured = true;
+  // 2 colours of 5 and 4 blocks of 0 to 40 positions, reversed inside each block
+  const std::vector<std::uint32_t> sizes = {3, 40, 0, 7, 12, 25, 1, 9, 30};
+  plan.block_start = {0};
+  for (const std::uint32_t n : sizes) {
+    const std::uint32_t first = plan.block_start.back();
+    for (std::uint32_t k = 0; k < n; ++k) plan.positions.push_back(first + n - 1 - k);
+    plan.block_start.push_back(first + n);
+  }
+  plan.colour_start = {0, 5, 9};
+  auto keep = [](std::uint32_t p) { return p % 3 != 1; };
+  std::vector<std::uint32_t> kept_one;
+  cd::Schedule face_one;
+  cd::sub_schedule(plan, keep, nullptr, kept_one, face_one);
+  ASSERT_EQ(face_one.blocks(), plan.blocks());
+  EXPECT_EQ(face_one.colour_start, plan.colour_start);
+  for (std::size_t b = 0; b < plan.blocks(); ++b) {
+    std::vector<std::uint32_t> expect;
+    for (std::uint32_t q = plan.block_start[b]; q < plan.block_start[b + 1]; ++q)
+      if (keep(plan.positions[q])) expect.push_back(plan.positions[q]);
+    const std::vector<std::uint32_t> got(kept_one.begin() + face_one.block_start[b],
+                                         kept_one.begin() + face_one.block_start[b + 1]);
+    EXPECT_EQ(got, expect) << "block " << b;
+  }
+  for (std::size_t k = 0; k < face_one.size(); ++k) EXPECT_EQ(face_one.positions[k], k);
+  for (const int n : {2, 3, 4}) {
+    cd::Team team(n);
+    team.set_smallest_shared(0);
+    std::vector<std::uint32_t> kept;
+    cd::Schedule face;
+    cd::sub_schedule(plan, keep, &team, kept, face);
+    EXPECT_EQ(kept, kept_one) << n << " threads";
+    EXPECT_EQ(face.block_start, face_one.block_start) << n << " threads";
+    EXPECT_EQ(face.positions, face_one.positions) << n << " threads";
+    for (const bool backward : {false, true}) {
+      // each block visited once; every block of the first colour before any of the second
+      std::vector<std::atomic<int>> visits(plan.blocks());
+      std::atomic<int> order{0};
+      std::vector<int> at(plan.blocks(), -1);
+      cd::for_each_block(plan, &team, backward, [&](std::size_t first, std::size_t last, std::size_t b) {
+        EXPECT_EQ(first, plan.block_start[b]);
+        EXPECT_EQ(last, plan.block_start[b + 1]);
+        ++visits[b];
+        at[b] = order++;
+      });
+      const std::size_t first_colour = backward ? 1 : 0;
+      int last_of_first = -1, first_of_second = 1 << 30;
+      for (std::size_t b = 0; b < plan.blocks(); ++b) {
+        EXPECT_EQ(visits[b].load(), 1) << "block " << b;
+        const bool in_first = (b < plan.colour_start[1]) == (first_colour == 0);
+        if (in_first)
+          last_of_first = std::max(last_of_first, at[b]);
+        else
+          first_of_second = std::min(first_of_second, at[b]);
+      }
+      EXPECT_LT(last_of_first, first_of_second) << n << " threads";
+    }
+  }
 }
 
 // More than one thread needs the strips: pair order is sequential.

@@ -3,6 +3,7 @@
 
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/local_solver.hpp"
+#include "cdpile/cd/schedule.hpp"
 #include "cdpile/check.hpp"
 #include "cdpile/error.hpp"
 
@@ -279,33 +280,37 @@ void Engine::detect(const Vec2& g) {
   }
 
   const double alert = settings_.alert_distance;
-  auto add_row = [&](std::int32_t i, std::int32_t j, double gap, const Vec2& normal) {
-    ContactRow r{};
-    r.i = i;
-    r.j = j;
-    r.bi = i;
-    r.bj = j < 0 ? static_cast<std::int32_t>(n) : j;
-    r.nx = normal.x();
-    r.ny = normal.y();
-    r.gap = gap;
-    rows.push_back(r);
-  };
-  for (std::size_t ui = 0; ui < n; ++ui) {
+  // The candidates of grain i (with j > i, and its walls), in the order of j: a grain's
+  // rows depend on nothing but the grains, so ranges of grains are detected apart and
+  // their rows put one after the other give the same list on any number of threads.
+  auto detect_grain = [&](std::size_t ui, std::vector<ContactRow>& out,
+                          std::vector<std::int32_t>& neighbours) {
     const auto i = static_cast<std::int32_t>(ui);
+    auto add_row = [&](std::int32_t j, double gap, const Vec2& normal) {
+      ContactRow r{};
+      r.i = i;
+      r.j = j;
+      r.bi = i;
+      r.bj = j < 0 ? static_cast<std::int32_t>(n) : j;
+      r.nx = normal.x();
+      r.ny = normal.y();
+      r.gap = gap;
+      out.push_back(r);
+    };
     const Vec2& xi = predicted_[ui];
     const double ri = grains_.radius[ui];
     const double reach = alert + margin_[ui];
     if (inv_mass_[ui] != 0.0) {  // walls, in the order of their ids: right, left, floor
       const double g_right = box_.width - xi.x() - ri;
-      if (g_right < reach) add_row(i, wall_right, g_right, Vec2(-1.0, 0.0));
+      if (g_right < reach) add_row(wall_right, g_right, Vec2(-1.0, 0.0));
       const double g_left = xi.x() - ri;
-      if (g_left < reach) add_row(i, wall_left, g_left, Vec2(1.0, 0.0));
+      if (g_left < reach) add_row(wall_left, g_left, Vec2(1.0, 0.0));
       const double g_floor = xi.y() - ri;
-      if (g_floor < reach) add_row(i, wall_floor, g_floor, Vec2(0.0, 1.0));
+      if (g_floor < reach) add_row(wall_floor, g_floor, Vec2(0.0, 1.0));
     }
     std::int32_t cx, cy;
     cell_of(xi, cx, cy);
-    neighbours_.clear();
+    neighbours.clear();
     for (std::int32_t y = std::max(0, cy - 1); y <= std::min(ny - 1, cy + 1); ++y)
       for (std::int32_t x = std::max(0, cx - 1); x <= std::min(nx - 1, cx + 1); ++x) {
         const std::size_t c = static_cast<std::size_t>(y) * nx + x;
@@ -315,18 +320,46 @@ void Engine::detect(const Vec2& g) {
           const auto uj = static_cast<std::size_t>(j);
           if (inv_mass_[ui] == 0.0 && inv_mass_[uj] == 0.0) continue;  // two glued grains
           const double d = (xi - predicted_[uj]).norm();
-          if (d - ri - grains_.radius[uj] < reach + margin_[uj]) neighbours_.push_back(j);
+          if (d - ri - grains_.radius[uj] < reach + margin_[uj]) neighbours.push_back(j);
         }
       }
-    std::sort(neighbours_.begin(), neighbours_.end());
-    for (const std::int32_t j : neighbours_) {
+    std::sort(neighbours.begin(), neighbours.end());
+    for (const std::int32_t j : neighbours) {
       const Vec2 dx = xi - predicted_[static_cast<std::size_t>(j)];
       const double d = dx.norm();
       // Coincident centres cannot happen without a huge overlap; keep a valid normal.
       const Vec2 normal = d > 0.0 ? Vec2(dx / d) : Vec2(0.0, 1.0);
-      add_row(i, j, d - ri - grains_.radius[static_cast<std::size_t>(j)], normal);
+      add_row(j, d - ri - grains_.radius[static_cast<std::size_t>(j)], normal);
     }
+  };
+  const auto threads = team_ ? static_cast<std::size_t>(team_->size()) : std::size_t{1};
+  detect_parts_.resize(threads);
+  if (threads == 1 || n < team_->smallest_shared()) {
+    for (std::size_t ui = 0; ui < n; ++ui) detect_grain(ui, rows, detect_parts_[0].neighbours);
+    return;
   }
+  // Each thread detects its range of grains into its own part (the first thread's part
+  // is the rows themselves), then copies the part to its place in the rows (the parts'
+  // sizes summed in thread order).
+  std::vector<std::size_t> offset(threads + 1, 0);
+  team_->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    DetectPart& part = detect_parts_[u];
+    std::vector<ContactRow>& mine = u == 0 ? rows : part.rows;
+    mine.clear();
+    for (std::size_t ui = n * u / threads; ui < n * (u + 1) / threads; ++ui)
+      detect_grain(ui, mine, part.neighbours);
+    offset[u + 1] = mine.size();
+    team_->barrier();
+    if (u == 0) {
+      for (std::size_t k = 0; k < threads; ++k) offset[k + 1] += offset[k];
+      rows.resize(offset[threads]);
+    }
+    team_->barrier();
+    if (u > 0)
+      std::copy(part.rows.begin(), part.rows.end(),
+                rows.begin() + static_cast<std::ptrdiff_t>(offset[u]));
+  });
 }
 
 // Stage 3. Lever arms and the gap term of each contact. The tangent is
@@ -335,15 +368,18 @@ void Engine::detect(const Vec2& g) {
 // (the contact point is at -r_i n from i and +r_j n from j).
 void Engine::compute_frames() {
   const double inv_h = 1.0 / h_;
-  for (ContactRow& r : system_.rows) {
-    r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
-    r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
-    r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
-    // LMGC90's IQS_CLB (docs/method.md, "The gap term"): u_n + max(0, gap/h) >= 0. A
-    // contact becomes active only if the gap would close within the step; an existing
-    // overlap is not pushed out, so no energy is injected (restitution 0).
-    r.gap_velocity = std::max(0.0, r.gap * inv_h);
-  }
+  for_each_range(system_.rows.size(), system_.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      ContactRow& r = system_.rows[k];
+      r.ri = grains_.radius[static_cast<std::size_t>(r.i)];
+      r.rj = r.j < 0 ? 0.0 : grains_.radius[static_cast<std::size_t>(r.j)];
+      r.mu = (r.j < 0) ? settings_.mu_wall : settings_.mu_grain;
+      // LMGC90's IQS_CLB (docs/method.md, "The gap term"): u_n + max(0, gap/h) >= 0. A
+      // contact becomes active only if the gap would close within the step; an existing
+      // overlap is not pushed out, so no energy is injected (restitution 0).
+      r.gap_velocity = std::max(0.0, r.gap * inv_h);
+    }
+  });
 }
 
 // Stage 4. The diagonal blocks of W = H M^-1 H^T, plus the compliances of the
@@ -351,16 +387,19 @@ void Engine::compute_frames() {
 // both centres, so W_nt = 0 (docs/method.md, "The scheme", step 3).
 void Engine::compute_delassus() {
   const bool compliant = system_.compliant();
-  for (ContactRow& r : system_.rows) {
-    const Body& a = system_.bodies[static_cast<std::size_t>(r.bi)];
-    const Body& b = system_.bodies[static_cast<std::size_t>(r.bj)];
-    r.w_nn = a.inv_m + b.inv_m;
-    r.w_tt = a.inv_m + b.inv_m + r.ri * r.ri * a.inv_i + r.rj * r.rj * b.inv_i;
-    if (compliant) {
-      r.w_nn += system_.compliance_n;
-      r.w_tt += system_.compliance_t;
+  for_each_range(system_.rows.size(), system_.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      ContactRow& r = system_.rows[k];
+      const Body& a = system_.bodies[static_cast<std::size_t>(r.bi)];
+      const Body& b = system_.bodies[static_cast<std::size_t>(r.bj)];
+      r.w_nn = a.inv_m + b.inv_m;
+      r.w_tt = a.inv_m + b.inv_m + r.ri * r.ri * a.inv_i + r.rj * r.rj * b.inv_i;
+      if (compliant) {
+        r.w_nn += system_.compliance_n;
+        r.w_tt += system_.compliance_t;
+      }
     }
-  }
+  });
 }
 
 // The vertical strip of each moving grain's predicted centre (SweepOrder::strips,

@@ -60,12 +60,12 @@ double largest(const std::vector<Local>& a, Team* team) {
 /// bodies, with the grains' masses (their velocities are set by every use), the rows in
 /// pair order, and the storage of the face and of its vectors.
 struct FaceSpace {
-  explicit FaceSpace(const ContactSystem& s) {
+  FaceSpace(const ContactSystem& s, const Schedule& plan) {
     scratch.bodies = s.bodies;
-    pair_plan = row_schedule(s, SweepOrder::pair, {});
+    if (!plan.coloured) pair_plan = row_schedule(s, SweepOrder::pair, {});
   }
   ContactSystem scratch;  // bodies only
-  Schedule pair_plan;
+  Schedule pair_plan;     // for an uncoloured plan
   Schedule schedule;
   std::vector<std::uint32_t> kept;
   std::vector<FreeRow> rows;
@@ -86,16 +86,20 @@ class Face {
       : s_(s), scratch_(space.scratch), rows_(space.rows), slope_(space.slope),
         schedule_(space.schedule) {
     // In pair order the face is the active rows in pair order, whatever the scramble.
+    const std::vector<std::uint32_t>& kept = space.kept;
     sub_schedule(plan.coloured ? plan : space.pair_plan,
-                 [&](std::uint32_t a) { return s.rows[a].rn > 0.0; }, space.kept, schedule_);
-    rows_.clear();
-    slope_.clear();
-    for (const std::uint32_t a : space.kept) {
-      const ContactRow& r = s.rows[a];
-      const bool t = r.status == ContactStatus::stick;
-      rows_.push_back({a, t});
-      slope_.push_back(follow && !t ? (r.rt < 0.0 ? -r.mu : r.mu) : 0.0);
-    }
+                 [&](std::uint32_t a) { return s.rows[a].rn > 0.0; }, s.team, space.kept,
+                 schedule_);
+    rows_.resize(kept.size());
+    slope_.resize(kept.size());
+    for_each_range(kept.size(), s.team, [&](std::size_t first, std::size_t last) {
+      for (std::size_t k = first; k < last; ++k) {
+        const ContactRow& r = s.rows[kept[k]];
+        const bool t = r.status == ContactStatus::stick;
+        rows_[k] = {kept[k], t};
+        slope_[k] = follow && !t ? (r.rt < 0.0 ? -r.mu : r.mu) : 0.0;
+      }
+    });
   }
   std::size_t size() const { return rows_.size(); }
 
@@ -384,7 +388,7 @@ SolveReport sweeps_and_rounds(const SolverSettings& settings, ContactSystem& sys
     // at most max_sweeps - work - 1 iterations: the step always ends on a sweep
     const RoundKind& r = late_ok && work >= late_after ? late : early;
     const RoundResult done =
-        r.round(system, plan, space ? *space : space.emplace(system), target,
+        r.round(system, plan, space ? *space : space.emplace(system, plan), target,
                 std::min(r.budget, settings.max_sweeps - work - 1));
     work += done.iterations;
     if (done.undone) late_ok = false;

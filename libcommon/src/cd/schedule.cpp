@@ -95,33 +95,64 @@ RowsInScheduleOrder::RowsInScheduleOrder(ContactSystem& s, Schedule& plan) : s_(
   row_of_ = plan.positions;
   const std::size_t m = s.rows.size();
   s.spare_rows.resize(m);
-  for (std::size_t q = 0; q < m; ++q) s.spare_rows[q] = s.rows[row_of_[q]];
+  for_each_range(m, s.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t q = first; q < last; ++q) {
+      s.spare_rows[q] = s.rows[row_of_[q]];
+      plan.positions[q] = static_cast<std::uint32_t>(q);
+    }
+  });
   s.rows.swap(s.spare_rows);
-  for (std::size_t q = 0; q < m; ++q) plan.positions[q] = static_cast<std::uint32_t>(q);
 }
 
 RowsInScheduleOrder::~RowsInScheduleOrder() {
   if (row_of_.empty()) return;
-  for (std::size_t q = 0; q < row_of_.size(); ++q) s_.spare_rows[row_of_[q]] = s_.rows[q];
+  // row_of_ is a permutation: every thread writes rows of its own
+  for_each_range(row_of_.size(), s_.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t q = first; q < last; ++q) s_.spare_rows[row_of_[q]] = s_.rows[q];
+  });
   s_.rows.swap(s_.spare_rows);
 }
+
+namespace {
+
+bool on_one_thread(const Schedule& s, const Team* team) {
+  return !team || team->size() == 1 || !s.coloured || s.size() < team->smallest_shared();
+}
+
+/// The first block of thread u of `threads` over blocks [b0, b1): the ranges hold about
+/// equal numbers of positions (a strip's contacts, or its active ones in a face, vary
+/// with the pile's height and its rearrangements), each block whole. The ranges are
+/// fixed, not handed out block by block: a thread keeps its part of the pile in its
+/// core's caches from pass to pass (handing blocks out as threads came free made a
+/// 16 000-grain window 35 to 45 % slower on 2 threads; docs/performance.md, "Threads").
+std::size_t split(const Schedule& s, std::size_t b0, std::size_t b1, std::size_t threads,
+                  std::size_t u) {
+  if (u == 0) return b0;
+  if (u >= threads) return b1;
+  const std::size_t p0 = s.block_start[b0], n = s.block_start[b1] - p0;
+  const auto at = std::lower_bound(s.block_start.begin() + static_cast<std::ptrdiff_t>(b0),
+                                   s.block_start.begin() + static_cast<std::ptrdiff_t>(b1),
+                                   p0 + n * u / threads);
+  return static_cast<std::size_t>(at - s.block_start.begin());
+}
+
+}  // namespace
 
 void for_each_block(const Schedule& s, Team* team, bool backward,
                     const std::function<void(std::size_t, std::size_t, std::size_t)>& work) {
   const std::size_t colours = s.colours();
-  auto colour_blocks = [&](std::size_t c, std::size_t from, std::size_t to) {
+  auto colour_blocks = [&](std::size_t from, std::size_t to) {
     for (std::size_t k = from; k < to; ++k) {
       const std::size_t b = backward ? to - 1 - (k - from) : k;
       work(s.block_start[b], s.block_start[b + 1], b);
     }
-    (void)c;
   };
   // A small schedule runs on one thread: its colours take less time than the team takes
   // to meet at a barrier. The blocks are the same, so the numbers are too.
-  if (!team || team->size() == 1 || !s.coloured || s.size() < team->smallest_shared()) {
+  if (on_one_thread(s, team)) {
     for (std::size_t k = 0; k < colours; ++k) {
       const std::size_t c = backward ? colours - 1 - k : k;
-      colour_blocks(c, s.colour_start[c], s.colour_start[c + 1]);
+      colour_blocks(s.colour_start[c], s.colour_start[c + 1]);
     }
     return;
   }
@@ -130,10 +161,26 @@ void for_each_block(const Schedule& s, Team* team, bool backward,
     const auto u = static_cast<std::size_t>(t);
     for (std::size_t k = 0; k < colours; ++k) {
       const std::size_t c = backward ? colours - 1 - k : k;
-      const std::size_t b0 = s.colour_start[c], nb = s.colour_start[c + 1] - b0;
-      colour_blocks(c, b0 + nb * u / threads, b0 + nb * (u + 1) / threads);
+      const std::size_t b0 = s.colour_start[c], b1 = s.colour_start[c + 1];
+      colour_blocks(split(s, b0, b1, threads, u), split(s, b0, b1, threads, u + 1));
       if (k + 1 < colours) team->barrier();
     }
+  });
+}
+
+void for_all_blocks(const Schedule& s, Team* team,
+                    const std::function<void(std::size_t, std::size_t, std::size_t)>& work) {
+  auto blocks = [&](std::size_t from, std::size_t to) {
+    for (std::size_t b = from; b < to; ++b) work(s.block_start[b], s.block_start[b + 1], b);
+  };
+  if (on_one_thread(s, team)) {
+    blocks(0, s.blocks());
+    return;
+  }
+  const auto threads = static_cast<std::size_t>(team->size());
+  team->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    blocks(split(s, 0, s.blocks(), threads, u), split(s, 0, s.blocks(), threads, u + 1));
   });
 }
 

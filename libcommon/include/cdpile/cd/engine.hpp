@@ -214,7 +214,14 @@ class Engine {
   int substep_level_ = 0;                               // EngineState::substep_level
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
-  std::vector<std::int32_t> cell_start_, cell_items_, neighbours_;
+  std::vector<std::int32_t> cell_start_, cell_items_;
+  // The candidates of a range of grains and that range's neighbour list, one per thread
+  // of the team (detect)
+  struct DetectPart {
+    std::vector<ContactRow> rows;
+    std::vector<std::int32_t> neighbours;
+  };
+  std::vector<DetectPart> detect_parts_;
   std::vector<std::uint64_t> stored_keys_;
   std::vector<double> stored_rn_, stored_rt_;
   std::int64_t step_ = 0;

@@ -16,6 +16,7 @@
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/team.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -57,23 +58,42 @@ struct Schedule {
 /// fewer than two strips, is one group in the base order.
 Schedule row_schedule(const ContactSystem& s, SweepOrder order, std::span<const std::uint32_t> base);
 
+/// Runs work(first, last, block) over every block of `s`, in no colour order: for work
+/// that reads and writes only its own block's positions (a count, a copy, a gather after
+/// a pass). The team's threads take ranges of blocks of about equal numbers of positions.
+/// Without a team, for an uncoloured or a small schedule, on the calling thread in block
+/// order.
+void for_all_blocks(const Schedule& s, Team* team,
+                    const std::function<void(std::size_t first, std::size_t last, std::size_t block)>& work);
+
 /// The sub-schedule of the positions for which keep(position) holds, in the same colours
 /// and order, renumbered 0, 1, ... in visiting order, into `out`: `kept` receives the
 /// original positions (pcg's face of the active contacts). Both are overwritten, their
-/// storage reused: a step builds a face every few sweeps.
+/// storage reused: a step builds a face every few sweeps. Each block keeps its positions
+/// on the team's threads, in place in `out.positions`; the blocks' kept positions are then
+/// put one after the other.
 template <class Keep>
-void sub_schedule(const Schedule& s, Keep keep, std::vector<std::uint32_t>& kept, Schedule& out) {
+void sub_schedule(const Schedule& s, Keep keep, Team* team, std::vector<std::uint32_t>& kept,
+                  Schedule& out) {
   // The same colours and blocks, each keeping its positions that pass (an emptied block
   // stays, empty: the blocks of a colour are what the threads share).
-  kept.clear();
   out.coloured = s.coloured;
   out.colour_start = s.colour_start;
-  out.block_start.assign(1, 0);
-  for (std::size_t b = 0; b < s.blocks(); ++b) {
-    for (std::uint32_t q = s.block_start[b]; q < s.block_start[b + 1]; ++q)
-      if (keep(s.positions[q])) kept.push_back(s.positions[q]);
-    out.block_start.push_back(static_cast<std::uint32_t>(kept.size()));
-  }
+  out.block_start.assign(s.blocks() + 1, 0);
+  out.positions.resize(s.size());
+  for_all_blocks(s, team, [&](std::size_t first, std::size_t last, std::size_t b) {
+    std::size_t n = first;
+    for (std::size_t q = first; q < last; ++q)
+      if (keep(s.positions[q])) out.positions[n++] = s.positions[q];
+    out.block_start[b + 1] = static_cast<std::uint32_t>(n - first);
+  });
+  for (std::size_t b = 0; b < s.blocks(); ++b) out.block_start[b + 1] += out.block_start[b];
+  kept.resize(out.block_start.back());
+  for_all_blocks(s, team, [&](std::size_t first, std::size_t, std::size_t b) {
+    const auto from = out.positions.begin() + static_cast<std::ptrdiff_t>(first);
+    std::copy(from, from + (out.block_start[b + 1] - out.block_start[b]),
+              kept.begin() + out.block_start[b]);
+  });
   out.positions.resize(kept.size());
   for (std::size_t k = 0; k < kept.size(); ++k) out.positions[k] = static_cast<std::uint32_t>(k);
 }
