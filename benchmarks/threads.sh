@@ -9,7 +9,9 @@
 #       frame at FROM (the window is a branch from it) or a pile (the window starts at FROM:
 #       a pile tilted at once by FROM degrees rearranges).
 #   Every run in strips must give the same file on every number of threads: the rows
-#   say "same" when its numbers equal those of the first number of threads.
+#   say "same" when its numbers equal those of the first number of threads. REPS=K
+#   (default 1) makes the whole set K times, interleaved, the rows' labels ending in
+#   the repetition: 2-thread runs scatter by 4-7 % here, so compare medians.
 #
 # Tools from $CDPILE_BIN (default: build/bin beside this script). CPU is the time of all
 # threads; a speed-up is read from the wall time on an otherwise idle machine. Heavy on
@@ -19,7 +21,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 bin=${CDPILE_BIN:-$here/../build/bin}
 py=${PYTHON:-/usr/bin/python3}
 
-usage() { sed -n '3,15p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '3,18p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 [[ ${1:-} == window && $# -ge 5 ]] || usage
 input=$2 from=$3 to=$4 out=$5
 shift 5
@@ -54,19 +56,24 @@ run() {  # run LABEL OPTIONS...
     "$bin/tilt-cd" "$input" "${start[@]}" --to "$to" -o "$out/$label.h5" --force --quiet "$@"
 }
 
-run pair --sweep-order pair
-row pair "$out/pair.h5" "$out/pair.time" ""
-first=
-for t in "${threads[@]}"; do
-  run "strips-$t" --sweep-order strips --threads "$t"
-  same=""
-  if [[ -n $first ]]; then
-    if h5diff --exclude-path /provenance "$out/$first.h5" "$out/strips-$t.h5" > /dev/null; then
-      same="same as $first"
-    else
-      same="DIFFERS from $first"
+reps=${REPS:-1}
+for ((rep = 1; rep <= reps; rep++)); do
+  tag=""
+  ((reps == 1)) || tag="-$rep"
+  run "pair$tag" --sweep-order pair
+  row "pair$tag" "$out/pair$tag.h5" "$out/pair$tag.time" ""
+  first=
+  for t in "${threads[@]}"; do
+    run "strips-$t$tag" --sweep-order strips --threads "$t"
+    same=""
+    if [[ -n $first ]]; then
+      if h5diff --exclude-path /provenance "$out/$first.h5" "$out/strips-$t$tag.h5" > /dev/null; then
+        same="same as $first"
+      else
+        same="DIFFERS from $first"
+      fi
     fi
-  fi
-  row "strips-$t" "$out/strips-$t.h5" "$out/strips-$t.time" "$same"
-  first=${first:-strips-$t}
+    row "strips-$t$tag" "$out/strips-$t$tag.h5" "$out/strips-$t$tag.time" "$same"
+    first=${first:-strips-$t$tag}
+  done
 done
