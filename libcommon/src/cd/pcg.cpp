@@ -58,7 +58,8 @@ double largest(const std::vector<Local>& a, Team* team) {
 
 /// What the rounds of one step reuse (a step builds a face every few sweeps): the scratch
 /// bodies, with the grains' masses (their velocities are set by every use), the rows in
-/// pair order, and the storage of the face and of its vectors.
+/// pair order (for a plan without colours, whose face is in pair order whatever the
+/// scramble), and the storage of the face and of its vectors.
 struct FaceSpace {
   FaceSpace(const ContactSystem& s, const Schedule& plan) {
     scratch.bodies = s.bodies;
