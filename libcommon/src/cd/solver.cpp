@@ -5,12 +5,14 @@
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/pcg.hpp"
+#include "cdpile/cd/schedule.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace cdpile::cd {
 
@@ -97,15 +99,25 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
 }
 
 LawResidual law_residual(const ContactSystem& s, double velocity_scale) {
+  // Each contact's violation on the team's threads (-1: open and staying open, no
+  // violation), then summed in row order: the same bits on any team.
+  std::vector<double> violation(s.rows.size());
+  for_each_range(s.rows.size(), s.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const ContactRow& r = s.rows[k];
+      double b_n, b_t;
+      s.free_local_velocity(r, b_n, b_t);
+      const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
+      violation[k] = !(r.rn > 0.0) && !(l.rn > 0.0)
+                         ? -1.0
+                         : std::max(std::abs(r.w_nn * (l.rn - r.rn)), std::abs(r.w_tt * (l.rt - r.rt)));
+    }
+  });
   LawResidual out;
   double square_sum = 0.0;
   int counted = 0;
-  for (const ContactRow& r : s.rows) {
-    double b_n, b_t;
-    s.free_local_velocity(r, b_n, b_t);
-    const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
-    if (!(r.rn > 0.0) && !(l.rn > 0.0)) continue;  // open and staying open: no violation
-    const double e = std::max(std::abs(r.w_nn * (l.rn - r.rn)), std::abs(r.w_tt * (l.rt - r.rt)));
+  for (const double e : violation) {
+    if (e < 0.0) continue;
     out.max = std::max(out.max, e);
     square_sum += e * e;
     ++counted;
