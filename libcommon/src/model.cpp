@@ -58,6 +58,17 @@ void Contacts::reserve(std::size_t n) {
   status.reserve(n);
 }
 
+void Contacts::resize(std::size_t n) {
+  i.resize(n);
+  j.resize(n);
+  point.resize(n);
+  normal.resize(n);
+  fn.resize(n);
+  ft.resize(n);
+  gap.resize(n);
+  status.resize(n);
+}
+
 void Contacts::push_back(std::int32_t ii, std::int32_t jj, const Vec2& p, const Vec2& n, double f_n,
                          double f_t, double g, ContactStatus s) {
   i.push_back(ii);

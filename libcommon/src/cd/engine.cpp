@@ -113,11 +113,9 @@ StepReport Engine::step(double tilt_angle) {
   StepReport report;
   report.substeps = 0;
   if (settings_.max_substeps > 1) {
-    // A split step changes the grains after its first sub-step: keep what a cancelled step
-    // must leave as it was (engine.hpp, step).
-    const Grains grains = grains_;
-    const std::vector<std::uint64_t> keys = stored_keys_;
-    const std::vector<double> rn = stored_rn_, rt = stored_rt_;
+    // A split step changes the grains after its first sub-step: what a cancelled step must
+    // leave as it was is kept then (advance), not at every step.
+    step_start_.kept = false;
     try {
       // Start at the level the last step ended at (a rearrangement lasts many steps, and
       // each failed attempt costs substep_after sweeps), one level coarser when every
@@ -131,10 +129,12 @@ StepReport Engine::step(double tilt_angle) {
       if (level > 0 && 4 * tally.hardest_sweeps < settings_.substep_after) --level;
       substep_level_ = level;
     } catch (const StepCancelled&) {
-      grains_ = grains;
-      stored_keys_ = keys;
-      stored_rn_ = rn;
-      stored_rt_ = rt;
+      if (step_start_.kept) {
+        grains_ = step_start_.grains;
+        stored_keys_ = step_start_.keys;
+        stored_rn_ = step_start_.rn;
+        stored_rt_ = step_start_.rt;
+      }
       stored_h_ = settings_.time_step;
       throw;
     }
@@ -201,6 +201,15 @@ void Engine::advance(double hs, int parts, const Vec2& g, StepReport& report, Su
   report.law_residual_rms = std::max(report.law_residual_rms, law.rms);
   report.substeps += 1;
   check_solution();
+  // A sub-step that is not the whole step: the step's start is kept before its first one
+  // changes the grains (step).
+  if (parts > 1 && !step_start_.kept) {
+    step_start_.grains = grains_;  // assignments reuse the storage of the last split step
+    step_start_.keys = stored_keys_;
+    step_start_.rn = stored_rn_;
+    step_start_.rt = stored_rt_;
+    step_start_.kept = true;
+  }
   update_velocities();
   lap(t, profile_.update_velocities);
   update_positions();
@@ -497,18 +506,50 @@ void Engine::update_positions() {
   }
 }
 
-// Stage 9. Keep the non-zero impulses, sorted by pair, for the next warm start.
+// Stage 9. Keep the non-zero impulses, sorted by pair, for the next warm start. On a team,
+// each thread counts and then copies the kept impulses of its range of rows to their place:
+// the same list as on one thread.
 void Engine::store_impulses() {
   stored_h_ = h_;
-  stored_keys_.clear();
-  stored_rn_.clear();
-  stored_rt_.clear();
-  for (const ContactRow& r : system_.rows) {
-    if (r.rn == 0.0 && r.rt == 0.0) continue;
-    stored_keys_.push_back(pair_key(r.i, r.j));
-    stored_rn_.push_back(r.rn);
-    stored_rt_.push_back(r.rt);
+  const std::vector<ContactRow>& rows = system_.rows;
+  auto kept = [](const ContactRow& r) { return r.rn != 0.0 || r.rt != 0.0; };
+  auto keep = [&](std::size_t first, std::size_t last, std::size_t at) {
+    for (std::size_t k = first; k < last; ++k) {
+      const ContactRow& r = rows[k];
+      if (!kept(r)) continue;
+      stored_keys_[at] = pair_key(r.i, r.j);
+      stored_rn_[at] = r.rn;
+      stored_rt_[at] = r.rt;
+      ++at;
+    }
+  };
+  auto store = [&](std::size_t count) {
+    stored_keys_.resize(count);
+    stored_rn_.resize(count);
+    stored_rt_.resize(count);
+  };
+  const std::size_t m = rows.size();
+  if (!team_ || m < team_->smallest_shared()) {
+    store(static_cast<std::size_t>(std::count_if(rows.begin(), rows.end(), kept)));
+    keep(0, m, 0);
+    return;
   }
+  const auto threads = static_cast<std::size_t>(team_->size());
+  std::vector<std::size_t> offset(threads + 1, 0);
+  team_->run([&](int t) {
+    const auto u = static_cast<std::size_t>(t);
+    const std::size_t first = m * u / threads, last = m * (u + 1) / threads;
+    offset[u + 1] = static_cast<std::size_t>(std::count_if(
+        rows.begin() + static_cast<std::ptrdiff_t>(first),
+        rows.begin() + static_cast<std::ptrdiff_t>(last), kept));
+    team_->barrier();
+    if (u == 0) {
+      for (std::size_t k = 0; k < threads; ++k) offset[k + 1] += offset[k];
+      store(offset[threads]);
+    }
+    team_->barrier();
+    keep(first, last, offset[u]);
+  });
 }
 
 void Engine::measure(StepReport& report) const {
@@ -538,17 +579,25 @@ void Engine::measure(StepReport& report) const {
 
 Contacts Engine::contacts() const {
   Contacts c;
-  c.reserve(system_.rows.size());
+  c.resize(system_.rows.size());
   const double inv_h = 1.0 / h_;  // the last sub-step's (docs/method.md, "Sub-steps")
-  for (const ContactRow& r : system_.rows) {
-    const Vec2 n(r.nx, r.ny);
-    const Vec2& xi = predicted_[static_cast<std::size_t>(r.i)];
-    // Contact point: middle of the gap (or overlap) between the two surfaces, on the
-    // line of centres; for a wall, the foot of the centre on the wall.
-    const Vec2 p = r.j < 0 ? Vec2(xi - (r.ri + r.gap) * n) : Vec2(xi - (r.ri + 0.5 * r.gap) * n);
-    c.push_back(r.i, r.j, p, n, r.rn * inv_h, r.rt * inv_h, r.gap,
-                r.rn > 0.0 ? r.status : ContactStatus::open);
-  }
+  for_each_range(system_.rows.size(), system_.team, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const ContactRow& r = system_.rows[k];
+      const Vec2 n(r.nx, r.ny);
+      const Vec2& xi = predicted_[static_cast<std::size_t>(r.i)];
+      // Contact point: middle of the gap (or overlap) between the two surfaces, on the
+      // line of centres; for a wall, the foot of the centre on the wall.
+      c.i[k] = r.i;
+      c.j[k] = r.j;
+      c.point[k] = r.j < 0 ? Vec2(xi - (r.ri + r.gap) * n) : Vec2(xi - (r.ri + 0.5 * r.gap) * n);
+      c.normal[k] = n;
+      c.fn[k] = r.rn * inv_h;
+      c.ft[k] = r.rt * inv_h;
+      c.gap[k] = r.gap;
+      c.status[k] = r.rn > 0.0 ? r.status : ContactStatus::open;
+    }
+  });
   return c;
 }
 

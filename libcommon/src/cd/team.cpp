@@ -3,6 +3,7 @@
 
 #include "cdpile/error.hpp"
 
+#include <chrono>
 #include <string>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -14,12 +15,17 @@ namespace cdpile::cd {
 namespace {
 
 // A waiting thread spins for a few microseconds (longer than the wait between two
-// colours of a sweep when every thread has its core), then yields its core for a while
-// (a thread it waits for may be waiting for one: a machine running more threads than it
-// has cores), then sleeps on the atomic (the stages between two solves, where workers
-// should not hold a core).
+// colours of a sweep when every thread has its core), then yields its core for up to
+// kYieldFor (a thread it waits for may be waiting for one: a machine running more threads
+// than it has cores), then sleeps on the atomic (between steps on a large pile, and in a
+// tool's work outside the engine, workers should not hold a core). The yielding spans the
+// gaps between a step's jobs, the stages left on the calling thread (about a millisecond
+// a step at 16 000 grains): a sleeping worker takes tens of microseconds to wake, and the
+// caller then waits for it at the end of the next job. Yielding for 200 rounds only (some
+// 60 microseconds) left the workers asleep 49 times a step in a quiet 16 000-grain
+// window, and the caller waiting 0.45 s of its 8.9 (docs/performance.md, "Threads").
 constexpr int kSpins = 200;
-constexpr int kYields = 200;
+constexpr auto kYieldFor = std::chrono::milliseconds(2);
 
 inline void pause() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -29,17 +35,20 @@ inline void pause() {
 #endif
 }
 
-// Waits until `a` no longer holds `seen`: spins, then sleeps on the atomic.
+// Waits until `a` no longer holds `seen`: spins, yields, then sleeps on the atomic.
 template <class T>
 T wait_change(const std::atomic<T>& a, T seen) {
-  for (int k = 0; k < kSpins + kYields; ++k) {
+  for (int k = 0; k < kSpins; ++k) {
     const T now = a.load(std::memory_order_acquire);
     if (now != seen) return now;
-    if (k < kSpins)
-      pause();
-    else
-      std::this_thread::yield();
+    pause();
   }
+  const auto until = std::chrono::steady_clock::now() + kYieldFor;
+  do {
+    const T now = a.load(std::memory_order_acquire);
+    if (now != seen) return now;
+    std::this_thread::yield();
+  } while (std::chrono::steady_clock::now() < until);
   a.wait(seen, std::memory_order_acquire);
   return a.load(std::memory_order_acquire);
 }

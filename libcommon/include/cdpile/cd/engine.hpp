@@ -224,6 +224,15 @@ class Engine {
   std::vector<DetectPart> detect_parts_;
   std::vector<std::uint64_t> stored_keys_;
   std::vector<double> stored_rn_, stored_rt_;
+  // The grains and stored impulses at the start of a step split into sub-steps, kept before
+  // its first sub-step changes them: a cancelled step puts them back (step)
+  struct StepStart {
+    Grains grains;
+    std::vector<std::uint64_t> keys;
+    std::vector<double> rn, rt;
+    bool kept = false;
+  };
+  StepStart step_start_;
   std::int64_t step_ = 0;
   double time_ = 0.0;
   double last_tilt_angle_ = 0.0;
