@@ -21,9 +21,9 @@ namespace {
 // tool's work outside the engine, workers should not hold a core). The yielding spans the
 // gaps between a step's jobs, the stages left on the calling thread (about a millisecond
 // a step at 16 000 grains): a sleeping worker takes tens of microseconds to wake, and the
-// caller then waits for it at the end of the next job. Yielding for 200 rounds only (some
-// 60 microseconds) left the workers asleep 49 times a step in a quiet 16 000-grain
-// window, and the caller waiting 0.45 s of its 8.9 (docs/performance.md, "Threads").
+// caller then waits for it at the end of the next job. Yielding for 200 rounds only left
+// the worker asleep 49 times a step in a quiet 16 000-grain window on 2 threads, and the
+// caller waiting for it 0.45 s of the window's 8.9 (docs/performance.md, "Threads").
 constexpr int kSpins = 200;
 constexpr auto kYieldFor = std::chrono::milliseconds(2);
 
