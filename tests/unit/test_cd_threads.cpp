@@ -61,9 +61,16 @@ Outcome run(const Box& box, const Grains& g, cd::Settings s, int steps, Tilt til
     out.numbers.insert(out.numbers.end(), {end.position[i].x(), end.position[i].y(),
                                            end.velocity[i].x(), end.velocity[i].y(),
                                            end.angular_velocity[i], end.orientation[i]});
+  // The contact table (made on the team's threads), and the impulses kept for the next
+  // step's warm start (also gathered on the threads); ids and statuses are exact as doubles
   const cdpile::Contacts c = e.contacts();
-  out.numbers.insert(out.numbers.end(), c.fn.begin(), c.fn.end());
-  out.numbers.insert(out.numbers.end(), c.ft.begin(), c.ft.end());
+  for (std::size_t k = 0; k < c.size(); ++k)
+    out.numbers.insert(out.numbers.end(),
+                       {double(c.i[k]), double(c.j[k]), c.point[k].x(), c.point[k].y(),
+                        c.normal[k].x(), c.normal[k].y(), c.fn[k], c.ft[k], c.gap[k],
+                        double(static_cast<int>(c.status[k]))});
+  for (const cd::StoredImpulse& p : e.state().impulses)
+    out.numbers.insert(out.numbers.end(), {double(p.i), double(p.j), p.rn, p.rt});
   return out;
 }
 

@@ -80,7 +80,7 @@ struct Contacts {
   std::size_t size() const { return i.size(); }
   void clear();
   void reserve(std::size_t n);
-  void resize(std::size_t n);  ///< new contacts are zero (status open)
+  void resize(std::size_t n);  ///< n contacts, for the caller to fill
   void push_back(std::int32_t ii, std::int32_t jj, const Vec2& p, const Vec2& n, double f_n,
                  double f_t, double g, ContactStatus s);
 };
