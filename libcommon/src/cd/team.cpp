@@ -23,7 +23,7 @@ namespace {
 // a step at 16 000 grains): a sleeping worker takes tens of microseconds to wake, and the
 // caller then waits for it at the end of the next job. Yielding for 200 rounds only left
 // the worker asleep 49 times a step in a quiet 16 000-grain window on 2 threads, and the
-// caller waiting for it 0.45 s of the window's 8.9 (docs/performance.md, "Threads").
+// caller waiting for it 0.45 s of the window's 8.9 (docs/performance.md, "The team's waits").
 constexpr int kSpins = 200;
 constexpr auto kYieldFor = std::chrono::milliseconds(2);
 
