@@ -32,11 +32,25 @@ Local relative_velocity(const std::vector<Body>& bodies, const ContactRow& r) {
   return {dvx * r.nx + dvy * r.ny, -dvx * r.ny + dvy * r.nx - a.w * r.ri - b.w * r.rj};
 }
 
-void zero_velocities(std::vector<Body>& bodies, Team* team) {
-  for_each_range(bodies.size(), team, [&](std::size_t first, std::size_t last) {
-    for (std::size_t b = first; b < last; ++b) bodies[b].vx = bodies[b].vy = bodies[b].w = 0.0;
-  });
+/// Runs job(u, threads) on every thread u of the team, or job(0, 1) on the calling thread
+/// where `n` positions are too few to share (for_each_range's rule): a pcg iteration's
+/// elementwise updates of several vectors, in one meeting of the team.
+void on_threads(std::size_t n, Team* team,
+                const std::function<void(std::size_t, std::size_t)>& job) {
+  if (!team || team->size() == 1 || n < team->smallest_shared()) {
+    job(0, 1);
+    return;
+  }
+  const auto threads = static_cast<std::size_t>(team->size());
+  team->run([&](int t) { job(static_cast<std::size_t>(t), threads); });
 }
+
+/// Thread u's equal part [first, last) of [0, n), as for_each_range cuts it.
+struct Part {
+  std::size_t first, last;
+  Part(std::size_t n, std::size_t u, std::size_t threads)
+      : first(n * u / threads), last(n * (u + 1) / threads) {}
+};
 
 /// The largest component. A maximum is the same numbers in any order, so each thread
 /// takes a range and the ranges' maxima are combined.
@@ -63,9 +77,11 @@ double largest(const std::vector<Local>& a, Team* team) {
 struct FaceSpace {
   FaceSpace(const ContactSystem& s, const Schedule& plan) {
     scratch.bodies = s.bodies;
+    preconditioner.bodies = s.bodies;
     if (!plan.coloured) pair_plan = row_schedule(s, SweepOrder::pair, {});
   }
-  ContactSystem scratch;  // bodies only
+  ContactSystem scratch;         // bodies only: the products'
+  ContactSystem preconditioner;  // bodies only: the preconditioner's passes
   Schedule pair_plan;     // for an uncoloured plan
   Schedule schedule;
   std::vector<std::uint32_t> kept;
@@ -84,7 +100,11 @@ struct FaceSpace {
 class Face {
  public:
   Face(ContactSystem& s, const Schedule& plan, FaceSpace& space, bool follow = false)
-      : s_(s), scratch_(space.scratch), rows_(space.rows), slope_(space.slope),
+      : s_(s),
+        scratch_(space.scratch),
+        passes_(space.preconditioner),
+        rows_(space.rows),
+        slope_(space.slope),
         schedule_(space.schedule) {
     // In pair order the face is the active rows in pair order, whatever the scramble.
     const std::vector<std::uint32_t>& kept = space.kept;
@@ -116,81 +136,105 @@ class Face {
     });
   }
 
-  /// z = P^-1 res with P one symmetric Gauss-Seidel pass over the face from z = 0
-  /// (forward, then backward): symmetric positive definite with A, so a CG preconditioner.
-  void precondition(const std::vector<Local>& res, std::vector<Local>& z) {
-    zero_velocities(scratch_.bodies, s_.team);
-    for_each_range(z.size(), s_.team, [&](std::size_t first, std::size_t last) {
-      std::fill(z.begin() + static_cast<std::ptrdiff_t>(first), z.begin() + static_cast<std::ptrdiff_t>(last), Local{});
-    });
-    for (const bool backward : {false, true})
-      for_each_block(schedule_, s_.team, backward, [&](std::size_t first, std::size_t last, std::size_t) {
-        for (std::size_t q = first; q < last; ++q) {
-          const std::size_t k = schedule_.positions[backward ? last - 1 - (q - first) : q];
-          const ContactRow& r = s_.rows[rows_[k].row];
-          const Local u = relative_velocity(scratch_.bodies, r);
-          const double dn = (res[k].n - u.n - s_.compliance_n * z[k].n) / r.w_nn;
-          const double dt =
-              rows_[k].t ? (res[k].t - u.t - s_.compliance_t * z[k].t) / r.w_tt : 0.0;
-          z[k].n += dn;
-          z[k].t += dt;
-          scratch_.apply_impulse(r, dn, rows_[k].t ? dt : slope_[k] * dn);
-        }
-      });
+  // A gradient round's iteration meets the team 7 times (4 barriers more inside the
+  // passes): every elementwise update rides on the pass or the job that needs it, and the
+  // dot products are summed per block inside the passes (docs/performance.md, "Fewer
+  // meetings per iteration"). Each number is the same as with one job per operation.
+
+  /// Zeroes both scratch bodies' velocities and z: what product_dot() and
+  /// precondition_dot() start from.
+  void clear(std::vector<Local>& z) {
+    on_threads(std::max(rows_.size(), s_.bodies.size()), s_.team,
+               [&](std::size_t u, std::size_t threads) { clear_part(z, u, threads); });
   }
 
-  /// q = A p, leaving M^-1 H^T p in the scratch bodies for move().
-  void product(const std::vector<Local>& p, std::vector<Local>& q) {
-    zero_velocities(scratch_.bodies, s_.team);
+  /// z = P^-1 res with P one symmetric Gauss-Seidel pass over the face from z = 0
+  /// (forward, then backward): symmetric positive definite with A, so a CG preconditioner.
+  /// Starts from clear(); returns res . z, each block's sum made once its backward pass
+  /// has left its z final.
+  double precondition_dot(const std::vector<Local>& res, std::vector<Local>& z) {
+    std::vector<double> partial(schedule_.blocks(), 0.0);
+    for (const bool backward : {false, true})
+      for_each_block(
+          schedule_, s_.team, backward, [&](std::size_t first, std::size_t last, std::size_t blk) {
+            for (std::size_t q = first; q < last; ++q) {
+              const std::size_t k = schedule_.positions[backward ? last - 1 - (q - first) : q];
+              const ContactRow& r = s_.rows[rows_[k].row];
+              const Local u = relative_velocity(passes_.bodies, r);
+              const double dn = (res[k].n - u.n - s_.compliance_n * z[k].n) / r.w_nn;
+              const double dt =
+                  rows_[k].t ? (res[k].t - u.t - s_.compliance_t * z[k].t) / r.w_tt : 0.0;
+              z[k].n += dn;
+              z[k].t += dt;
+              passes_.apply_impulse(r, dn, rows_[k].t ? dt : slope_[k] * dn);
+            }
+            if (backward) partial[blk] = block_dot(res, z, first, last);
+          });
+    return sum_in_block_order(partial);
+  }
+
+  /// q = A p and p . q, with p = z + beta p made in the same pass (beta: none for p = z,
+  /// the round's first direction), leaving M^-1 H^T p in the scratch bodies for move().
+  /// Starts from clear().
+  double product_dot(std::vector<Local>& p, const std::vector<Local>& z, std::optional<double> beta,
+                     std::vector<Local>& q) {
     for_each_block(schedule_, s_.team, false, [&](std::size_t first, std::size_t last, std::size_t) {
       for (std::size_t i = first; i < last; ++i) {
         const std::size_t k = schedule_.positions[i];
+        p[k] = beta ? Local{z[k].n + *beta * p[k].n, z[k].t + *beta * p[k].t} : z[k];
         scratch_.apply_impulse(s_.rows[rows_[k].row], p[k].n, rows_[k].t ? p[k].t : slope_[k] * p[k].n);
       }
     });
-    for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t k = first; k < last; ++k) {
+    std::vector<double> partial(schedule_.blocks(), 0.0);
+    for_all_blocks(schedule_, s_.team, [&](std::size_t first, std::size_t last, std::size_t blk) {
+      for (std::size_t i = first; i < last; ++i) {
+        const std::size_t k = schedule_.positions[i];
         const ContactRow& r = s_.rows[rows_[k].row];
         const Local u = relative_velocity(scratch_.bodies, r);
         q[k] = {u.n + s_.compliance_n * p[k].n, rows_[k].t ? u.t + s_.compliance_t * p[k].t : 0.0};
       }
+      partial[blk] = block_dot(p, q, first, last);
     });
+    return sum_in_block_order(partial);
   }
 
-  /// sum_k a_k . b_k, summed per block of the schedule and the blocks in order.
-  double dot(const std::vector<Local>& a, const std::vector<Local>& b) const {
-    std::vector<double> partial(schedule_.blocks(), 0.0);
-    for_each_range(partial.size(), s_.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t blk = first; blk < last; ++blk) {
-        double sum = 0.0;
-        for (std::size_t i = schedule_.block_start[blk]; i < schedule_.block_start[blk + 1]; ++i) {
-          const std::size_t k = schedule_.positions[i];
-          sum += a[k].n * b[k].n + a[k].t * b[k].t;
-        }
-        partial[blk] = sum;
-      }
-    });
-    double total = partial.empty() ? 0.0 : partial[0];
-    for (std::size_t blk = 1; blk < partial.size(); ++blk) total += partial[blk];
-    return total;
-  }
-
-  /// R += alpha p and v += alpha M^-1 H^T p (the scratch bodies of the last product()).
+  /// R += alpha p and v += alpha M^-1 H^T p (the scratch bodies of the last product_dot()).
   void move(const std::vector<Local>& p, double alpha) {
-    for_each_range(rows_.size(), s_.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t k = first; k < last; ++k) {
-        ContactRow& r = s_.rows[rows_[k].row];
-        r.rn += alpha * p[k].n;
-        r.rt += alpha * (rows_[k].t ? p[k].t : slope_[k] * p[k].n);
-      }
-    });
-    for_each_range(s_.bodies.size(), s_.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t b = first; b < last; ++b) {
-        s_.bodies[b].vx += alpha * scratch_.bodies[b].vx;
-        s_.bodies[b].vy += alpha * scratch_.bodies[b].vy;
-        s_.bodies[b].w += alpha * scratch_.bodies[b].w;
-      }
-    });
+    on_threads(std::max(rows_.size(), s_.bodies.size()), s_.team,
+               [&](std::size_t u, std::size_t threads) {
+                 const Part rows(rows_.size(), u, threads), bodies(s_.bodies.size(), u, threads);
+                 for (std::size_t k = rows.first; k < rows.last; ++k) {
+                   ContactRow& r = s_.rows[rows_[k].row];
+                   r.rn += alpha * p[k].n;
+                   r.rt += alpha * (rows_[k].t ? p[k].t : slope_[k] * p[k].n);
+                 }
+                 for (std::size_t b = bodies.first; b < bodies.last; ++b) {
+                   s_.bodies[b].vx += alpha * scratch_.bodies[b].vx;
+                   s_.bodies[b].vy += alpha * scratch_.bodies[b].vy;
+                   s_.bodies[b].w += alpha * scratch_.bodies[b].w;
+                 }
+               });
+  }
+
+  /// res -= alpha q, and clear() for the next iteration in the same job; returns the
+  /// largest component of res (a maximum: the same in any order).
+  double update_residual(std::vector<Local>& res, const std::vector<Local>& q, double alpha,
+                         std::vector<Local>& z) {
+    const std::size_t threads = s_.team ? static_cast<std::size_t>(s_.team->size()) : 1;
+    std::vector<double> part(threads, 0.0);
+    on_threads(std::max(rows_.size(), s_.bodies.size()), s_.team,
+               [&](std::size_t u, std::size_t n) {
+                 const Part rows(rows_.size(), u, n);
+                 double m = 0.0;
+                 for (std::size_t i = rows.first; i < rows.last; ++i) {
+                   res[i].n -= alpha * q[i].n;
+                   res[i].t -= alpha * q[i].t;
+                   m = std::max({m, std::abs(res[i].n), std::abs(res[i].t)});
+                 }
+                 part[u] = m;
+                 clear_part(z, u, n);
+               });
+    return *std::max_element(part.begin(), part.end());
   }
 
   /// The Newton step of the face to a residual of `target` (face_newton.hpp); false
@@ -222,8 +266,38 @@ class Face {
   }
 
  private:
+  /// Thread u's part of clear().
+  void clear_part(std::vector<Local>& z, std::size_t u, std::size_t threads) {
+    const Part rows(rows_.size(), u, threads), bodies(s_.bodies.size(), u, threads);
+    std::fill(z.begin() + static_cast<std::ptrdiff_t>(rows.first),
+              z.begin() + static_cast<std::ptrdiff_t>(rows.last), Local{});
+    for (std::size_t b = bodies.first; b < bodies.last; ++b) {
+      scratch_.bodies[b].vx = scratch_.bodies[b].vy = scratch_.bodies[b].w = 0.0;
+      passes_.bodies[b].vx = passes_.bodies[b].vy = passes_.bodies[b].w = 0.0;
+    }
+  }
+
+  /// sum_k a_k . b_k over the block's positions [first, last), in their order.
+  double block_dot(const std::vector<Local>& a, const std::vector<Local>& b, std::size_t first,
+                   std::size_t last) const {
+    double sum = 0.0;
+    for (std::size_t i = first; i < last; ++i) {
+      const std::size_t k = schedule_.positions[i];
+      sum += a[k].n * b[k].n + a[k].t * b[k].t;
+    }
+    return sum;
+  }
+
+  /// The blocks' sums added in block order: the same number on any team.
+  static double sum_in_block_order(const std::vector<double>& partial) {
+    double total = partial.empty() ? 0.0 : partial[0];
+    for (std::size_t blk = 1; blk < partial.size(); ++blk) total += partial[blk];
+    return total;
+  }
+
   ContactSystem& s_;
-  ContactSystem& scratch_;  // bodies only
+  ContactSystem& scratch_;  // bodies only: the products'
+  ContactSystem& passes_;   // bodies only: the preconditioner's
   std::vector<FreeRow>& rows_;
   // dR_t / dR_n of each row: s mu for a sliding row whose friction follows its normal
   // impulse (a following round), else 0
@@ -249,40 +323,27 @@ int gradient_round(ContactSystem& s, const Schedule& plan, FaceSpace& space, dou
   std::vector<Local>& q = space.q;
   res.resize(f);
   z.resize(f);
+  p.resize(f);
   q.resize(f);
   face.residual(res);
   if (largest(res, s.team) <= target) return 0;
-  face.precondition(res, z);
-  p = z;
-  double rz = face.dot(res, z);
+  face.clear(z);
+  double rz = face.precondition_dot(res, z);
+  std::optional<double> beta;  // none: p = z
   int k = 0;
   while (k < budget) {
     ++k;
-    face.product(p, q);
-    const double pq = face.dot(p, q);
+    const double pq = face.product_dot(p, z, beta, q);
     if (!(pq > 0.0) || !(rz > 0.0)) break;  // nothing left that A sees
     const double alpha = rz / pq;
     face.move(p, alpha);
     // Stopping at the cone instead (where the first contact reaches it) moved 1-10 % of
     // alpha in a rearrangement, and was no faster than NSGS (docs/performance.md).
     if (face.project()) break;
-    for_each_range(f, s.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t i = first; i < last; ++i) {
-        res[i].n -= alpha * q[i].n;
-        res[i].t -= alpha * q[i].t;
-      }
-    });
-    if (largest(res, s.team) <= target) break;
-    face.precondition(res, z);
-    const double rz_next = face.dot(res, z);
-    const double beta = rz_next / rz;
+    if (face.update_residual(res, q, alpha, z) <= target) break;
+    const double rz_next = face.precondition_dot(res, z);
+    beta = rz_next / rz;
     rz = rz_next;
-    for_each_range(f, s.team, [&](std::size_t first, std::size_t last) {
-      for (std::size_t i = first; i < last; ++i) {
-        p[i].n = z[i].n + beta * p[i].n;
-        p[i].t = z[i].t + beta * p[i].t;
-      }
-    });
   }
   return k;
 }
