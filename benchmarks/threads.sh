@@ -12,6 +12,13 @@
 #   say "same" when its numbers equal those of the first number of threads. REPS=K
 #   (default 1) makes the whole set K times, interleaved, the rows' labels ending in
 #   the repetition: 2-thread runs scatter by 4-7 % here, so compare medians.
+#   benchmarks/threads.sh ceiling INPUT FROM TO OUTDIR
+#       what the machine allows two threads: the window in strips on one thread, alone,
+#       then two copies of it side by side, REPS times (default 3); prints each run's
+#       wall time and each copy's ratio to the run alone of its round. Ratios near 1
+#       mean the cores do not slow each other (shared caches, memory bandwidth, a host
+#       that takes one away), so a speed-up under 2 on 2 threads is the code's
+#       (docs/performance.md, "Fewer meetings per iteration").
 #
 # Tools from $CDPILE_BIN (default: build/bin beside this script). CPU is the time of all
 # threads; a speed-up is read from the wall time on an otherwise idle machine. Heavy on
@@ -21,9 +28,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 bin=${CDPILE_BIN:-$here/../build/bin}
 py=${PYTHON:-/usr/bin/python3}
 
-usage() { sed -n '3,18p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
-[[ ${1:-} == window && $# -ge 5 ]] || usage
-input=$2 from=$3 to=$4 out=$5
+usage() { sed -n '3,25p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[[ ${1:-} == window && $# -ge 5 || ${1:-} == ceiling && $# -eq 5 ]] || usage
+mode=$1 input=$2 from=$3 to=$4 out=$5
 shift 5
 threads=("$@")
 [[ ${#threads[@]} -gt 0 ]] || threads=(1 2)
@@ -55,6 +62,24 @@ run() {  # run LABEL OPTIONS...
   /usr/bin/time -f "%U %S %e %M" -o "$out/$label.time" \
     "$bin/tilt-cd" "$input" "${start[@]}" --to "$to" -o "$out/$label.h5" --force --quiet "$@"
 }
+
+wall() { tail -1 "$out/$1.time" | cut -d' ' -f3; }
+
+if [[ $mode == ceiling ]]; then
+  for ((rep = 1; rep <= ${REPS:-3}; rep++)); do
+    run "alone-$rep" --sweep-order strips --threads 1
+    run "copyA-$rep" --sweep-order strips --threads 1 &
+    run "copyB-$rep" --sweep-order strips --threads 1
+    wait
+    alone=$(wall "alone-$rep")
+    for c in A B; do
+      w=$(wall "copy$c-$rep")
+      awk -v r="$rep" -v a="$alone" -v c="$c" -v w="$w" 'BEGIN {
+        printf "round %d\talone %.2f s\tcopy %s side by side %.2f s\tratio %.3f\n", r, a, c, w, w / a }'
+    done
+  done
+  exit 0
+fi
 
 reps=${REPS:-1}
 for ((rep = 1; rep <= reps; rep++)); do
