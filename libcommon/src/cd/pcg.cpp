@@ -55,17 +55,13 @@ struct Part {
 /// The largest component. A maximum is the same numbers in any order, so each thread
 /// takes a range and the ranges' maxima are combined.
 double largest(const std::vector<Local>& a, Team* team) {
-  auto range_max = [&](std::size_t first, std::size_t last) {
+  std::vector<double> part(team ? static_cast<std::size_t>(team->size()) : 1, 0.0);
+  on_threads(a.size(), team, [&](std::size_t u, std::size_t threads) {
+    const Part range(a.size(), u, threads);
     double m = 0.0;
-    for (std::size_t k = first; k < last; ++k) m = std::max({m, std::abs(a[k].n), std::abs(a[k].t)});
-    return m;
-  };
-  if (!team || team->size() == 1 || a.size() < team->smallest_shared()) return range_max(0, a.size());
-  const auto threads = static_cast<std::size_t>(team->size());
-  std::vector<double> part(threads, 0.0);
-  team->run([&](int t) {
-    const auto u = static_cast<std::size_t>(t);
-    part[u] = range_max(a.size() * u / threads, a.size() * (u + 1) / threads);
+    for (std::size_t k = range.first; k < range.last; ++k)
+      m = std::max({m, std::abs(a[k].n), std::abs(a[k].t)});
+    part[u] = m;
   });
   return *std::max_element(part.begin(), part.end());
 }
