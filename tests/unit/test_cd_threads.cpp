@@ -173,8 +173,12 @@ TEST(Schedule, StripsShareNoMovingBodyWithinAColour) {
   const cd::Schedule one = cd::row_schedule(s, cd::SweepOrder::strips, {});
   EXPECT_FALSE(one.coloured);
   EXPECT_EQ(one.blocks(), 1u);
-  EXPECT_EQ(cd::strip_count(120.0, 0.6), 50);
-  EXPECT_EQ(cd::strip_count(1.0, 1.0), 1);
+  // as many as fit 4 r_max wide (0), or fewer
+  EXPECT_EQ(cd::strip_count(120.0, 0.6, 0), 50);
+  EXPECT_EQ(cd::strip_count(120.0, 0.6, 16), 16);
+  EXPECT_EQ(cd::strip_count(120.0, 0.6, 51), 50);
+  EXPECT_EQ(cd::strip_count(1.0, 1.0, 0), 1);
+  EXPECT_EQ(cd::strip_count(1.0, 1.0, 16), 1);
   EXPECT_EQ(cd::sweep_order_from_name("strips"), cd::SweepOrder::strips);
   EXPECT_THROW(cd::sweep_order_from_name("colour"), cdpile::UsageError);
 }
@@ -349,5 +353,17 @@ TEST(Threads, RearrangingPilesSameOnEveryTeam) {
       EXPECT_EQ(o.numbers, one.numbers) << "k " << k << ", " << threads << " threads";
       EXPECT_EQ(o.sweeps, one.sweeps) << "k " << k << ", " << threads << " threads";
     }
+  }
+  // Fewer strips than fit (3 of 8: two of one parity, one of the other), on 1 to 3 threads.
+  Outcome one;
+  for (const int threads : {1, 2, 3}) {
+    cd::Settings s = in_strips(cd::SolverKind::pcg, threads);
+    s.strips = 3;
+    s.contact_stiffness = 1e6 * m * kG / (2 * kR);
+    const Outcome o = run(Box{40 * kR, 0.05}, pile, s, 60, [](int n) { return 0.15 * n * kDeg; });
+    EXPECT_EQ(o.unconverged, 0);
+    if (threads == 1) one = o;
+    EXPECT_EQ(o.numbers, one.numbers) << "3 strips, " << threads << " threads";
+    EXPECT_EQ(o.sweeps, one.sweeps) << "3 strips, " << threads << " threads";
   }
 }

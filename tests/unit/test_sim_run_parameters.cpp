@@ -48,6 +48,7 @@ sim::TiltOptions run_options() {
   s.max_substeps = 8;
   s.substep_after = 40;
   s.sweep_order = cd::SweepOrder::pair;
+  s.strips = 0;
   s.alert_distance = 1.5e-4;
   s.gravity = 9.5;
   s.symmetric_sweeps = true;
@@ -82,6 +83,7 @@ sim::TiltOptions asked_options() {
   s.max_substeps = 4;
   s.substep_after = 50;
   s.sweep_order = cd::SweepOrder::strips;
+  s.strips = 6;
   s.alert_distance = 2e-4;
   s.gravity = 3.7;
   s.symmetric_sweeps = false;

@@ -566,6 +566,12 @@ TEST(Settings, PreSeamFilesReadAsRigidNsgsCheckedEverySweep) {
   EXPECT_EQ(legacy.check_every, 1);
   EXPECT_EQ(legacy.contact_stiffness, 0.0);
   EXPECT_EQ(sim::with_pre_seam_settings(old), sim::settings_parameters(cd::Settings{}));
+
+  // Files made before the strips were counted cut the box into as many as fit (0).
+  io::Values before_strips = sim::settings_parameters(cd::Settings{});
+  before_strips.erase("strips");
+  EXPECT_EQ(sim::settings_from_parameters(before_strips, "old.h5").strips, 0);
+  EXPECT_EQ(cd::Settings{}.strips, 16);
 }
 
 // A branch or a resume takes the run's options; those given override them and are listed

@@ -416,7 +416,7 @@ void Engine::compute_delassus() {
 // in one strip or two neighbouring ones.
 void Engine::assign_strips(double r_max) {
   const std::size_t n = grains_.size();
-  const int strips = strip_count(box_.width, r_max);
+  const int strips = strip_count(box_.width, r_max, settings_.strips);
   const double width = box_.width / strips;
   system_.strip.assign(n + 1, -1);  // the walls' body: static
   for (std::size_t i = 0; i < n; ++i) {

@@ -26,9 +26,10 @@ SweepOrder sweep_order_from_name(const std::string& name) {
   throw UsageError("unknown sweep order '" + name + "' (pair or strips)");
 }
 
-int strip_count(double width, double r_max) {
+int strip_count(double width, double r_max, int wanted) {
   if (!(r_max > 0.0) || !(width > 0.0)) return 1;
-  return std::max(1, static_cast<int>(std::min(1e6, std::floor(width / (4.0 * r_max)))));
+  const int fit = std::max(1, static_cast<int>(std::min(1e6, std::floor(width / (4.0 * r_max)))));
+  return wanted > 0 ? std::min(wanted, fit) : fit;
 }
 
 namespace {

@@ -77,6 +77,9 @@ void validate(const SolverSettings& s) {
   if (s.krylov_after < 1 || s.sweeps_between_rounds < 1)
     bad("the sweeps before and between gradient rounds must be >= 1");
   if (s.newton_after < 0) bad("the sweeps before the Newton steps must be >= 0");
+  if (s.strips < 0 || s.strips > max_strips)
+    bad("strips must be in [0, " + std::to_string(max_strips) + "], got " +
+        std::to_string(s.strips));
   if (s.threads < 1 || s.threads > max_threads)
     bad("threads must be in [1, " + std::to_string(max_threads) + "], got " +
         std::to_string(s.threads));

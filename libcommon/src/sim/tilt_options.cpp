@@ -376,10 +376,21 @@ std::vector<RunParameter> make_table() {
           .declared(
               "Solver",
               "the order of the sweeps: 'pair', the contacts in pair order (or --scramble's); "
-              "'strips', the box cut into vertical strips two largest diameters wide or "
-              "more, the even strips then the odd ones, which --threads share "
+              "'strips', the box cut into --strips vertical strips, the even strips then "
+              "the odd ones, which --threads share "
               "(docs/method.md, \"Threads\")",
               {"pair", "strips"}));
+  // Files made before it was a parameter took as many as fit (0).
+  rows.push_back(
+      Row("strips", "strips", "", "strips", engine)
+          .of(&S::strips)
+          .pre_seam(std::int64_t{0})
+          .declared("Solver",
+                    "with --sweep-order strips, the box's strips: this many, or as many as "
+                    "fit two largest diameters wide if fewer do; 0: as many as fit. Fewer "
+                    "strips take fewer sweeps; each thread takes whole strips of each parity, "
+                    "so give about 8 per thread (docs/method.md, \"Threads\")",
+                    "", 0, cd::max_strips));
   // The option is in D; the record in m.
   rows.push_back(
       Row("alert_distance", "alert_distance_m", "m", "alert", engine)

@@ -98,10 +98,10 @@ void sub_schedule(const Schedule& s, Keep keep, Team* team, std::vector<std::uin
   for (std::size_t k = 0; k < kept.size(); ++k) out.positions[k] = static_cast<std::uint32_t>(k);
 }
 
-
 /// The strips of a box `width` wide for grains of largest radius `r_max` (SweepOrder::
-/// strips): as many as fit at least 4 r_max wide, at least 1.
-int strip_count(double width, double r_max);
+/// strips): `wanted` (SolverSettings::strips), or as many as fit at least 4 r_max wide
+/// if fewer do (all of those if `wanted` is 0); at least 1.
+int strip_count(double width, double r_max, int wanted);
 
 /// While alive, the rows of `s` are stored in the visiting order of a coloured `plan`,
 /// which then visits them in place (positions 0, 1, ...): a sweep reads them in memory

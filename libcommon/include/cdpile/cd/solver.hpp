@@ -47,6 +47,8 @@ inline constexpr double qm16_max_factor = 16.66;
 
 /// The most threads a solve takes (SolverSettings::threads).
 inline constexpr int max_threads = 1024;
+/// The most strips a sweep in strips is cut into (SolverSettings::strips).
+inline constexpr int max_strips = 1000000;
 
 /// How a step's contact system is solved; none of these changes the law being solved.
 struct SolverSettings {
@@ -85,6 +87,14 @@ struct SolverSettings {
   /// the solution, not the law; a run in strips gives the same numbers on any number of
   /// threads.
   SweepOrder sweep_order = SweepOrder::pair;
+  /// The vertical strips of SweepOrder::strips (strip_count, schedule.hpp): this many, or
+  /// as many as fit at least 4 r_max wide if fewer do; 0: as many as fit (the rule of the
+  /// files made before this parameter). Fewer, wider strips carry a sweep's corrections
+  /// across more of the pile (8 to 10 % fewer sweeps with 16 than with 50 on the paper's
+  /// pile and with 200 at 16 000 grains in quiet windows; docs/performance.md, "Fewer,
+  /// wider strips"); each thread needs a few strips of each parity. A parameter of the
+  /// path, not of the law, recorded with the run.
+  int strips = 16;
   /// Threads that share the strips of a sweep (docs/method.md, "Threads"): how fast,
   /// never what. Not a parameter of a run: a run resumes or branches on any number. More
   /// than 1 needs SweepOrder::strips (pair order is one thread's).
