@@ -3,6 +3,7 @@
 // piles that rearrange. The `tsan` preset runs these under ThreadSanitizer.
 #include "cd_scenes.hpp"
 #include "cdpile/cd/engine.hpp"
+#include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/schedule.hpp"
 #include "cdpile/cd/team.hpp"
 #include "cdpile/error.hpp"
@@ -86,6 +87,40 @@ Grains heap(int columns, int rows, unsigned seed) {
   return g;
 }
 
+/// A 12 x 6 lattice of bodies, spacing 1, in 4 strips of width 3, with contacts between
+/// neighbours (across, up and diagonal) and from the left column to the walls; the bottom
+/// row is glued (static), the walls one static body.
+constexpr int kLatticeColumns = 12, kLatticeRows = 6;
+cd::ContactSystem lattice() {
+  cd::ContactSystem s;
+  const int nx = kLatticeColumns, ny = kLatticeRows;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+      s.bodies.push_back(y == 0 ? cd::Body{0, 0, 0, 0, 0} : cd::Body{0, 0, 0, 1, 1});
+  s.bodies.push_back({0, 0, 0, 0, 0});  // the walls
+  const int walls = nx * ny;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) s.strip.push_back(y == 0 ? -1 : x / 3);
+  s.strip.push_back(-1);
+  auto add = [&](int a, int b) {
+    cd::ContactRow r{};
+    r.i = a;
+    r.j = b == walls ? cdpile::wall_left : b;
+    r.bi = a;
+    r.bj = b;
+    s.rows.push_back(r);
+  };
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const int a = y * nx + x;
+      if (x == 0) add(a, walls);
+      if (x + 1 < nx) add(a, a + 1);
+      if (y + 1 < ny) add(a, a + nx);
+      if (x + 1 < nx && y + 1 < ny) add(a, a + nx + 1);
+    }
+  return s;
+}
+
 }  // namespace
 
 // Every thread runs the job once per run(), and a barrier separates what the threads wrote
@@ -114,34 +149,16 @@ TEST(Team, RunsEveryThreadOnceAndTheBarrierSeparatesPhases) {
 // block in pair order, and no moving body in two blocks of one colour; a contact across
 // more than one strip makes the step one group.
 TEST(Schedule, StripsShareNoMovingBodyWithinAColour) {
-  // A 12 x 6 lattice of bodies, spacing 1, in 4 strips of width 3; the bottom row is
-  // glued (static), the walls one static body.
-  cd::ContactSystem s;
-  const int nx = 12, ny = 6;
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x)
-      s.bodies.push_back(y == 0 ? cd::Body{0, 0, 0, 0, 0} : cd::Body{0, 0, 0, 1, 1});
-  s.bodies.push_back({0, 0, 0, 0, 0});  // the walls
-  const int walls = nx * ny;
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) s.strip.push_back(y == 0 ? -1 : x / 3);
-  s.strip.push_back(-1);
+  cd::ContactSystem s = lattice();
+  const int nx = kLatticeColumns;
   auto add = [&](int a, int b) {
     cd::ContactRow r{};
     r.i = a;
-    r.j = b == walls ? cdpile::wall_left : b;
+    r.j = b;
     r.bi = a;
     r.bj = b;
     s.rows.push_back(r);
   };
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) {
-      const int a = y * nx + x;
-      if (x == 0) add(a, walls);
-      if (x + 1 < nx) add(a, a + 1);
-      if (y + 1 < ny) add(a, a + nx);
-      if (x + 1 < nx && y + 1 < ny) add(a, a + nx + 1);
-    }
   const cd::Schedule plan = cd::row_schedule(s, cd::SweepOrder::strips, {});
   ASSERT_TRUE(plan.coloured);
   ASSERT_EQ(plan.colours(), 2u);
@@ -181,6 +198,62 @@ TEST(Schedule, StripsShareNoMovingBodyWithinAColour) {
   EXPECT_EQ(cd::strip_count(1.0, 1.0, 16), 1);
   EXPECT_EQ(cd::sweep_order_from_name("strips"), cd::SweepOrder::strips);
   EXPECT_THROW(cd::sweep_order_from_name("colour"), cdpile::UsageError);
+}
+
+// With the bodies stored strip by strip during a solve (RowsInScheduleOrder), the sweeps
+// give the same impulses and velocities, bit for bit, as with the bodies in grain order,
+// and both are put back: rows in pair order with their body indices, bodies in grain
+// order.
+TEST(Schedule, BodiesInStripOrderSameSweeps) {
+  cd::ContactSystem base = lattice();
+  for (std::size_t k = 0; k < base.rows.size(); ++k) {
+    cd::ContactRow& r = base.rows[k];
+    const double angle = 0.3 * static_cast<double>(k % 7);
+    r.nx = std::cos(angle);
+    r.ny = std::sin(angle);
+    r.ri = 0.5;
+    r.rj = r.bj == kLatticeColumns * kLatticeRows ? 0.0 : 0.5;
+    r.w_nn = 2.5;
+    r.w_tt = 4.0;
+    r.mu = 0.5;
+    r.gap_velocity = -0.01 * static_cast<double>(1 + k % 5);  // approaching: impulses
+  }
+  for (std::size_t b = 0; b < base.bodies.size(); ++b)
+    if (cd::moves(base.bodies[b])) base.bodies[b].vx = 0.001 * static_cast<double>(b);
+  cd::ContactSystem grain_order = base, strip_order = base;
+  for (const bool bodies_too : {false, true}) {
+    cd::ContactSystem& s = bodies_too ? strip_order : grain_order;
+    cd::Schedule plan = cd::row_schedule(s, cd::SweepOrder::strips, {});
+    ASSERT_TRUE(plan.coloured);
+    const cd::RowsInScheduleOrder in_order(s, plan, bodies_too);
+    if (bodies_too) {
+      // the static bodies after the moving ones (the bottom row was first)
+      EXPECT_TRUE(cd::moves(s.bodies[0]));
+      for (std::size_t b = 1; b < s.bodies.size(); ++b)
+        if (cd::moves(s.bodies[b])) {
+          EXPECT_TRUE(cd::moves(s.bodies[b - 1])) << "a static body before a moving one";
+        }
+    }
+    for (int k = 0; k < 6; ++k) cd::nsgs_sweep(s, k % 2 == 1, plan);
+  }
+  ASSERT_EQ(strip_order.rows.size(), grain_order.rows.size());
+  for (std::size_t k = 0; k < grain_order.rows.size(); ++k) {
+    const cd::ContactRow &a = grain_order.rows[k], &b = strip_order.rows[k];
+    EXPECT_EQ(a.bi, base.rows[k].bi);
+    EXPECT_EQ(b.bi, a.bi);
+    EXPECT_EQ(b.bj, a.bj);
+    EXPECT_EQ(b.rn, a.rn) << "row " << k;
+    EXPECT_EQ(b.rt, a.rt) << "row " << k;
+  }
+  double moved = 0.0;
+  for (std::size_t b = 0; b < grain_order.bodies.size(); ++b) {
+    EXPECT_EQ(strip_order.bodies[b].vx, grain_order.bodies[b].vx) << "body " << b;
+    EXPECT_EQ(strip_order.bodies[b].vy, grain_order.bodies[b].vy) << "body " << b;
+    EXPECT_EQ(strip_order.bodies[b].w, grain_order.bodies[b].w) << "body " << b;
+    EXPECT_EQ(strip_order.bodies[b].inv_m, base.bodies[b].inv_m) << "body " << b;
+    moved += std::abs(grain_order.bodies[b].vy - base.bodies[b].vy);
+  }
+  EXPECT_GT(moved, 0.0);  // the sweeps did something to compare
 }
 
 // A face's sub-schedule keeps the colours and blocks and, in each block, the kept

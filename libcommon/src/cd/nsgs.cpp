@@ -109,7 +109,7 @@ SolveReport NsgsSolver::solve(ContactSystem& system, double gravity_velocity) co
   if (system.rows.empty()) return report;
   const int every = settings_.check_every;
   Schedule plan = sweep_schedule(system, settings_);
-  const RowsInScheduleOrder in_order(system, plan);
+  const RowsInScheduleOrder in_order(system, plan, true);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     if (system.cancel && system.cancel()) throw StepCancelled();
     const bool backward = settings_.symmetric_sweeps && (k % 2 == 1);
@@ -130,7 +130,7 @@ SolveReport NncgSolver::solve(ContactSystem& system, double gravity_velocity) co
   double d2_previous = 0.0;
   const int every = settings_.check_every;
   Schedule plan = sweep_schedule(system, settings_);
-  const RowsInScheduleOrder in_order(system, plan);
+  const RowsInScheduleOrder in_order(system, plan, true);
   for (int k = 0; k < settings_.max_sweeps; ++k) {
     if (system.cancel && system.cancel()) throw StepCancelled();
     for (std::size_t a = 0; a < m; ++a) {

@@ -414,13 +414,15 @@ struct RoundKind {
 /// NSGS sweeps, and after `settings.krylov_after` sweeps without convergence a round
 /// every `settings.sweeps_between_rounds` sweeps: `early` ones, and `late` ones once the
 /// step has done `late_after` sweeps and iterations, until a late round is undone.
+/// `bodies_in_strips`: the bodies stored strip by strip during the solve
+/// (RowsInScheduleOrder), for rounds that do not number unknowns by body.
 SolveReport sweeps_and_rounds(const SolverSettings& settings, ContactSystem& system,
                               double gravity_velocity, RoundKind early, RoundKind late,
-                              int late_after) {
+                              int late_after, bool bodies_in_strips) {
   SolveReport report;
   if (system.rows.empty()) return report;
   Schedule plan = sweep_schedule(system, settings);
-  const RowsInScheduleOrder in_order(system, plan);
+  const RowsInScheduleOrder in_order(system, plan, bodies_in_strips);
   std::optional<FaceSpace> space;  // made at the first round: most steps need none
   int work = 0, sweeps = 0, since_round = 0;
   bool late_ok = true;
@@ -463,20 +465,20 @@ SolveReport NewtonSolver::solve(ContactSystem& system, double gravity_velocity) 
   // Woodbury's identity needs C > 0: rigid contacts get pcg's gradient rounds only.
   if (!(system.compliance_n > 0.0 && system.compliance_t > 0.0))
     return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, gradient,
-                             settings_.max_sweeps);
+                             settings_.max_sweeps, false);
   const Round newton = [this](ContactSystem& s, const Schedule& plan, FaceSpace& space,
                               double target, int budget) {
     return newton_round(s, plan, space, target, budget, factor_);
   };
-  return sweeps_and_rounds(settings_, system, gravity_velocity, gradient,
-                           {newton, steps_per_round}, settings_.newton_after);
+  return sweeps_and_rounds(settings_, system, gravity_velocity, gradient, {newton, steps_per_round},
+                           settings_.newton_after, false);
 }
 
 SolveReport PcgSolver::solve(ContactSystem& system, double gravity_velocity) const {
   const RoundKind gradient{gradient_rounds, iterations_per_round};
   const RoundKind following{following_rounds, iterations_per_round};
   return sweeps_and_rounds(settings_, system, gravity_velocity, following, gradient,
-                           settings_.following_until);
+                           settings_.following_until, true);
 }
 
 }  // namespace cdpile::cd

@@ -91,14 +91,43 @@ Schedule row_schedule(const ContactSystem& s, SweepOrder order,
   return strip_schedule(s, base);
 }
 
-RowsInScheduleOrder::RowsInScheduleOrder(ContactSystem& s, Schedule& plan) : s_(s) {
+RowsInScheduleOrder::RowsInScheduleOrder(ContactSystem& s, Schedule& plan, bool bodies_too)
+    : s_(s) {
   if (!plan.coloured) return;
   row_of_ = plan.positions;
-  const std::size_t m = s.rows.size();
+  const std::size_t m = s.rows.size(), n = s.bodies.size();
+  std::vector<std::int32_t> new_body;
+  if (bodies_too && s.strip.size() == n) {
+    // A stable counting sort of the bodies by strip, the static ones (strip -1) last.
+    std::int32_t strips = 0;
+    for (const std::int32_t k : s.strip) strips = std::max(strips, k + 1);
+    auto slot = [&](std::size_t b) {
+      return static_cast<std::size_t>(s.strip[b] < 0 ? strips : s.strip[b]);
+    };
+    std::vector<std::size_t> next(static_cast<std::size_t>(strips) + 2, 0);
+    for (std::size_t b = 0; b < n; ++b) ++next[slot(b) + 1];
+    for (std::size_t k = 1; k < next.size(); ++k) next[k] += next[k - 1];
+    body_of_.resize(n);
+    new_body.resize(n);
+    for (std::size_t b = 0; b < n; ++b) {
+      const std::size_t at = next[slot(b)]++;
+      body_of_[at] = static_cast<std::int32_t>(b);
+      new_body[b] = static_cast<std::int32_t>(at);
+    }
+    s.spare_bodies.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+      s.spare_bodies[k] = s.bodies[static_cast<std::size_t>(body_of_[k])];
+    s.bodies.swap(s.spare_bodies);
+  }
   s.spare_rows.resize(m);
   for_each_range(m, s.team, [&](std::size_t first, std::size_t last) {
     for (std::size_t q = first; q < last; ++q) {
-      s.spare_rows[q] = s.rows[row_of_[q]];
+      ContactRow& r = s.spare_rows[q];
+      r = s.rows[row_of_[q]];
+      if (!new_body.empty()) {
+        r.bi = new_body[static_cast<std::size_t>(r.bi)];
+        r.bj = new_body[static_cast<std::size_t>(r.bj)];
+      }
       plan.positions[q] = static_cast<std::uint32_t>(q);
     }
   });
@@ -109,9 +138,20 @@ RowsInScheduleOrder::~RowsInScheduleOrder() {
   if (row_of_.empty()) return;
   // row_of_ is a permutation: every thread writes rows of its own
   for_each_range(row_of_.size(), s_.team, [&](std::size_t first, std::size_t last) {
-    for (std::size_t q = first; q < last; ++q) s_.spare_rows[row_of_[q]] = s_.rows[q];
+    for (std::size_t q = first; q < last; ++q) {
+      ContactRow& r = s_.spare_rows[row_of_[q]];
+      r = s_.rows[q];
+      if (!body_of_.empty()) {
+        r.bi = body_of_[static_cast<std::size_t>(r.bi)];
+        r.bj = body_of_[static_cast<std::size_t>(r.bj)];
+      }
+    }
   });
   s_.rows.swap(s_.spare_rows);
+  if (body_of_.empty()) return;
+  for (std::size_t k = 0; k < body_of_.size(); ++k)
+    s_.spare_bodies[static_cast<std::size_t>(body_of_[k])] = s_.bodies[k];
+  s_.bodies.swap(s_.spare_bodies);
 }
 
 namespace {

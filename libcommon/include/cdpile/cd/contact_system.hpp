@@ -86,6 +86,7 @@ struct ContactSystem {
   /// Scratch for a solver that reorders the rows during a solve (schedule.hpp,
   /// RowsInScheduleOrder): kept between steps so that the step allocates nothing.
   std::vector<ContactRow> spare_rows;
+  std::vector<Body> spare_bodies;  ///< the same for the bodies
 
   bool compliant() const { return compliance_n != 0.0 || compliance_t != 0.0; }
 

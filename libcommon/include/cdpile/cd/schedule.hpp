@@ -106,11 +106,16 @@ int strip_count(double width, double r_max, int wanted);
 /// While alive, the rows of `s` are stored in the visiting order of a coloured `plan`,
 /// which then visits them in place (positions 0, 1, ...): a sweep reads them in memory
 /// order rather than scattered over the pair order (a strip's contacts are spread over
-/// the whole row list). The destructor puts them back in pair order, for the stages after
-/// the solve. An uncoloured plan is left as it is.
+/// the whole row list). With `bodies_too` the bodies are stored strip by strip as well
+/// (in grain order inside a strip, the bodies that do not move last), the rows' bi and bj
+/// renumbered: a strip's contacts then touch a few consecutive kilobytes of bodies rather
+/// than bodies spread over the whole list. The destructor puts both back, for the stages
+/// after the solve. Nothing is computed in another order, so the numbers are the same;
+/// a solver that numbers unknowns by body (face_newton.hpp) keeps the bodies as they are.
+/// An uncoloured plan is left as it is.
 class RowsInScheduleOrder {
  public:
-  RowsInScheduleOrder(ContactSystem& s, Schedule& plan);
+  RowsInScheduleOrder(ContactSystem& s, Schedule& plan, bool bodies_too = false);
   ~RowsInScheduleOrder();
   RowsInScheduleOrder(const RowsInScheduleOrder&) = delete;
   RowsInScheduleOrder& operator=(const RowsInScheduleOrder&) = delete;
@@ -118,6 +123,7 @@ class RowsInScheduleOrder {
  private:
   ContactSystem& s_;
   std::vector<std::uint32_t> row_of_;  // the pair-order row of each position; empty: not moved
+  std::vector<std::int32_t> body_of_;  // the grain-order body of each body; empty: not moved
 };
 
 /// Runs work(first, last, block) over the blocks of `s`, colour after colour (backward:
