@@ -65,6 +65,14 @@ make_fails() {
 }
 make_fails "pipelines: $guard/variables.txt: the study was made with WIDTH=40, not WIDTH=30: give this study another NAME" \
   study-variables WIDTH=30
+# A study in strips records its strips (a pair-order one does not: guard's file has no
+# such line); one begun before they were a variable has none, and make stops on it.
+mk study-variables NAME=cut SWEEP_ORDER=strips WIDTH=40
+cut=$studies/cut-N4000-R1.5-mu0.5-rate0.001-tol1e-4-strips
+grep -qx "STRIPS=16" "$cut/variables.txt"
+if grep -q "STRIPS" "$guard/variables.txt"; then echo "a pair-order study records STRIPS" >&2; exit 1; fi
+make_fails "pipelines: $cut/variables.txt: the study was made with STRIPS=16, not STRIPS=0: give this study another NAME" \
+  study-variables NAME=cut SWEEP_ORDER=strips WIDTH=40 STRIPS=0
 mk analysis-seeds SEEDS="1 2"
 make_fails "pipelines: $guard/seeds.txt: the analysis is of the runs of seeds 1 2, not 1 2 3: give this study another NAME, or remove that file to analyse these seeds instead" \
   analysis-seeds SEEDS="1 2 3"
