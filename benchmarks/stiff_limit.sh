@@ -3,13 +3,16 @@
 # against the contact stiffness k, the same piles tilted at each k, paired by seed.
 #
 #   benchmarks/stiff_limit.sh runs OUTDIR "SEEDS" "KS" [PREP]
-#       deposits one 1000-grain pile 30 D wide per seed (the paper's depth; PREP "loose",
-#       the default, settles with mu = 0.5, "dense" with mu = 0.1 and tilts with 0.5) and
+#       deposits one pile of GRAINS grains (default 1000) WIDTH D wide (default 30: the
+#       paper's depth) per seed (PREP "loose", the default, settles with mu = 0.5, "dense"
+#       with mu = 0.1 and tilts with 0.5) and
 #       tilts it to its avalanche at each stiffness of KS (in m g / D) with SOLVER
 #       (default "--solver pcg --tolerance 1e-6 --max-substeps 64 --substep-after 1000",
 #       the tools' defaults: every step converges, and sub-steps only rescue the rare step
 #       that does not within 1000 sweeps; RULE=NAME labels the runs PREP-NAME, for another
-#       SOLVER on the same piles: a stopping rule, a tolerance). Appends one row per run to OUTDIR/runs.tsv and the run's nu per degree
+#       SOLVER on the same piles: a stopping rule, a tolerance, a sweep order; TO=X tilts
+#       every run to X degrees instead, avalanche or not). Appends one row per run to
+#       OUTDIR/runs.tsv and the run's nu per degree
 #       of tilt to OUTDIR/nu_theta.tsv; a run already in runs.tsv is not made again, so
 #       an interrupted call resumes and two calls over other seeds can share OUTDIR.
 #   benchmarks/stiff_limit.sh report OUTDIR
@@ -43,11 +46,12 @@ case "${1:-}" in
       dense) settle=(--mu 0.1 --mu-wall 0.1) tilt=(--mu 0.5 --mu-wall 0.5) ;;
       *) echo "stiff_limit.sh: preparation '$prep' is neither loose nor dense" >&2; exit 2 ;;
     esac
+    if [[ -n ${TO:-} ]]; then tilt+=(--to "$TO"); fi
     mkdir -p "$out"
     for seed in "${seeds[@]}"; do
       pile=$out/pile-$prep-$seed.h5
-      [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$seed" "${settle[@]}" \
-        --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
+      [[ -e $pile ]] || "$bin/deposit" --grains "${GRAINS:-1000}" --width "${WIDTH:-30}" \
+        --seed "$seed" "${settle[@]}" --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
         --quiet -o "$pile"
       for k in "${ks[@]}"; do
         label="$prep${RULE:+-$RULE} seed=$seed k=$k"
