@@ -18,6 +18,9 @@
 #   benchmarks/stiff_limit.sh report OUTDIR
 #       the means and paired differences against the stiffest k of each preparation
 #       (OUTDIR/summary.txt) and the chart OUTDIR/stiff_limit.png.
+#   benchmarks/stiff_limit.sh compare OUTDIR LABEL_A LABEL_B
+#       two solvers on the same piles (LABEL: PREP or PREP-RULE, e.g. loose-s16): at each k
+#       the paired differences A - B by seed (OUTDIR/compare-A-B.txt).
 #   benchmarks/stiff_limit.sh tolerance OUTDIR SEED "ANGLES" ["KS"]
 #       how much of nu's change with k is the stopping point's: the loose pile of SEED
 #       (made by `runs`) tilted at each k of KS (default "1e6 1e7 1e8"; the run of `runs`
@@ -152,6 +155,33 @@ fig.tight_layout()
 fig.savefig(f"{out}/stiff_limit.png", dpi=120)
 PY
     ;;
+  compare)
+    [[ $# -eq 4 ]] || { echo "stiff_limit.sh compare OUTDIR LABEL_A LABEL_B" >&2; exit 2; }
+    "$py" - "$2" "$3" "$4" <<'PY'
+import sys, numpy as np
+out, a, b = sys.argv[1:4]
+rows = [l.rstrip("\n").split("\t") for l in open(f"{out}/runs.tsv")][1:]
+runs = {tuple(r[0].split()): np.array([float(x) for x in r[1:]]) for r in rows}
+cols = {"CPU [s]": 0, "sweeps per step": 2, "steps at the cap": 3, "sub-steps per step": 4,
+        "theta_c [deg]": 5, "nu over 0-10 deg": 6}
+se = lambda d: d.std(ddof=1) / np.sqrt(len(d)) if len(d) > 1 else float("nan")
+lines = []
+for k in sorted({k for p, _, k in runs if p == a}, key=lambda k: float(k.split("=")[1])):
+    seeds = sorted((s for p, s, kk in runs if p == a and kk == k and (b, s, k) in runs),
+                   key=lambda s: int(s.split("=")[1]))
+    if not seeds:
+        continue
+    for name, c in cols.items():
+        x = np.array([runs[(a, s, k)][c] for s in seeds])
+        y = np.array([runs[(b, s, k)][c] for s in seeds])
+        d = x - y
+        lines.append(f"{k} {name}: {a} {x.mean():.4g}, {b} {y.mean():.4g}, {a} - {b} paired "
+                     f"{d.mean():+.4g} +- {se(d):.2g} ({len(d)} pairs)")
+text = "\n".join(lines) + "\n"
+open(f"{out}/compare-{a}-{b}.txt", "w").write(text)
+print(text, end="")
+PY
+    ;;
   tolerance)
     [[ $# -ge 4 ]] || { echo "stiff_limit.sh tolerance OUTDIR SEED \"ANGLES\" [\"KS\"]" >&2; exit 2; }
     out=$2 seed=$3
@@ -210,7 +240,7 @@ for k in sorted({r[2] for r in rows}, key=float):
 PY
     ;;
   *)
-    echo "usage: stiff_limit.sh runs OUTDIR \"SEEDS\" \"KS\" [PREP] | report OUTDIR | tolerance OUTDIR SEED \"ANGLES\" [\"KS\"]" >&2
+    echo "usage: stiff_limit.sh runs OUTDIR \"SEEDS\" \"KS\" [PREP] | report OUTDIR | compare OUTDIR A B | tolerance OUTDIR SEED \"ANGLES\" [\"KS\"]" >&2
     exit 2
     ;;
 esac
