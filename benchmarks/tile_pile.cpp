@@ -15,6 +15,10 @@
 // tiled_copies; results as deposit measures them (settle_steps counts the settling of
 // the seams only).
 //
+// A tiled pile measures cost, not strength: tilted, 4 copies of the paper's pile gave way
+// first along their seams and avalanched at 9.7 degrees against the single pile's 15.05
+// (docs/performance.md, "Threads"), so its theta_c is not a wide deposit's.
+//
 // Usage: tile_pile PILE K MAX_STEPS OUTPUT
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/error.hpp"
