@@ -2,6 +2,8 @@
 
 #include "cdpile/parameter_keys.hpp"
 
+#include "cdpile_commit.h"  // generated: CDPILE_COMMIT (cmake/source_commit.cmake)
+
 #include <pwd.h>
 #include <unistd.h>
 
@@ -75,7 +77,8 @@ Provenance provenance_now(const std::string& tool, const std::string& command_li
   std::time_t t = std::time(nullptr);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return {tool, CDPILE_VERSION, command_line, inputs, buf, ""};
+  // the version and the commit that made the file: "0.1.0+8795282abcde" (docs/schema.md)
+  return {tool, CDPILE_VERSION "+" CDPILE_COMMIT, command_line, inputs, buf, ""};
 }
 
 std::vector<Provenance> merge_histories(
