@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # Writes the Slurm jobs of a study, with the same make targets as a workstation
-# (docs/cluster.md): a job array of one task per seed, each `make runs SEEDS=<seed>` (a
-# task stopped by the scheduler resumes from tilt-cd's checkpoint when it runs again), and
-# an analysis job that runs after the whole array, whatever became of it, checks that
-# every run is there and then makes the analysis and figures.
+# (docs/cluster.md): a job array of one task per seed, each `make summaries SEEDS=<seed>`
+# (the run, then its summary; a task stopped by the scheduler resumes from tilt-cd's
+# checkpoint when it runs again), and an analysis job that runs after the whole array,
+# whatever became of it, checks that every run is summarised and then makes the analysis
+# and figures from the summaries.
 #
 #   pipelines/slurm.sh [--name NAME] [--seeds "1 2 ..."] [--time HH:MM:SS] [--partition P]
 #                      [--analysis | --submit] [--] [MAKE_VARIABLE=VALUE ...]
 #
 # By default the array job is written on standard output, with --analysis the analysis
 # job. --submit writes both into the study folder (STUDY/slurm/) and submits them: the
-# tasks of the seeds whose run is not complete yet, then the analysis after them. The same
+# tasks of the seeds whose run is not summarised yet (a summary committed from another
+# machine counts), then the analysis after them. The same
 # command submitted again after a cancel or a failure resubmits what is missing and
 # chains a new analysis. --name is the study's NAME (make variable), so it names the
 # study folder as well as the jobs; logs go to STUDY/logs/, appended across requeues.
@@ -38,7 +40,7 @@ for v in "$@"; do
   case $v in
     SEEDS=*) echo "slurm.sh: '$v': give the seeds with --seeds" >&2; exit 2 ;;
     STUDY=*) echo "slurm.sh: '$v': the study folder is named by its variables (STUDIES=DIR says where the studies are)" >&2; exit 2 ;;
-    STUDIES=[^/]*|CDPILE_BIN=[^/]*)  # a relative folder is the caller's, resolved here for the jobs
+    STUDIES=[^/]*|SUMMARY_ROOT=[^/]*|CDPILE_BIN=[^/]*)  # a relative folder is the caller's, resolved here for the jobs
       v="${v%%=*}=$PWD/${v#*=}" ;;
     NAME=*)  # the same as --name, or in its place
       if [[ -n $name && ${v#NAME=} != "$name" ]]; then
@@ -66,6 +68,9 @@ pipelines=$(cd "$(dirname "$0")" && pwd)
 make_vars=("NAME=$name" "${vars[@]}")
 study=$(make -s --no-print-directory -C "$pipelines" print-study "${make_vars[@]}") ||
   { echo "slurm.sh: cannot name the study folder (make print-study failed)" >&2; exit 1; }
+summaries=$(make -s --no-print-directory -C "$pipelines" print-summaries "${make_vars[@]}") ||
+  { echo "slurm.sh: cannot name the summaries' folder (make print-summaries failed)" >&2; exit 1; }
+q_summaries=$(printf '%q' "$summaries")
 quoted_vars=""
 for v in "${make_vars[@]}"; do quoted_vars+=" $(printf '%q' "$v")"; done
 q_pipelines=$(printf '%q' "$pipelines")
@@ -87,7 +92,7 @@ runs_job() {  # $1: the array's indices
 ${partition:+#SBATCH --partition=$partition}
 # The runs of study $study, one seed per array task (docs/cluster.md). Written by
 #   $resubmit
-# which also resubmits, after a cancel or a failure, the tasks whose run is missing, and
+# which also resubmits, after a cancel or a failure, the tasks whose summary is missing, and
 # chains the analysis. By hand: jid=\$(sbatch --parsable THIS_FILE), then
 #   sbatch --dependency=afterany:\$jid $q_study/slurm/analysis.sbatch
 set -euo pipefail
@@ -95,7 +100,7 @@ seeds=(${seed_list[*]})
 seed=\${seeds[\$SLURM_ARRAY_TASK_ID]}
 # One log per task, appended across requeues: each attempt starts with this line.
 echo "cdpile: seed \$seed, job \${SLURM_ARRAY_JOB_ID:-?}_\${SLURM_ARRAY_TASK_ID}, attempt \$(( \${SLURM_RESTART_COUNT:-0} + 1 )) on \$(hostname) at \$(date -u +%FT%TZ)"
-exec make -C $q_pipelines runs$quoted_vars SEEDS=\$seed
+exec make -C $q_pipelines summaries$quoted_vars SEEDS=\$seed
 JOB
 }
 
@@ -110,13 +115,13 @@ analysis_job() {
 #SBATCH --open-mode=append
 ${partition:+#SBATCH --partition=$partition}
 # The analysis and figures of study $study, after its array (afterany: it runs whatever
-# became of the tasks, so a cancelled task never strands it) once every run is complete.
+# became of the tasks, so a cancelled task never strands it) once every run is summarised.
 set -euo pipefail
 echo "cdpile: analysis of $name, job \${SLURM_JOB_ID:-?}, attempt \$(( \${SLURM_RESTART_COUNT:-0} + 1 )) at \$(date -u +%FT%TZ)"
 missing=()
-for seed in ${seed_list[*]}; do [[ -e $q_study/run-\$seed.h5 ]] || missing+=("\$seed"); done
+for seed in ${seed_list[*]}; do [[ -e $q_summaries/run-\$seed.summary.h5 ]] || missing+=("\$seed"); done
 if [[ \${#missing[@]} -gt 0 ]]; then
-  echo "cdpile: no analysis: the runs of seeds \${missing[*]} are not complete (logs in $logs); resubmit them and a new analysis with:" >&2
+  echo "cdpile: no analysis: the runs of seeds \${missing[*]} are not summarised (logs in $logs); resubmit them and a new analysis with:" >&2
   echo "  $resubmit" >&2
   exit 1
 fi
@@ -141,7 +146,7 @@ case $mode in
     fi
     mkdir -p "$study/slurm"
     todo=()
-    for k in "${!seed_list[@]}"; do [[ -e $study/run-${seed_list[$k]}.h5 ]] || todo+=("$k"); done
+    for k in "${!seed_list[@]}"; do [[ -e $summaries/run-${seed_list[$k]}.summary.h5 ]] || todo+=("$k"); done
     dependency=()
     if [[ ${#todo[@]} -gt 0 ]]; then
       runs_job "$(IFS=,; echo "${todo[*]}")" > "$study/slurm/runs.sbatch"
@@ -150,7 +155,7 @@ case $mode in
       echo "slurm.sh: job $jid: the runs of seeds $(for k in "${todo[@]}"; do printf '%s ' "${seed_list[$k]}"; done)(logs $logs/run-${jid}_*.log)" >&2
       dependency=(--dependency=afterany:"$jid")
     else
-      echo "slurm.sh: every run is complete" >&2
+      echo "slurm.sh: every run is summarised ($summaries)" >&2
     fi
     analysis_job > "$study/slurm/analysis.sbatch"
     ajid=$(sbatch --parsable "${dependency[@]}" "$study/slurm/analysis.sbatch")

@@ -1,6 +1,7 @@
 // critical: the fraction nu of critical contacts in the pile as the pile tilts (eq 1),
 // z and lambda (eq 2), rearrangement events (Fig 2), the ensemble mean over runs (inset
 // of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
+#include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
@@ -17,7 +18,8 @@ static void usage(cli::Usage& u) {
   u.synopsis =
       "nu = Nc/N, z, Ek, lambda per step and per frame; events; ensemble; envelope and nu_c";
   u.description = {
-      "Reads one or more tilt runs (the ensemble is the list of files) and writes, per step "
+      "Reads one or more tilt runs, or their summaries (summarise; the same products, "
+      "docs/analysis.md \"Summaries\"), the ensemble being the list of files, and writes, per step "
       "(from /observables) and per frame (from the contacts and grains), the tilt angle theta, "
       "the number N of active contacts, the number Nc of critical ones, nu = Nc/N (eq 1 of "
       "Staron, Vilotte & Radjai 2002), the coordination z, the mean translational kinetic energy "
@@ -95,8 +97,9 @@ static void usage(cli::Usage& u) {
       ".tsv writes TSV). Undefined values (nu with N = 0, lambda with Nc = 0, a standard error "
       "from one run) are NA, never NaN. docs/tools/critical.md and docs/analysis.md say more."};
   u.argument("runs",
-             "tilt run files (HDF5; '-' for standard input); a run tilt-cd is still computing: "
-             "OUTPUT.partial, or OUTPUT while only the partial exists (up to its last checkpoint)",
+             "tilt run files (HDF5; '-' for standard input), or their summaries (summarise); a "
+             "run tilt-cd is still computing: OUTPUT.partial, or OUTPUT while only the partial "
+             "exists (up to its last checkpoint)",
              true, true);
   cli::declare_product_output(u, analysis::critical_table_names(analysis::CriticalOptions{}));
   u.flag("no-steps", "leave the per-step table out");
@@ -189,12 +192,32 @@ static void run(const cli::Args& a) {
   std::vector<std::string> notes;
   std::string inputs;
   cli::refuse_repeated_inputs(a.arguments("runs"));
+  std::optional<analysis::Product> first_summary;  // the engine every summary must share
   for (const std::string& path : a.arguments("runs")) {
     io::Input in(io::run_or_partial(path));  // a run tilt-cd is still computing: its partial
+    inputs += (inputs.empty() ? "" : " ") + in.name();
+    if (io::is_summary(in)) {
+      if (per_contact)
+        throw UsageError(in.name() + ": a summary keeps no contacts: --contacts needs the run files");
+      io::ProductFile s = io::read_summary(in);
+      if (!first_summary)
+        first_summary = s.product;
+      else if (auto d = analysis::engine_difference(*first_summary, s.product))
+        throw Error(in.name(), "/parameters", "its run was made otherwise than the first summary's: " + *d);
+      histories.emplace_back(in.name(), s.provenance);
+      const analysis::Friction mu = io::summary_run_friction(s.product, cli::friction_choice(a));
+      analysis::RunRecord r = io::summary_run_record(s.product, mu, opt.rule, opt.rattlers,
+                                                     opt.slip_speed, opt.rest.speed);
+      if (opt.source == analysis::SeriesSource::steps)
+        analysis::require_step_rule(in.name(), r.recorded_rule, opt.rule, mu);
+      cli::info(in.name() + ": a summary, " + std::to_string(r.steps.step.size()) + " steps, " +
+                std::to_string(r.frames.size()) + " frames");
+      runs.push_back(std::move(r));
+      continue;
+    }
     io::RunReader rr(in.hdf5());
     if (std::string note = io::partial_run_note(rr); !note.empty()) notes.push_back(std::move(note));
     histories.emplace_back(in.name(), rr.header().provenance);
-    inputs += (inputs.empty() ? "" : " ") + in.name();
     const analysis::Friction mu = io::run_friction(rr.header(), cli::friction_choice(a), in.name());
     // --series steps with another rule than the run's: refused before its frames are read
     if (opt.source == analysis::SeriesSource::steps)

@@ -20,6 +20,10 @@ static void usage(cli::Usage& u) {
       "x, y, fn, ft, optional i, j, wall, frame, theta, status, other columns ignored; "
       "docs/analysis.md, 'Contact table'; from-lammps writes one from LAMMPS or LIGGGHTS dumps), "
       "each input one run of the ensemble, and writes the localnu product that correlate reads. "
+      "A run's summary (summarise) stands for its run and gives the same product: its frames, "
+      "sums and pdf counts as they were made, and of maps those it keeps (its default and "
+      "its --map-theta angles); it is refused when made with other settings than asked for "
+      "(docs/analysis.md, 'Summaries'). "
       "A contact given twice in a table's frame is an error naming both lines (--duplicates "
       "merge counts it once). Lengths are in m for runs; for a table in the unit its '# "
       "length_unit:' line declares, else unknown (labelled '?', the map's results without their "
@@ -59,8 +63,10 @@ static void usage(cli::Usage& u) {
       "Output: TSV on standard output by default (tables frames, states, pdf, map, contacts), an "
       "HDF5 product with -o FILE (-o - for a pipe into correlate). Frames without contacts or "
       "without critical contacts give NA, never NaN."};
-  u.argument("inputs", "tilt runs (HDF5) or contact tables (TSV/CSV); '-' for standard input", true,
-             true);
+  u.argument("inputs",
+             "tilt runs (HDF5), their summaries, or contact tables (TSV/CSV); '-' for standard "
+             "input",
+             true, true);
   cli::declare_product_output(u, {"frames", "states", "pdf", "map", "contacts"});
   cli::declare_critical_rule(
       u, "grain-grain friction coefficient (default: the run's mu_grain; required for a table)");

@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace cdpile::analysis {
 
@@ -221,6 +222,57 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
       }
     }
   }
+}
+
+namespace {
+// Appends the rows of `from` to `to` column by column (the same columns, by name), with
+// column `run` set to `run`.
+void append_rows(Table& to, const Table& from, std::int64_t run, const std::string& source) {
+  const std::size_t n = from.rows();
+  for (Column& c : to.columns) {
+    const Column* f = from.find(c.name);
+    if (!f || f->kind != c.kind)
+      throw Error(source, "/tables/" + from.name, "no " + std::string(c.name) + " column of its kind");
+    if (c.name == "run")
+      c.num.insert(c.num.end(), n, static_cast<double>(run));
+    else if (c.kind == ColumnKind::text)
+      c.text.insert(c.text.end(), f->text.begin(), f->text.end());
+    else
+      c.num.insert(c.num.end(), f->num.begin(), f->num.end());
+  }
+}
+}  // namespace
+
+void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
+  const Table& frames = s.table("localnu_frames");
+  append_rows(frames_t_, frames, run, s.source);
+  append_rows(states_t_, s.table("localnu_states"), run, s.source);
+  frames_ += frames.rows();
+  const Table& pdf = s.table("localnu_pdf");
+  if (pdf.rows() != pc_.count.size())
+    throw Error(s.source, "/tables/localnu_pdf",
+                std::to_string(pdf.rows()) + " bins, the pdfs have " +
+                    std::to_string(pc_.count.size()));
+  const Column &c = pdf.column("count_c"), &nc = pdf.column("count_nc");
+  for (std::size_t b = 0; b < pc_.count.size(); ++b) {
+    pc_.count[b] += static_cast<std::int64_t>(c.num[b]);
+    pnc_.count[b] += static_cast<std::int64_t>(nc.num[b]);
+  }
+  pdf_frames_ += static_cast<std::int64_t>(s.result("localnu_pdf_frames").value_or(0.0));
+}
+
+void LocalNuStudy::set_map(std::int64_t run, Table map, Values info) {
+  // the threshold is the reader's: `above` again from nu
+  Column& above = map.column("above");
+  const Column& nu = map.column("nu");
+  for (std::size_t k = 0; k < above.num.size(); ++k)
+    above.num[k] = nu.defined(k) ? (nu.num[k] >= opt_.nu_c ? 1.0 : 0.0)
+                                 : std::numeric_limits<double>::quiet_NaN();
+  map_t_ = std::move(map);
+  map_info_ = std::move(info);
+  map_info_["map_run"] = run;
+  map_info_["map_nu_c"] = opt_.nu_c;
+  mapped_ = true;
 }
 
 Product LocalNuStudy::product() const {

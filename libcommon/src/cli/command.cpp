@@ -321,7 +321,7 @@ Usage& Usage::real_list(const std::string& n, const std::string& def, const std:
   s.kind = Kind::real_list;
   s.unit = unit;
   s.default_text = def;
-  s.has_default = true;
+  s.has_default = !def.empty();  // an empty list: absent means none
   s.min = min;
   s.max = max;
   return add(s);

@@ -1,5 +1,6 @@
 #include "cdpile/io/analysis_input.hpp"
 
+#include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 #include "cdpile/io/contact_table.hpp"
@@ -132,8 +133,91 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
   return r;
 }
 
+bool is_summary(const Input& in) {
+  if (in.is_hdf5()) return read_header(in.hdf5()).kind == analysis::summary_kind;
+  return tsv_product_kind(in.text()) == analysis::summary_kind;
+}
+
+ProductFile read_summary(const Input& in) { return read_product(in, analysis::summary_kind); }
+
+analysis::Friction summary_run_friction(const analysis::Product& s,
+                                        const analysis::FrictionChoice& given) {
+  const analysis::RecordedRule recorded{s.result("recorded_eps"), s.result("recorded_mu_grain"),
+                                        s.result("recorded_mu_wall")};
+  return analysis::choose_friction(given, &recorded, s.source);
+}
+
+analysis::RunRecord summary_run_record(const analysis::Product& s, const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule,
+                                       analysis::RattlerRule rattlers, double slip_speed,
+                                       double rest_speed) {
+  analysis::require_reading(s,
+                            analysis::critical_reading(rule, mu, rattlers, slip_speed, rest_speed));
+  return analysis::summary_run_record(s);
+}
+
+namespace {
+// localnu's input `run` from its summary `s`: the frames, sums and pdf counts as they were
+// made, and, for the input to map, the stored map of the angle asked for.
+LocalNuInputInfo add_localnu_summary(analysis::LocalNuStudy& study, const analysis::Product& s,
+                                     std::int64_t run, const LocalNuReading& o) {
+  const analysis::Friction mu = summary_run_friction(s, o.mu);
+  analysis::require_reading(s, analysis::localnu_reading(study.options(), o.rule, mu, o.avalanche,
+                                                         o.theta_c, o.diameter));
+  if (study.options().per_contact)
+    throw UsageError(s.source + ": a summary keeps no contacts: " + field("per_contact") +
+                     " needs the run file");
+  LocalNuInputInfo info;
+  info.length_unit = "m";
+  study.add_summary(run, s);
+  const analysis::Table& frames = s.table("localnu_frames");
+  info.frames = frames.rows();
+  for (std::size_t k = 0; k < info.frames; ++k)
+    info.loading_frames += frames.column("loading").num[k] == 1.0;
+  info.theta_c = s.result("loading_theta_c_deg");
+  if (auto it = s.results.find("loading_theta_c_from");
+      it != s.results.end() && std::holds_alternative<std::string>(it->second))
+    info.theta_c_from = std::get<std::string>(it->second);
+  if (run != o.map_run) return info;
+  if (o.map_frame) {
+    // the default map, then those of the angles asked for when it was made
+    std::vector<std::optional<double>> held = {std::nullopt};
+    for (std::size_t m = 1; auto t = s.result("map" + std::to_string(m) + "_asked_deg"); ++m)
+      held.push_back(t);
+    for (const std::optional<double>& t : held) {
+      auto found = analysis::summary_map(s, t);
+      if (!found || analysis::detail::number(found->second, "map_frame") !=
+                        std::optional<double>(static_cast<double>(*o.map_frame)))
+        continue;
+      info.mapped_frame = *o.map_frame;
+      study.set_map(run, std::move(found->first), std::move(found->second));
+      return info;
+    }
+    throw Error(s.source, "",
+                "the summary holds no map of frame " + std::to_string(*o.map_frame) + " (" +
+                    field("map_frame") + "): map it from the run file");
+  }
+  auto found = analysis::summary_map(s, o.map_theta);
+  if (!found) {
+    const auto it = s.parameters.find("reading_map_theta");
+    const std::string held = it != s.parameters.end() && std::holds_alternative<std::string>(it->second)
+                                 ? std::get<std::string>(it->second)
+                                 : std::string();
+    throw Error(s.source, "",
+                "the summary holds maps at " + (held.empty() ? std::string("no angle") : held + " deg") +
+                    ", not at " + format_number(o.map_theta.value_or(0.0)) + " (" +
+                    field("map_theta") + "): map it from the run file, or summarise the run with it");
+  }
+  if (auto f = analysis::detail::number(found->second, "map_frame"))
+    info.mapped_frame = static_cast<std::int64_t>(*f);
+  study.set_map(run, std::move(found->first), std::move(found->second));
+  return info;
+}
+}  // namespace
+
 LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
                                    const LocalNuReading& o) {
+  if (is_summary(in)) return add_localnu_summary(study, read_summary(in).product, run, o);
   LocalNuInputInfo info;
   const std::string& file = in.name();
   if (o.diameter && !(*o.diameter > 0.0 && std::isfinite(*o.diameter)))
@@ -236,6 +320,57 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
     info.loading_frames += loading;
   }
   return info;
+}
+
+analysis::Product summarise_run(const Input& in, const SummaryReading& opt) {
+  const std::string& file = in.name();
+  if (is_summary(in)) throw Error(file, "", "is a summary already, expected a run");
+  const RunReader rr(in.hdf5());
+  const analysis::Friction mu = run_friction(rr.header(), opt.mu, file);
+  const analysis::RunRecord run = read_run_record(rr, file, mu, opt.rule, opt.rattlers,
+                                                  opt.slip_speed, opt.rest_speed);
+  LocalNuReading reading;
+  reading.mu = opt.mu;
+  reading.rule = opt.rule;
+  reading.avalanche = opt.avalanche;
+  // localnu's product of this run alone, as input 0 (its default map: the last loading frame)
+  auto localnu = [&](std::optional<double> map_theta, LocalNuInputInfo* info) {
+    analysis::LocalNuStudy study(opt.localnu);
+    reading.map_theta = map_theta;
+    *info = add_localnu_input(study, in, 0, reading);
+    return study.product();
+  };
+  LocalNuInputInfo info;
+  const analysis::Product part = localnu(std::nullopt, &info);
+  // A map needs its frame only: the one localnu maps for --map-theta t, alone in a study
+  // (the map and its map_* results are those of the whole run's pass).
+  const std::size_t n = rr.frame_count();
+  auto theta_of = [&](std::size_t k) -> std::optional<double> {
+    return rr.frame_tilt_angle(k) * 180.0 / M_PI;
+  };
+  const double diameter = analysis::mean_diameter(rr.grain_properties());
+  std::vector<analysis::Product> maps;
+  for (double t : opt.map_thetas) {
+    reading.map_theta = t;
+    const std::optional<std::size_t> k = map_index(
+        n, reading, [](std::size_t f) { return static_cast<std::int64_t>(f); }, theta_of,
+        std::nullopt, file);
+    analysis::LocalNuStudy study(opt.localnu);
+    if (k)
+      study.add_frame(0, file, static_cast<std::int64_t>(*k), rr.frame_steps()[*k], theta_of(*k),
+                      diameter, frame_contact_set(rr, *k, mu, opt.rule, file), true, true);
+    maps.push_back(study.product());
+  }
+  analysis::Product s = analysis::make_summary(
+      run, analysis::critical_reading(opt.rule, mu, opt.rattlers, opt.slip_speed, opt.rest_speed),
+      part,
+      analysis::localnu_reading(opt.localnu, opt.rule, mu, opt.avalanche, std::nullopt,
+                                std::nullopt),
+      opt.map_thetas, maps, rr.header().parameters);
+  if (info.theta_c) s.results["loading_theta_c_deg"] = *info.theta_c;
+  s.results["loading_theta_c_from"] = info.theta_c_from;
+  s.source = file;
+  return s;
 }
 
 }  // namespace cdpile::io

@@ -1,9 +1,21 @@
-# The study pipeline at its smallest (2 runs of 80 disks): all six tools and every figure; a second make recomputes nothing; a removed product alone is remade.
+# The study pipeline at its smallest (2 runs of 80 disks): every tool and figure; the products made from the runs' summaries are those of the runs; a second make recomputes nothing; a removed product alone is remade; on a new machine (the study's folder gone, the summaries kept) no run is made again, and a new seed makes only its own run.
 # ctest: slow, timeout 300
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" study NAME=tiny GRAINS=80 WIDTH=12 RATE=0.05 \
-  FRAME_EVERY_DEG=1 SEEDS="1 2" MAP_THETAS="5 10" STUDIES="$PWD/studies" CDPILE_BIN="$CDPILE_BIN" "$@"; }
+  FRAME_EVERY_DEG=1 SEEDS="1 2" MAP_THETAS="5 10" STUDIES="$PWD/studies" SUMMARY_ROOT="$PWD/summaries" CDPILE_BIN="$CDPILE_BIN" "$@"; }
 mk > make1.log 2>&1 || { cat make1.log >&2; exit 1; }
-study=$PWD/studies/tiny-N80-R1.5-mu0.5-rate0.05-tol1e-4
+study=$PWD/studies/tiny-N80-R1.5-mu0.5-rate0.05-pcg
+sums=$PWD/summaries/tiny-N80-R1.5-mu0.5-rate0.05-pcg
+for s in 1 2; do [[ -s $sums/run-$s.summary.h5 ]] || { echo "missing run-$s.summary.h5" >&2; exit 1; }; done
+grep -qx 'ENGINE=default' "$sums/variables.txt"
+# The study's products, made from the summaries, are the runs' own: critical and localnu
+# again on the run files (named as the summaries name them), then correlate, clusterfit.
+same() { diff <(grep -v '^# \(tool\|command\|input\|provenance\):' "$1") <(grep -v '^# \(tool\|command\|input\|provenance\):' "$2"); }
+(cd "$study" && critical run-1.h5 run-2.h5 --quiet -o "$OLDPWD/c-runs.h5" 2> /dev/null && localnu run-1.h5 run-2.h5 --quiet -o "$OLDPWD/l-runs.h5")
+h5diff --exclude-path /provenance c-runs.h5 "$study/critical.h5"
+h5diff --exclude-path /provenance l-runs.h5 "$study/localnu.h5"
+correlate l-runs.h5 --quiet -o co-runs.h5
+h5diff --exclude-path /provenance co-runs.h5 "$study/correlate.h5"
+same <(clusterfit co-runs.h5 --nu c-runs.h5 --quiet --digits 0 2> /dev/null) <(clusterfit "$study/correlate.h5" --nu "$study/critical.h5" --quiet --digits 0 2> /dev/null)
 for f in pile-1 pile-2 run-1 run-2 critical localnu correlate clusterfit map-05 map-10; do
   [[ -s $study/$f.h5 ]] || { echo "missing $f.h5" >&2; exit 1; }
 done
@@ -97,3 +109,17 @@ for e, series in (("0.2", b"steps"), ("1e-3", b"steps")):
     assert (p["eps"], p["series"], p["envelope_fit_to_deg"]) == (float(e), series, 5.0), dict(p)
 PY
 expect_eq "0.001 (steps)|0.2 (steps)" "$(awk -F' [|] ' '/^[|] [0-9]/ { sub(/^[|] /, "", $1); printf "%s%s", n++ ? "|" : "", $1 }' "$d/eps.md")"
+# A new machine: the study's folder (piles, runs, products) gone, the summaries kept (as
+# committed): the study is made again from them, no run with it, the same products.
+cp "$study/critical.h5" critical-before.h5
+rm -rf studies
+mk > make6.log 2>&1 || { cat make6.log >&2; exit 1; }
+if grep -q -e "$CDPILE_BIN/tilt-cd" -e "$CDPILE_BIN/deposit" -e "$CDPILE_BIN/summarise" make6.log; then echo "a run was remade from committed summaries:" >&2; cat make6.log >&2; exit 1; fi
+h5diff --exclude-path /provenance critical-before.h5 "$study/critical.h5"
+[[ -s $study/figures/fig1a_nu.png && -s $study/map-05.h5 && -s $study/report.md ]]
+# ... and a new seed makes only its own pile, run and summary; the analysis follows it.
+mk SEEDS="1 2 3" > make7.log 2>&1 || { cat make7.log >&2; exit 1; }
+expect_eq "1 1 1" "$(grep -c "$CDPILE_BIN/deposit" make7.log) $(grep -c "$CDPILE_BIN/tilt-cd" make7.log) $(grep -c "$CDPILE_BIN/summarise" make7.log)"
+grep -q "pile-3.h5" make7.log
+grep -q "pipelines: the analysis of tiny-N80-R1.5-mu0.5-rate0.05-pcg is now of the seeds 1 2 3 (was 1 2)" make7.log
+"$PY" -c 'import h5py, sys; assert h5py.File(sys.argv[1], "r")["results"].attrs["runs"] == 3' "$study/critical.h5"

@@ -103,8 +103,8 @@ say "a one-node cluster is up (ports $ctld_port, $slurmd_port)"
 # --- the study -------------------------------------------------------------------------
 # A checkpoint only at step 0: a later one in the partial can only be the signal's.
 vars=(NAME=cluster GRAINS=100 WIDTH=12 RATE=0.0005 FRAME_EVERY_DEG=1 MAP_THETAS=5 "TILT_OPTIONS=--checkpoint-every 1000000"
-      STUDIES="$here/studies" CDPILE_BIN="$CDPILE_BIN")
-study=$here/studies/cluster-N100-R1.5-mu0.5-rate0.0005-tol1e-4
+      STUDIES="$here/studies" SUMMARY_ROOT="$here/summaries" CDPILE_BIN="$CDPILE_BIN")
+study=$here/studies/cluster-N100-R1.5-mu0.5-rate0.0005-pcg
 # job_state JOB: its state (the records stay MinJobAge seconds).
 job_state() { scontrol -o show job "$1" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | head -1; }
 # wait_for SECONDS WHAT COMMAND...: polls COMMAND until it succeeds.
@@ -150,7 +150,7 @@ wait_for 300 "the analysis job to end" eval '[[ $(job_state "$analysis") =~ ^(CO
 say "the analysis ended: $(job_state "$analysis")"
 expect_eq FAILED "$(job_state "$analysis")" "(the analysis with seed 2 cancelled)"
 expect_eq COMPLETED "$(job_state "${array}_0")" "(the requeued task)"
-grep -q "no analysis: the runs of seeds 2 are not complete" "$study/logs/analysis-$analysis.log"
+grep -q "no analysis: the runs of seeds 2 are not summarised" "$study/logs/analysis-$analysis.log"
 # Each attempt of the requeued task in the same log, marked.
 grep -q "seed 1, job ${array}_0, attempt 1 " "$log1"
 grep -q "seed 1, job ${array}_0, attempt 2 " "$log1"
@@ -164,6 +164,8 @@ wait_for 600 "the second analysis to end" eval '[[ $(job_state "$analysis2") =~ 
 expect_eq COMPLETED "$(job_state "${array2}_1")" "(the resubmitted task)"
 expect_eq COMPLETED "$(job_state "$analysis2")" "(the analysis)" || { cat "$study/logs/analysis-$analysis2.log" >&2; exit 1; }
 test -s "$study/report.md"
+# the tasks returned the runs' summaries, from which the analysis was made
+for s in 1 2; do test -s "$here/summaries/${study##*/}/run-$s.summary.h5"; done
 say "the second analysis completed"
 # Both runs are those of a workstation's uninterrupted make.
 wait "$reference" || { cat reference.log >&2; exit 1; }

@@ -259,6 +259,14 @@ class LocalNuStudy {
   void set_length_unit(const std::string& unit) { length_unit_ = unit; }
   /// A note added to the product (e.g. duplicate rows merged in an input).
   void add_note(const std::string& note) { extra_notes_.push_back(note); }
+  /// Adds run number `run` from its summary (analysis/run_summary.hpp): its frames' rows,
+  /// its sums and its pdf counts, as add_frame added them when the summary was made with
+  /// these options (the caller checks that: require_reading).
+  void add_summary(std::int64_t run, const Product& summary);
+  /// The map (table `map` and its map_* values, from a summary) of input `run`, thresholded
+  /// at the options' nu_c: what add_frame makes of the frame to map.
+  void set_map(std::int64_t run, Table map, Values info);
+  const LocalNuOptions& options() const { return opt_; }
   Product product() const;
   std::size_t frames() const { return frames_; }
 

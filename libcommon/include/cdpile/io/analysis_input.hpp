@@ -8,6 +8,7 @@
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/files.hpp"
+#include "cdpile/io/products.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <cstdint>
@@ -50,6 +51,47 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
                                     double rest_speed = analysis::RestRule{}.speed,
                                     bool per_contact = false);
 
+/// Whether an input is a run's summary (a product of kind "summary", HDF5 or TSV;
+/// analysis/run_summary.hpp).
+bool is_summary(const Input& in);
+
+/// The summary an input holds, with its history; an error naming the file if it is
+/// another kind of file.
+ProductFile read_summary(const Input& in);
+
+/// The friction of an analysis of a summary: analysis::choose_friction on the run's
+/// recorded mu_grain and mu_wall, which the summary keeps.
+analysis::Friction summary_run_friction(const analysis::Product& summary,
+                                        const analysis::FrictionChoice& given);
+
+/// A run as `critical` reads it, from its summary: the summary must have been made with
+/// the same rule, friction, rattler rule, slip and rest speeds (analysis::require_reading),
+/// else an error names the first that differs.
+analysis::RunRecord summary_run_record(const analysis::Product& summary,
+                                       const analysis::Friction& mu,
+                                       const analysis::CriticalRule& rule,
+                                       analysis::RattlerRule rattlers,
+                                       double slip_speed = analysis::default_slip_speed,
+                                       double rest_speed = analysis::RestRule{}.speed);
+
+/// How `summarise` reads a run: critical's settings (the rule, friction, rattlers, slip and
+/// rest speeds) and localnu's (options and reading), and the angles of the maps to keep.
+struct SummaryReading {
+  analysis::CriticalRule rule;
+  analysis::FrictionChoice mu;
+  analysis::RattlerRule rattlers = analysis::RattlerRule::exclude;
+  double slip_speed = analysis::default_slip_speed;  ///< [sqrt(g D)]
+  double rest_speed = analysis::RestRule{}.speed;    ///< [sqrt(g D)]
+  analysis::AvalancheRule avalanche;                 ///< the end of localnu's loading phase
+  analysis::LocalNuOptions localnu = analysis::default_localnu_options();
+  std::vector<double> map_thetas;  ///< [deg]
+};
+
+/// A run's summary (analysis/run_summary.hpp): read_run_record of the run, the localnu
+/// product of the run alone (and one per map angle), and the run's parameters. The
+/// summary keeps the run's name as `in` gives it.
+analysis::Product summarise_run(const Input& in, const SummaryReading& opt);
+
 /// How `localnu` reads its inputs.
 struct LocalNuReading {
   analysis::FrictionChoice mu;
@@ -84,7 +126,9 @@ struct LocalNuInputInfo {
   std::size_t merged = 0;   ///< rows of a table merged as repeats
 };
 
-/// Adds every frame of input `in` (a run file or a contact table) as run number `run`.
+/// Adds every frame of input `in` (a run file, a run's summary or a contact table) as run
+/// number `run`. A summary must have been made with the reading's settings (analysis::
+/// require_reading) and holds the maps of the angles it was made with only.
 /// A contact table without `mu.grain` or `diameter` is a UsageError (they are required
 /// options for a table).
 LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
