@@ -28,7 +28,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cdpile_py.paper import rows_of  # noqa: E402
 
-PRECISION = {19.96: 0.005, 0.36: 0.005, 3.6: 0.05, 0.08: 0.005, 2.5: 0.05, -1.5: 0.05, 10.0: 0.5, 0.5: 0.05}
+PRECISION = {19.96: 0.005, 0.35: 0.005, 3.6: 0.05, 0.08: 0.005, 2.5: 0.05, -1.5: 0.05, 10.0: 0.5, 0.5: 0.05}
 
 
 def verdict(row):

@@ -143,7 +143,7 @@ def rows_of(study):
             "critical: Ek/(m g D) rule, mean ± s.e. over runs", tc, tc_se, st[0] if st else None, 19.96)
         mu = math.tan(math.radians(tc))
         mu_se = (tc_se or float("nan")) * math.radians(1) / math.cos(math.radians(tc)) ** 2
-        add("mu_eff = tan(theta_c)", "about 0.36", pm(mu, mu_se), "", "from theta_c", mu, mu_se, None, 0.36)
+        add("mu_eff = tan(theta_c)", "about 0.35", pm(mu, mu_se), "", "from theta_c", mu, mu_se, None, 0.35)
 
     fr = crit.table("frames")
     load_rows = (fr["loading"] == 1) & np.isfinite(fr["z"])

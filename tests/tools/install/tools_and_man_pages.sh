@@ -4,7 +4,7 @@
 # installed.
 build=$(cd "$CDPILE_BIN/.." && pwd)
 cmake --install "$build" --prefix "$PWD/prefix" > install.log
-tools="clusterfit correlate critical deposit from-lammps localnu tilt-cd to-lammps to-xdmf"
+tools="clusterfit correlate critical deposit from-lammps localnu summarise tilt-cd to-lammps to-xdmf"
 expect_eq "$tools" "$(ls prefix/bin | paste -sd ' ')" "(installed executables)"
 expect_eq "$(for t in $tools; do echo "$t.1"; done | paste -sd ' ')" "$(ls prefix/share/man/man1 | paste -sd ' ')" "(manual pages)"
 for t in $tools; do
