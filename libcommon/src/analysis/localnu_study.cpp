@@ -225,11 +225,13 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
 }
 
 namespace {
-// Appends the rows of `from` to `to` column by column (the same columns, by name), with
-// column `run` set to `run`.
-void append_rows(Table& to, const Table& from, std::int64_t run, const std::string& source) {
+// Appends the rows of `from` to `to` column by column (the same columns, by name, but
+// those of `derived`, left to the caller), with column `run` set to `run`.
+void append_rows(Table& to, const Table& from, std::int64_t run, const std::string& source,
+                 const std::vector<std::string>& derived = {}) {
   const std::size_t n = from.rows();
   for (Column& c : to.columns) {
+    if (std::find(derived.begin(), derived.end(), c.name) != derived.end()) continue;
     const Column* f = from.find(c.name);
     if (!f || f->kind != c.kind)
       throw Error(source, "/tables/" + from.name, "no " + std::string(c.name) + " column of its kind");
@@ -246,7 +248,15 @@ void append_rows(Table& to, const Table& from, std::int64_t run, const std::stri
 void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
   const Table& frames = s.table("localnu_frames");
   append_rows(frames_t_, frames, run, s.source);
-  append_rows(states_t_, s.table("localnu_states"), run, s.source);
+  // nu_bar and se from the sums, as add_frame computes them (a summary keeps the sums)
+  const Table& states = s.table("localnu_states");
+  append_rows(states_t_, states, run, s.source, {"nu_bar", "se"});
+  const Column &n = states.column("n"), &sum = states.column("sum"), &sum2 = states.column("sum2");
+  for (std::size_t k = 0; k < states.rows(); ++k) {
+    const Summary sm = Sums{static_cast<std::int64_t>(n.num[k]), sum.num[k], sum2.num[k]}.summary();
+    states_t_.column("nu_bar").add(sm.mean);
+    states_t_.column("se").add(sm.se);
+  }
   frames_ += frames.rows();
   const Table& pdf = s.table("localnu_pdf");
   if (pdf.rows() != pc_.count.size())

@@ -336,6 +336,10 @@ Product make_summary(const RunRecord& run, const Values& critical, const Product
 
   copy_table(p, localnu, "frames", "localnu_frames");
   copy_table(p, localnu, "states", "localnu_states");
+  // nu_bar and se follow from n, sum and sum2 (LocalNuStudy::add_summary): not kept
+  Table& states = p.tables.back();
+  std::erase_if(states.columns,
+                [](const Column& c) { return c.name == "nu_bar" || c.name == "se"; });
   copy_table(p, localnu, "pdf", "localnu_pdf");
   if (localnu.find("map")) copy_table(p, localnu, "map", "localnu_map");
   for (const auto& [k, v] : localnu.results)

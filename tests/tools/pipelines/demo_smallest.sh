@@ -10,7 +10,7 @@ grep -qx 'ENGINE=default' "$sums/variables.txt"
 # The study's products, made from the summaries, are the runs' own: critical and localnu
 # again on the run files (named as the summaries name them), then correlate, clusterfit.
 same() { diff <(grep -v '^# \(tool\|command\|input\|provenance\):' "$1") <(grep -v '^# \(tool\|command\|input\|provenance\):' "$2"); }
-(cd "$study" && critical run-1.h5 run-2.h5 --quiet -o "$OLDPWD/c-runs.h5" 2> /dev/null && localnu run-1.h5 run-2.h5 --quiet -o "$OLDPWD/l-runs.h5")
+(cd "$study" && critical run-1.h5 run-2.h5 --quiet -o "$OLDPWD/c-runs.h5" 2> /dev/null && localnu run-1.h5 run-2.h5 --radii 1:1:40 --quiet -o "$OLDPWD/l-runs.h5")
 h5diff --exclude-path /provenance c-runs.h5 "$study/critical.h5"
 h5diff --exclude-path /provenance l-runs.h5 "$study/localnu.h5"
 correlate l-runs.h5 --quiet -o co-runs.h5
