@@ -9,7 +9,8 @@ Each TABLE.md is a study's report.md (pipelines/report.py: one study, named by i
 "Study:" line) or a reproduction table (pipelines/reproduction.py: a column per study,
 named by its header); the row "theta_c (deg)" of each study is read, "v ± s" (a cell
 without a number, "none: ...", is left out and said on stderr). LABEL= names the points
-of that file (with a table of several studies: "LABEL, <column>"). Writes PNG and PDF.
+of that file (with a table of several studies: "LABEL, <column>"). Writes PNG and PDF,
+and prints the points drawn as TSV (label, theta_c_deg, se_deg).
 """
 import argparse
 import os
@@ -79,7 +80,10 @@ def main():
     ax.set_ylim(-0.6, len(points) - 0.4)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.4, -0.22), ncol=2, frameon=False)
     folder, name = os.path.split(os.path.abspath(a.output))
-    print(save_files(fig, folder, os.path.splitext(name)[0]))
+    save_files(fig, folder, os.path.splitext(name)[0])
+    print("label\ttheta_c_deg\tse_deg")
+    for p in points:
+        print(f"{p[0]}\t{p[1]:g}\t{p[2]:g}")
 
 
 if __name__ == "__main__":
