@@ -202,11 +202,11 @@ static void run(const cli::Args& a) {
       io::ProductFile s = io::read_summary(in);
       if (!first_summary)
         first_summary = s.product;
-      else if (auto d = analysis::engine_difference(*first_summary, s.product))
-        throw Error(in.name(), "/parameters", "its run was made otherwise than the first summary's: " + *d);
+      else
+        analysis::require_same_engine(*first_summary, s.product, in.name());
       histories.emplace_back(in.name(), s.provenance);
       const analysis::Friction mu = io::summary_run_friction(s.product, cli::friction_choice(a));
-      analysis::RunRecord r = io::summary_run_record(s.product, mu, opt.rule, opt.rattlers,
+      analysis::RunRecord r = io::read_summary_record(s.product, mu, opt.rule, opt.rattlers,
                                                      opt.slip_speed, opt.rest.speed);
       if (opt.source == analysis::SeriesSource::steps)
         analysis::require_step_rule(in.name(), r.recorded_rule, opt.rule, mu);

@@ -1,6 +1,7 @@
 // localnu: the local state nu_i(r) around every contact (eq 1 of Staron, Vilotte & Radjai
 // 2002 on a disk of radius r), its sums over critical contacts per frame (for eq 3), the
 // pdfs P_c and P_nc of nu_i(6D) (Fig 3) and the nu field on a grid (Fig 5).
+#include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
@@ -174,11 +175,16 @@ static void run(const cli::Args& a) {
   std::string inputs;
   analysis::Values per_input;
   std::optional<std::string> length_unit;  // common to every input, "" if unknown or mixed
+  std::optional<analysis::Product> first_summary;  // the engine every summary must share
   for (std::size_t k = 0; k < paths.size(); ++k) {
     io::Input in(paths[k]);
     inputs += (inputs.empty() ? "" : " ") + in.name();
     const io::LocalNuInputInfo info =
         io::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
+    if (info.summary && !first_summary)
+      first_summary = info.summary;
+    else if (info.summary)
+      analysis::require_same_engine(*first_summary, *info.summary, in.name());
     // a contact table has no history, but it is one of the inputs the others are told from
     histories.emplace_back(in.name(), in.is_hdf5() ? io::read_header(in.hdf5()).provenance
                                                    : std::vector<io::Provenance>{});

@@ -29,10 +29,10 @@ static void usage(cli::Usage& u) {
       "localnu refuse a summary made with another value than they are asked for, naming it. "
       "critical refuses an ensemble of summaries whose runs were made with other engine or "
       "protocol settings (run_* parameters, the seed apart), naming the first that differs.",
-      "Output: HDF5 with -o FILE (-o - for a pipe), TSV for a name ending in .tsv or without -o."};
+      "Output: HDF5 with -o FILE (-o - for a pipe), every bit: a summary is data for the tools, "
+      "not a table for people (critical, localnu or h5dump read it)."};
   u.argument("run", "a finished tilt run (HDF5; '-' for standard input)");
-  cli::declare_product_output(u, {"steps", "frames", "localnu_frames", "localnu_states",
-                                  "localnu_pdf", "localnu_map"});
+  u.output("the summary (HDF5; '-' for standard output, for a pipe)");
   cli::declare_critical_rule(u, "grain-grain friction coefficient (default: the run's mu_grain)");
   u.text("rattlers", "exclude", "rattler convention of z", {"exclude", "include"});
   u.real("rest-speed", 1e-2, "a state is at rest with every grain slower than this, in sqrt(g D)",
@@ -56,7 +56,8 @@ static void usage(cli::Usage& u) {
 }
 
 static void run(const cli::Args& a) {
-  cli::check_output(a);  // refuse a bad target before the work
+  if (a.output().empty()) throw UsageError("give -o FILE: a summary is HDF5, not a table to read");
+  io::Output check(a.output(), a.force(), true);  // refuse a bad target before the work
   io::SummaryReading opt;
   opt.rule = cli::critical_rule(a);
   opt.mu = cli::friction_choice(a);
@@ -85,7 +86,7 @@ static void run(const cli::Args& a) {
             std::to_string(opt.map_thetas.size()) + " maps");
   std::vector<io::Provenance> history = rr.header().provenance;
   history.push_back(io::provenance_now(a.tool(), a.command_line(), in.name()));
-  cli::emit_product(a, s, history);
+  io::emit(s, history, a.output(), a.force(), io::Format::hdf5);
 }
 
 CDPILE_TOOL(usage, run)

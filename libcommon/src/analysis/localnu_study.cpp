@@ -268,7 +268,9 @@ void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
     pc_.count[b] += static_cast<std::int64_t>(c.num[b]);
     pnc_.count[b] += static_cast<std::int64_t>(nc.num[b]);
   }
-  pdf_frames_ += static_cast<std::int64_t>(s.result("localnu_pdf_frames").value_or(0.0));
+  const auto pdf_frames = s.result("localnu_pdf_frames");
+  if (!pdf_frames) throw Error(s.source, "/results", "a summary without localnu_pdf_frames");
+  pdf_frames_ += static_cast<std::int64_t>(*pdf_frames);
 }
 
 void LocalNuStudy::set_map(std::int64_t run, Table map, Values info) {

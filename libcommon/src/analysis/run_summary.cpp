@@ -29,8 +29,8 @@ std::string text_of(const Value& v) {
   return std::string(buf, r.ptr);
 }
 
-// Values compared as numbers when both are (1e-3 and 0.001, an integer and a real), else as
-// text.
+// Values compared as numbers when both are (1e-3 and 0.001, an integer and a real: the
+// same double), else as text.
 bool same(const Value& a, const Value& b) {
   const auto num = [](const Value& v) -> std::optional<double> {
     if (auto* d = std::get_if<double>(&v)) return *d;
@@ -38,7 +38,7 @@ bool same(const Value& a, const Value& b) {
     return std::nullopt;
   };
   const auto x = num(a), y = num(b);
-  if (x && y) return *x == *y || std::abs(*x - *y) <= 1e-12 * std::max(std::abs(*x), std::abs(*y));
+  if (x && y) return *x == *y;
   return text_of(a) == text_of(b);
 }
 
@@ -199,7 +199,8 @@ double number(const Values& v, const std::string& key, const std::string& source
 
 Values critical_reading(const CriticalRule& rule, const Friction& mu, RattlerRule rattlers,
                         double slip_speed, double rest_speed) {
-  return {{"reading_eps", rule.eps},
+  return {{"reading_definitions", summary_definitions},
+          {"reading_eps", rule.eps},
           {"reading_walls", std::int64_t{rule.include_walls}},
           {"reading_floor_grains", std::string(rule.floor_grains_are_walls ? "wall" : "grain")},
           {"reading_mu", mu.grain},
@@ -212,7 +213,8 @@ Values critical_reading(const CriticalRule& rule, const Friction& mu, RattlerRul
 Values localnu_reading(const LocalNuOptions& opt, const CriticalRule& rule, const Friction& mu,
                        const AvalancheRule& avalanche, std::optional<double> theta_c,
                        std::optional<double> diameter) {
-  Values v = {{"reading_eps", rule.eps},
+  Values v = {{"reading_definitions", summary_definitions},
+              {"reading_eps", rule.eps},
               {"reading_walls", std::int64_t{rule.include_walls}},
               {"reading_floor_grains", std::string(rule.floor_grains_are_walls ? "wall" : "grain")},
               {"reading_mu", mu.grain},
@@ -277,6 +279,11 @@ std::optional<std::string> engine_difference(const Product& a, const Product& b)
   for (const auto& [k, x] : eb)
     if (!ea.count(k)) return k + " " + text_of(x) + " in " + b.source + ", none in " + a.source;
   return std::nullopt;
+}
+
+void require_same_engine(const Product& first, const Product& s, const std::string& name) {
+  if (auto d = engine_difference(first, s))
+    throw Error(name, "/parameters", "its run was made otherwise than the first summary's: " + *d);
 }
 
 Product make_summary(const RunRecord& run, const Values& critical, const Product& localnu,

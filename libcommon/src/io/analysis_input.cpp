@@ -138,7 +138,13 @@ bool is_summary(const Input& in) {
   return tsv_product_kind(in.text()) == analysis::summary_kind;
 }
 
-ProductFile read_summary(const Input& in) { return read_product(in, analysis::summary_kind); }
+ProductFile read_summary(const Input& in) {
+  // a summary in TSV would hold its numbers as text and its integers as reals: summarise
+  // writes HDF5 only, so a TSV one was made otherwise
+  if (!in.is_hdf5())
+    throw Error(in.name(), "", "a summary in TSV: summaries are HDF5 (summarise -o FILE.h5)");
+  return read_product(in, analysis::summary_kind);
+}
 
 analysis::Friction summary_run_friction(const analysis::Product& s,
                                         const analysis::FrictionChoice& given) {
@@ -147,7 +153,7 @@ analysis::Friction summary_run_friction(const analysis::Product& s,
   return analysis::choose_friction(given, &recorded, s.source);
 }
 
-analysis::RunRecord summary_run_record(const analysis::Product& s, const analysis::Friction& mu,
+analysis::RunRecord read_summary_record(const analysis::Product& s, const analysis::Friction& mu,
                                        const analysis::CriticalRule& rule,
                                        analysis::RattlerRule rattlers, double slip_speed,
                                        double rest_speed) {
@@ -169,6 +175,10 @@ LocalNuInputInfo add_localnu_summary(analysis::LocalNuStudy& study, const analys
                      " needs the run file");
   LocalNuInputInfo info;
   info.length_unit = "m";
+  info.summary.emplace();
+  info.summary->kind = s.kind;
+  info.summary->parameters = s.parameters;
+  info.summary->source = s.source;
   study.add_summary(run, s);
   const analysis::Table& frames = s.table("localnu_frames");
   info.frames = frames.rows();
@@ -204,9 +214,12 @@ LocalNuInputInfo add_localnu_summary(analysis::LocalNuStudy& study, const analys
                                  ? std::get<std::string>(it->second)
                                  : std::string();
     throw Error(s.source, "",
-                "the summary holds maps at " + (held.empty() ? std::string("no angle") : held + " deg") +
-                    ", not at " + format_number(o.map_theta.value_or(0.0)) + " (" +
-                    field("map_theta") + "): map it from the run file, or summarise the run with it");
+                o.map_theta ? "the summary holds maps at " +
+                                  (held.empty() ? std::string("no angle") : held + " deg") +
+                                  ", not at " + format_number(*o.map_theta) + " (" +
+                                  field("map_theta") +
+                                  "): map it from the run file, or summarise the run with it"
+                            : std::string("the summary holds no default map (its run has no frame)"));
   }
   if (auto f = analysis::detail::number(found->second, "map_frame"))
     info.mapped_frame = static_cast<std::int64_t>(*f);

@@ -12,6 +12,17 @@ expect_fail 1 "localnu: a.summary.h5: /parameters: made with --radii 1,2,3,4,5,6
   localnu a.summary.h5 --radii 1,2,4 -o out.h5
 expect_fail 1 "critical: b.summary.h5: /parameters: its run was made otherwise than the first summary's: run_contact_stiffness_mgD 1e+06 in a.summary.h5, 1e+05 in b.summary.h5" \
   critical a.summary.h5 b.summary.h5 --quiet -o out.h5
+expect_fail 1 "localnu: b.summary.h5: /parameters: its run was made otherwise than the first summary's: run_contact_stiffness_mgD 1e+06 in a.summary.h5, 1e+05 in b.summary.h5" \
+  localnu a.summary.h5 b.summary.h5 --quiet -o out.h5
+# a summary is HDF5, every bit: none written as TSV, none read as TSV
+expect_fail 2 "summarise: give -o FILE: a summary is HDF5, not a table to read (see 'summarise --help')" \
+  summarise a.h5
+# a TSV product whose kind is summary (a hand-made or converted file)
+printf '# tool: summarise 0.1.0\n# kind: summary\n' > s.tsv
+expect_fail 1 "critical: s.tsv: a summary in TSV: summaries are HDF5 (summarise -o FILE.h5)" \
+  critical s.tsv -o out.h5
+expect_fail 1 "localnu: s.tsv: a summary in TSV: summaries are HDF5 (summarise -o FILE.h5)" \
+  localnu s.tsv -o out.h5
 expect_fail 1 "localnu: a.summary.h5: the summary holds maps at no angle, not at 5 (--map-theta): map it from the run file, or summarise the run with it" \
   localnu a.summary.h5 --map-theta 5 -o out.h5
 expect_fail 2 "critical: a.summary.h5: a summary keeps no contacts: --contacts needs the run files (see 'critical --help')" \

@@ -31,6 +31,12 @@ namespace cdpile::analysis {
 
 inline constexpr const char* summary_kind = "summary";
 
+/// The version of what a summary holds and how it was computed (frame_record, the local
+/// states, the tables' columns): raised with any change that would make a run give other
+/// numbers than its summary, so that a summary made before is refused, not replayed
+/// (reading_definitions).
+inline constexpr std::int64_t summary_definitions = 1;
+
 /// The settings critical reads a run's frames with: they enter every FrameRecord.
 Values critical_reading(const CriticalRule& rule, const Friction& mu, RattlerRule rattlers,
                         double slip_speed, double rest_speed);
@@ -63,6 +69,10 @@ Product make_summary(const RunRecord& run, const Values& critical, const Product
 
 /// The RunRecord a summary holds, as read_run_record read it (no per-contact states).
 RunRecord summary_run_record(const Product& summary);
+
+/// Throws cdpile::Error naming `name` when summary `s` was made by other engine or
+/// protocol settings than `first` (engine_difference).
+void require_same_engine(const Product& first, const Product& s, const std::string& name);
 
 /// The map stored for `theta` [deg] (one of the angles the summary was made with), as
 /// localnu's table `map` and its map_* results; empty if the summary has none there.

@@ -67,7 +67,7 @@ analysis::Friction summary_run_friction(const analysis::Product& summary,
 /// A run as `critical` reads it, from its summary: the summary must have been made with
 /// the same rule, friction, rattler rule, slip and rest speeds (analysis::require_reading),
 /// else an error names the first that differs.
-analysis::RunRecord summary_run_record(const analysis::Product& summary,
+analysis::RunRecord read_summary_record(const analysis::Product& summary,
                                        const analysis::Friction& mu,
                                        const analysis::CriticalRule& rule,
                                        analysis::RattlerRule rattlers,
@@ -124,6 +124,9 @@ struct LocalNuInputInfo {
   bool table = false;       ///< a contact table (not a run)
   std::string length_unit;  ///< "m" for a run; a table's declared unit, or "" (unknown)
   std::size_t merged = 0;   ///< rows of a table merged as repeats
+  /// For a summary, its parameters (no tables): the engine an ensemble's summaries share
+  /// (analysis::require_same_engine).
+  std::optional<analysis::Product> summary;
 };
 
 /// Adds every frame of input `in` (a run file, a run's summary or a contact table) as run
