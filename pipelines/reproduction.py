@@ -60,7 +60,8 @@ def main():
         if not os.path.exists(os.path.join(path, "critical.h5")):
             # A study still being made (the other preparation, say): its column says so
             # rather than the table failing for the studies that are there.
-            missing[label] = f"not analysed yet: no critical.h5 in {path}"
+            # (the folder's name, not its path: the table is committed from any machine)
+            missing[label] = f"not analysed yet: no critical.h5 in {os.path.basename(os.path.abspath(path))}"
             studies.append((label, "not analysed", None))
             continue
         size, rows = rows_of(path)

@@ -84,11 +84,11 @@ if grep -E '\| none \|' "$study/envelope-ends/ends.md"; then echo "a none withou
 # A study not analysed yet gets its column saying so; the table of the others is still made.
 "$PY" "$CDPILE_SOURCE/pipelines/reproduction.py" "$study=tiny" "$PWD/not-made=other" > repro2.md
 grep -q '^| quantity | paper | tiny (2 runs of 80 grains) | systematic | verdict | other (not analysed) | systematic | verdict |$' repro2.md
-grep -Eq "^\| theta_c \(deg\) \| .* \| not analysed yet: no critical.h5 in $PWD/not-made \|  \| not determined \|$" repro2.md \
+grep -Eq "^\| theta_c \(deg\) \| .* \| not analysed yet: no critical.h5 in not-made \|  \| not determined \|$" repro2.md \
   || { cat repro2.md >&2; exit 1; }
 # none analysed: one line, non-zero exit
 if "$PY" "$CDPILE_SOURCE/pipelines/reproduction.py" "$PWD/not-made" > /dev/null 2> err.txt; then exit 1; fi
-expect_eq "reproduction.py: no study has been analysed: not analysed yet: no critical.h5 in $PWD/not-made" "$(cat err.txt)"
+expect_eq "reproduction.py: no study has been analysed: not analysed yet: no critical.h5 in not-made" "$(cat err.txt)"
 # nu_c per step at another eps: the piles tilted again to EPS_STEPS_TO with that eps (the same trajectory to the bit), read per step beside the study's runs.
 mk eps-steps EPS_STEPS="0.2" EPS_STEPS_TO=6 EPS_STEPS_FIT=5 > make5.log 2>&1 || { cat make5.log >&2; exit 1; }
 d=$study/eps-steps
