@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace cd = cdpile::cd;
@@ -620,4 +621,26 @@ TEST(Substeps, ForcesAreTheLastSubstepsImpulsesOverItsStep) {
   ASSERT_EQ(e.state().impulses.size(), 1u);  // stored over h, as the state keeps them
   EXPECT_NEAR(e.state().impulses[0].rn, m * 9.81 * std::cos(20 * kDeg) * s.time_step,
               1e-8 * m * 9.81 * s.time_step);
+}
+
+// --- a state that is not finite -----------------------------------------------------
+
+TEST(Checks, AStateThatIsNotFiniteStopsTheStepNamed) {
+  // A grain thrown with a velocity whose norm overflows (a warm start of 1e300 N, say):
+  // the step stops before contact detection indexes its grid with the positions.
+  for (double v : {1e300, std::numeric_limits<double>::infinity(),
+                   std::numeric_limits<double>::quiet_NaN()}) {
+    Grains g = one_disk();
+    g.add_disk(kR, kRho, Vec2(0.02, kR));
+    g.velocity[1] = Vec2(v, -v);
+    cd::Engine e(Box{0.1, 0.05}, g, settings());
+    try {
+      e.step(0.0);
+      FAIL() << "a velocity of " << v << " was stepped";
+    } catch (const cdpile::Error& err) {
+      EXPECT_EQ(std::string(err.what()).rfind("the state is not finite at tilt 0 deg: grain 1 at ", 0),
+                0u)
+          << err.what();
+    }
+  }
 }

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -223,6 +224,22 @@ void Engine::advance(double hs, int parts, const Vec2& g, StepReport& report, Su
 // grid. A pair is a candidate when its gap at q_m is below the alert distance plus what
 // the two grains can travel in one step, h (|v| + g h) each, so that no contact can be
 // missed whatever the speed (the margin is zero for grains at rest).
+void Engine::refuse_non_finite_state() const {
+  for (std::size_t i = 0; i < grains_.size(); ++i) {
+    const Vec2 &x = grains_.position[i], &v = grains_.velocity[i];
+    if (std::isfinite(x.x() + x.y()) && std::isfinite(v.norm()) &&
+        std::isfinite(grains_.angular_velocity[i]))
+      continue;
+    char what[240];
+    std::snprintf(what, sizeof what,
+                  "the state is not finite at tilt %g deg: grain %zu at (%g, %g) m moving at "
+                  "(%g, %g) m/s: the run stops",
+                  last_tilt_angle_ * 180.0 / M_PI, i, x.x(), x.y(), v.x(), v.y());
+    throw Error(what);
+  }
+  throw Error("the state is not finite (a grain's margin of motion)");
+}
+
 void Engine::detect(const Vec2& g) {
   const std::size_t n = grains_.size();
   const double h = h_;
@@ -246,6 +263,10 @@ void Engine::detect(const Vec2& g) {
                          inv_inertia_[i]};
     predicted_[i] = grains_.position[i] + lead * v;
     margin_[i] = fixed ? 0.0 : h * (v.norm() + g_norm * h);
+    // The grid below indexes cells with these: a state that is not finite (from an input's
+    // absurd force, a solver's, a parameter at its extreme) stops here, named, not as a
+    // wild index (a NaN would pass the min and max below unseen).
+    if (!std::isfinite(predicted_[i].x() + predicted_[i].y() + margin_[i])) refuse_non_finite_state();
     r_max = std::max(r_max, grains_.radius[i]);
     m_max = std::max(m_max, margin_[i]);
     lo = lo.cwiseMin(predicted_[i]);

@@ -184,6 +184,8 @@ class Engine {
 
  private:
   void detect(const Vec2& g);
+  /// Throws cdpile::Error naming the first grain whose position or velocity is not finite.
+  [[noreturn]] void refuse_non_finite_state() const;
   void assign_strips(double r_max);
   void compute_frames();
   void compute_delassus();
