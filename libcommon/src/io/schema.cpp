@@ -618,6 +618,15 @@ double RunReader::speed_bound() const {
   return 1e3 * std::sqrt(g * length_scale());
 }
 
+double RunReader::force_bound() const {
+  double h = 1e-4, mass = 0.0;
+  if (auto it = header_.parameters.find("time_step_s"); it != header_.parameters.end())
+    if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v))
+      h = std::max(*v, 1e-9);
+  for (double m : grains_.mass) mass += m;
+  return mass * speed_bound() / h;
+}
+
 Contacts RunReader::contacts(std::size_t k) const {
   const h5::File& f = *f_;
   if (k >= frame_count()) bad(f, kContacts, "no frame " + std::to_string(k));
@@ -635,8 +644,15 @@ Contacts RunReader::contacts(std::size_t k) const {
   auto st = h5::read_rows<std::int8_t>(f, cg + "/status", first, n);
   c.status.resize(n);
   const auto grains = static_cast<std::int64_t>(n_);
+  const double fmax = force_bound();
   for (std::size_t q = 0; q < n; ++q) {
     const std::string row = "row " + std::to_string(first + q);
+    for (auto [force, name] : {std::pair{c.fn[q], "fn"}, std::pair{c.ft[q], "ft"}})
+      if (!(std::fabs(force) <= fmax))
+        bad(f, cg + "/" + name,
+            row + ": a force of " + number_text(force) +
+                " N/m, more than stops the whole pile moving at 1000 sqrt(g L) in one step (" +
+                number_text(fmax) + " N/m)");
     if (c.i[q] < 0 || c.i[q] >= grains)
       bad(f, cg + "/i", row + ": grain id " + std::to_string(c.i[q]) + " out of range");
     if (c.j[q] < wall_right || c.j[q] >= grains || c.j[q] == c.i[q])

@@ -171,6 +171,11 @@ class RunReader {
   /// The fastest a grain may move, rim included: 1000 sqrt(g L) [m/s], g the file's
   /// gravity_m_s2 (9.81 if absent or zero).
   double speed_bound() const;
+  /// The largest contact force a pile can have [N/m]: the impulse that stops all its grains
+  /// moving at speed_bound() within one time step (the file's time_step_s, 1e-4 s if absent,
+  /// not below 1e-9 s). contacts() refuses a force beyond it: the engine's warm start of
+  /// such a force throws grains beyond every bound (a force of 1e300 crashed tilt-cd).
+  double force_bound() const;
   /// Error naming `path` (its grain positions) and `velocity_path` unless every grain of
   /// `g` lies within the box enlarged by length_scale() and moves slower than
   /// speed_bound(), rim included: the magnitudes a pile can have, for a frame and for the
