@@ -1,7 +1,6 @@
 // critical: the fraction nu of critical contacts in the pile as the pile tilts (eq 1),
 // z and lambda (eq 2), rearrangement events (Fig 2), the ensemble mean over runs (inset
 // of Fig 1a), the envelope of maxima and its limit nu_c (Fig 1c), the avalanche angle.
-#include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
@@ -193,41 +192,17 @@ static void run(const cli::Args& a) {
   std::string inputs;
   cli::refuse_repeated_inputs(a.arguments("runs"));
   std::optional<analysis::Product> first_summary;  // the engine every summary must share
+  const io::CriticalReading reading{cli::friction_choice(a), opt, per_contact};
   for (const std::string& path : a.arguments("runs")) {
     io::Input in(io::run_or_partial(path));  // a run tilt-cd is still computing: its partial
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    if (io::is_summary(in)) {
-      if (per_contact)
-        throw UsageError(in.name() + ": a summary keeps no contacts: --contacts needs the run files");
-      io::ProductFile s = io::read_summary(in);
-      if (!first_summary)
-        first_summary = s.product;
-      else
-        analysis::require_same_engine(*first_summary, s.product, in.name());
-      histories.emplace_back(in.name(), s.provenance);
-      const analysis::Friction mu = io::summary_run_friction(s.product, cli::friction_choice(a));
-      analysis::RunRecord r = io::read_summary_record(s.product, mu, opt.rule, opt.rattlers,
-                                                     opt.slip_speed, opt.rest.speed);
-      if (opt.source == analysis::SeriesSource::steps)
-        analysis::require_step_rule(in.name(), r.recorded_rule, opt.rule, mu);
-      cli::info(in.name() + ": a summary, " + std::to_string(r.steps.step.size()) + " steps, " +
-                std::to_string(r.frames.size()) + " frames");
-      runs.push_back(std::move(r));
-      continue;
-    }
-    io::RunReader rr(in.hdf5());
-    if (std::string note = io::partial_run_note(rr); !note.empty()) notes.push_back(std::move(note));
-    histories.emplace_back(in.name(), rr.header().provenance);
-    const analysis::Friction mu = io::run_friction(rr.header(), cli::friction_choice(a), in.name());
-    // --series steps with another rule than the run's: refused before its frames are read
-    if (opt.source == analysis::SeriesSource::steps)
-      analysis::require_step_rule(in.name(), io::recorded_rule(rr.header(), in.name()), opt.rule,
-                                  mu);
-    analysis::RunRecord r = io::read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers,
-                                                opt.slip_speed, opt.rest.speed, per_contact);
-    cli::info(in.name() + ": " + std::to_string(r.steps.step.size()) + " steps, " +
-              std::to_string(r.frames.size()) + " frames");
-    runs.push_back(std::move(r));
+    io::CriticalInput r = io::read_critical_input(in, reading, first_summary);
+    if (!r.note.empty()) notes.push_back(std::move(r.note));
+    histories.emplace_back(in.name(), std::move(r.history));
+    cli::info(in.name() + ": " + (r.summary ? "a summary, " : "") +
+              std::to_string(r.run.steps.step.size()) + " steps, " +
+              std::to_string(r.run.frames.size()) + " frames");
+    runs.push_back(std::move(r.run));
   }
   analysis::Product p = analysis::critical_study(runs, opt);
   for (const std::string& note : notes) cli::warn(note);

@@ -3,6 +3,7 @@
 #include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/products.hpp"
 #include "cdpile/parameter_keys.hpp"
@@ -160,6 +161,39 @@ analysis::RunRecord read_summary_record(const analysis::Product& s, const analys
   analysis::require_reading(s,
                             analysis::critical_reading(rule, mu, rattlers, slip_speed, rest_speed));
   return analysis::summary_run_record(s);
+}
+
+CriticalInput read_critical_input(const Input& in, const CriticalReading& o,
+                                  std::optional<analysis::Product>& first_summary) {
+  const analysis::CriticalOptions& opt = o.options;
+  const bool steps = opt.source == analysis::SeriesSource::steps;
+  CriticalInput out;
+  if (is_summary(in)) {
+    if (o.per_contact)
+      throw UsageError(in.name() + ": a summary keeps no contacts: " + field("contacts") +
+                       " needs the run files");
+    ProductFile s = read_summary(in);
+    if (!first_summary)
+      first_summary = s.product;
+    else
+      analysis::require_same_engine(*first_summary, s.product, in.name());
+    const analysis::Friction mu = summary_run_friction(s.product, o.mu);
+    out.run = read_summary_record(s.product, mu, opt.rule, opt.rattlers, opt.slip_speed,
+                                  opt.rest.speed);
+    if (steps) analysis::require_step_rule(in.name(), out.run.recorded_rule, opt.rule, mu);
+    out.history = std::move(s.provenance);
+    out.summary = true;
+    return out;
+  }
+  const RunReader rr(in.hdf5());
+  out.note = partial_run_note(rr);
+  out.history = rr.header().provenance;
+  const analysis::Friction mu = run_friction(rr.header(), o.mu, in.name());
+  // --series steps with another rule than the run's: refused before its frames are read
+  if (steps) analysis::require_step_rule(in.name(), recorded_rule(rr.header(), in.name()), opt.rule, mu);
+  out.run = read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed,
+                            opt.rest.speed, o.per_contact);
+  return out;
 }
 
 namespace {

@@ -92,6 +92,29 @@ struct SummaryReading {
 /// summary keeps the run's name as `in` gives it.
 analysis::Product summarise_run(const Input& in, const SummaryReading& opt);
 
+/// How `critical` reads its inputs: its options that enter the RunRecord.
+struct CriticalReading {
+  analysis::FrictionChoice mu;
+  analysis::CriticalOptions options;  ///< its rule, rattlers, slip and rest speeds, series
+  bool per_contact = false;           ///< keep every contact's state (critical --contacts)
+};
+
+/// One input of `critical`, read.
+struct CriticalInput {
+  analysis::RunRecord run;
+  std::vector<Provenance> history;
+  std::string note;          ///< a partial run's note (io::partial_run_note), else empty
+  bool summary = false;      ///< read from a run's summary
+};
+
+/// Reads input `in` of `critical`: a run (or a partial one) by read_run_record, or a run's
+/// summary by read_summary_record, whose engine must be `first_summary`'s (set by the first
+/// summary read: analysis::require_same_engine). --series steps with another rule than the
+/// run's is refused before the frames are read; `per_contact` with a summary is a
+/// UsageError (a summary keeps no contacts).
+CriticalInput read_critical_input(const Input& in, const CriticalReading& o,
+                                  std::optional<analysis::Product>& first_summary);
+
 /// How `localnu` reads its inputs.
 struct LocalNuReading {
   analysis::FrictionChoice mu;
