@@ -15,19 +15,18 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cdpile_py.runfile import ENVELOPE_REASONS, Product  # noqa: E402
+from cdpile_py.runfile import Product, envelope_note  # noqa: E402
 
-READINGS = (("nu_c", "", ""), ("nu_c_static", "_static", "static states: "),
-            ("nu_c_rest", "_rest", "contacts at rest: "))
+READINGS = (("nu_c", ""), ("nu_c_static", "_static"), ("nu_c_rest", "_rest"))
 
 
-def reading(c, name, suffix, label):
+def reading(c, name, suffix):
     """One envelope's limit, 'nu_c ± se (tau, fitted range)', or critical's reason for none."""
     r, e = c.results, "envelope" + suffix
     if name in r:
         return (f"{r[name]:.3f} ± {r[name + '_se']:.3f} (tau {r[e + '_tau_deg']:.1f} deg, "
                 f"fitted {r[e + '_theta_lo_deg']:.1f}-{r[e + '_theta_hi_deg']:.1f} deg)")
-    why = next((n[len(label):] for n in c.notes for w in ENVELOPE_REASONS if n.startswith(label + w)), None)
+    why = envelope_note(c.notes, name)
     return "none: " + (why or "no envelope")
 
 

@@ -208,6 +208,7 @@ static void run(const cli::Args& a) {
   for (const std::string& note : notes) cli::warn(note);
   for (const std::string& w : analysis::product_warnings(p)) cli::warn(w);
   std::vector<io::Provenance> history = io::merge_histories(histories);
+  cli::info(analysis::critical_readings(p));
   history.push_back(io::provenance_now(a.tool(), a.command_line(), inputs));
   cli::emit_product(a, p, history);
   if (per_contact)

@@ -203,7 +203,7 @@ static void run(const cli::Args& a) {
     per_input[key + "theta_c_from"] = info.theta_c_from;
     cli::info(in.name() + ": " + std::to_string(info.frames) + " frames (" +
               std::to_string(info.loading_frames) + " in the loading phase" +
-              (info.theta_c ? ", theta_c " + io::format_number(*info.theta_c) + " deg from " +
+              (info.theta_c ? ", theta_c " + io::format_number(*info.theta_c, 6) + " deg from " +
                                   info.theta_c_from
                             : "") +
               ")");

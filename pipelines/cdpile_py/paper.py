@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-from .runfile import ENVELOPE_REASONS, load, note
+from .runfile import envelope_note, load, note
 from .tables import read_tsv
 
 MORE = "more or larger runs: `make -C pipelines paper`"
@@ -32,14 +32,14 @@ def pm(v, se=None, digits=3):
     return f"{num(v, digits)} ± {se:.2g}"
 
 
-def envelope_reason(notes, label, study_size):
-    """Why a reading of the envelope gives no nu_c, from critical's notes."""
-    for what in ENVELOPE_REASONS:
-        n = note(notes, label + what)
-        if n is not None:
-            return f"none: {what}{n} ({study_size}); {MORE}"
-    if label and not any(n.startswith(label) for n in notes):
-        return "none: critical.h5 was made before the static reading; make it again (`critical`)"
+def envelope_reason(notes, key, study_size):
+    """Why a reading of the envelope gives no `key` (nu_c, nu_c_static, nu_c_rest), from
+    critical's notes."""
+    why = envelope_note(notes, key)
+    if why is not None:
+        return f"none: {why} ({study_size}); {MORE}"
+    if key != "nu_c":
+        return "none: critical.h5 was made before this reading; make it again (`critical`)"
     return f"none: no envelope ({study_size})"
 
 
@@ -162,18 +162,18 @@ def rows_of(study):
                      "contacts of every free grain (walls included) per free grain, rattlers included",
                      float(np.mean(zp)), None, None, 3.6)
 
-    def nu_row(label, key, how, prefix):
+    def nu_row(label, key, how):
         v = r.get(key)
         if v is None:
-            add(label, "about 0.08", envelope_reason(notes, prefix, size), "", how, ref=0.08)
+            add(label, "about 0.08", envelope_reason(notes, key, size), "", how, ref=0.08)
         else:
             add(label, "about 0.08", pm(v, r.get(key + "_se")), sys_of(v), how, v, r.get(key + "_se"), sys_num(v), 0.08)
 
-    nu_row("nu_c, every state", "nu_c", "critical: limit of the envelope of maxima over every step", "")
+    nu_row("nu_c, every state", "nu_c", "critical: limit of the envelope of maxima over every step")
     nu_row("nu_c, static states", "nu_c_static",
-           "critical: the same over static steps (converged, at rest, no grain in flight)", "static states: ")
+           "critical: the same over static steps (converged, at rest, no grain in flight)")
     nu_row("nu_c, contacts at rest", "nu_c_rest",
-           "critical: the same over the frames' contacts at rest (both grains slow, no slip)", "contacts at rest: ")
+           "critical: the same over the frames' contacts at rest (both grains slow, no slip)")
     v = r.get("nu_theta_c")
     if v is None:
         why = "none: no run has a static state in the last envelope window before its theta_c" if tc is not None \

@@ -113,9 +113,25 @@ class Run:
         return {key: c[key][o:o + n] for key in keys}
 
 
-# How critical's notes start when a reading of the envelope gives no nu_c.
+# How critical's notes said, before 2026-11-29, that a reading of the envelope gives no nu_c:
+# the reading's label, then one of these.
 ENVELOPE_REASONS = ("envelope does not saturate", "envelope fit not done", "envelope fit did not converge",
                     "envelope fit failed", "no state in the loading phase")
+READING_LABELS = {"nu_c": "", "nu_c_static": "static states: ", "nu_c_rest": "contacts at rest: "}
+
+
+def envelope_note(notes, key):
+    """Why critical's product gives no `key` (nu_c, nu_c_static or nu_c_rest), from its notes
+    ("nu_c_static (static states) not determined: WHY", or the earlier "static states: WHY");
+    None when no note says."""
+    for n in notes:
+        if n.startswith(key + " (") and " not determined: " in n:
+            return n.split(" not determined: ", 1)[1]
+    label = READING_LABELS[key]
+    for n in notes:
+        if any(n.startswith(label + w) for w in ENVELOPE_REASONS):
+            return n[len(label):]
+    return None
 
 
 def note(notes, start):

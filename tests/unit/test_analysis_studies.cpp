@@ -259,6 +259,31 @@ TEST(CriticalStudy, EnvelopeThatDoesNotSaturateGivesNoNuC) {
   EXPECT_NE(p.notes.back().find("envelope does not saturate in the fitted range"),
             std::string::npos)
       << p.notes.back();
+  // the reading is named, and critical's closing line agrees with the product: no nu_c
+  EXPECT_EQ(p.notes.back().rfind("nu_c (every state) not determined: the envelope", 0), 0u)
+      << p.notes.back();
+  EXPECT_EQ(critical_readings(p).find("nu_c = "), std::string::npos) << critical_readings(p);
+  EXPECT_NE(critical_readings(p).find("nu_c, nu_c_static, nu_c_rest not determined"),
+            std::string::npos)
+      << critical_readings(p);
+}
+
+TEST(CriticalStudy, ReadingsLineSaysWhatTheProductHolds) {
+  // the line critical ends with: determined exactly when the result is there, 6 digits
+  Product p;
+  p.kind = "critical";
+  p.results["theta_c_deg"] = 17.400000000000002;
+  p.results["nu_c"] = 0.20639228641070728;
+  p.results["nu_c_se"] = 0.007718361517636802;
+  p.results["nu_c_static"] = 0.14611254075191227;
+  EXPECT_EQ(critical_readings(p),
+            "theta_c = 17.4 deg; nu_c = 0.206392 +- 0.00771836 (every state), nu_c_static = "
+            "0.146113 (static states); nu_c_rest not determined");
+  p.results["nu_c_rest"] = 0.1;
+  p.results["nu_c_rest_se"] = 0.02;
+  EXPECT_EQ(critical_readings(p),
+            "theta_c = 17.4 deg; nu_c = 0.206392 +- 0.00771836 (every state), nu_c_static = "
+            "0.146113 (static states), nu_c_rest = 0.1 +- 0.02 (contacts at rest)");
 }
 
 TEST(CriticalStudy, TableNamesKnownBeforehand) {

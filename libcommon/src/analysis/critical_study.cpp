@@ -204,10 +204,11 @@ void judge_static_bound(Product& p, const std::vector<RunRecord>& runs,
       "nu_c comes from frames above the static bound: " + std::to_string(judged_above) +
       " of the " + std::to_string(judged) + " envelope maxima in the fit [" +
       format_short(w.lower(windows.front())) + ", " + format_short(w.upper(windows.back())) +
-      "] deg are at frames with Nc > 2M - 3N (moving "
-      "or unconverged, not static); " +
+      "] deg are at frames with more critical contacts than a static pile can hold "
+      "(Nc > 2M - 3N: the pile was moving or the step unconverged), and " +
       std::to_string(above) + " of " + std::to_string(frames) +
-      " frames of the runs are above their bound");
+      " frames of the runs are; for the pile at rest read nu_c_static (static frames only; a "
+      "slower --rate gives it more) (docs/analysis.md, \"Static bound\")");
 }
 
 // Result names of a reading: "nu_c" + suffix + tail (nu_c_static_se), and the envelope's
@@ -232,7 +233,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
   rd.in_fit.assign(w.count, 0);
   rd.fit.assign(w.count, nan);
   if (std::all_of(curves.begin(), curves.end(), [](const Curve& c) { return c.theta.empty(); })) {
-    p.omit(label + "no state in the loading phase: no ensemble, envelope or nu_c");
+    p.omit(label + "not determined: no state in the loading phase (no ensemble, no envelope)");
     return rd;
   }
   const auto nruns = static_cast<std::int64_t>(curves.size());
@@ -253,7 +254,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     all_se = all_se && fs.back() > 0.0;
   }
   if (ft.size() < 4) {
-    p.omit(label + "envelope fit not done: fewer than 4 windows in the fit range");
+    p.omit(label + "not determined: fewer than 4 envelope windows in the fit range");
     return rd;
   }
   try {
@@ -269,10 +270,11 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
     if (ef.fit.converged)
       p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
     if (ef.fit.converged && !rd.saturates)
-      p.omit(label + "envelope does not saturate in the fitted range [" + format_short(ft.front()) +
-             ", " + format_short(ft.back()) + "] deg (tau = " + format_short(ef.tau()) +
-             " deg, limit = " + format_short(ef.nu_c()) + "): nu_c is not determined");
-    if (!ef.fit.converged) p.omit(label + "envelope fit did not converge: " + ef.fit.status);
+      p.omit(label + "not determined: the envelope does not saturate in the fitted range [" +
+             format_short(ft.front()) + ", " + format_short(ft.back()) +
+             "] deg (tau = " + format_short(ef.tau()) + " deg, limit = " +
+             format_short(ef.nu_c()) + ")");
+    if (!ef.fit.converged) p.omit(label + "not determined: the envelope fit did not converge: " + ef.fit.status);
     if (!rd.saturates) return rd;
     p.results[key("nu_c", suffix)] = ef.nu_c();
     if (auto e = ef.fit.se(0)) p.results[key("nu_c", suffix, "_se")] = *e;
@@ -295,7 +297,7 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
       if (auto l = critical_spacing(*z_mean, ef.nu_c(), 1.0))
         p.results[key("lambda_c", suffix, "_D")] = *l;
   } catch (const Error& e) {
-    p.omit(label + "envelope fit failed: " + e.what());
+    p.omit(label + "not determined: the envelope fit failed: " + e.what());
   }
   return rd;
 }
@@ -308,6 +310,31 @@ std::vector<std::string> product_warnings(const Product& p) {
   for (const std::string& n : p.notes)
     if (n.rfind(prefix, 0) == 0) out.push_back(n.substr(prefix.size()));
   return out;
+}
+
+std::string critical_readings(const Product& p) {
+  auto six = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return std::string(buf);
+  };
+  std::string line;
+  if (auto t = p.result("theta_c_deg")) line = "theta_c = " + six(*t) + " deg; ";
+  std::string found, missing;
+  for (const auto& [key, what] : {std::pair{"nu_c", "every state"},
+                                  std::pair{"nu_c_static", "static states"},
+                                  std::pair{"nu_c_rest", "contacts at rest"}}) {
+    if (auto v = p.result(key)) {
+      const std::optional<double> se = p.result(std::string(key) + "_se");
+      found += (found.empty() ? "" : ", ") + std::string(key) + " = " + six(*v) +
+               (se ? " +- " + six(*se) : std::string()) + " (" + what + ")";
+    } else {
+      missing += (missing.empty() ? "" : ", ") + std::string(key);
+    }
+  }
+  line += found;
+  if (!missing.empty()) line += (found.empty() ? "" : "; ") + missing + " not determined";
+  return line;
 }
 
 std::optional<StepRuleMismatch> step_rule_mismatch(const RecordedRule& rec,
@@ -635,9 +662,9 @@ void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunReco
   const Grid g = grid_of(opt.grid_step);
   const Grid w = grid_of(opt.envelope_window);
   // the static readings first: notes on the reading of every state come last, as before
-  const Reading rest = read_envelope(p, rd.rest, g, w, opt, "_rest", "contacts at rest: ", z_mean);
-  const Reading still = read_envelope(p, rd.still, g, w, opt, "_static", "static states: ", z_mean);
-  const Reading all = read_envelope(p, rd.all, g, w, opt, "", "", z_mean);
+  const Reading rest = read_envelope(p, rd.rest, g, w, opt, "_rest", "nu_c_rest (contacts at rest) ", z_mean);
+  const Reading still = read_envelope(p, rd.still, g, w, opt, "_static", "nu_c_static (static states) ", z_mean);
+  const Reading all = read_envelope(p, rd.all, g, w, opt, "", "nu_c (every state) ", z_mean);
   if (all.saturates)
     judge_static_bound(p, runs, rd.all, rd.all_steps, w, all.windows_in_fit, tot.bound_frames,
                        tot.bound_above);

@@ -216,6 +216,13 @@ inline constexpr const char* warning_prefix = "warning: ";
 /// The warnings among a product's notes, without the prefix.
 std::vector<std::string> product_warnings(const Product& p);
 
+/// One line for people: theta_c and each reading of nu_c the product determines, at the
+/// tables' precision (6 significant digits), and the readings it does not ("theta_c = 17.4
+/// deg; nu_c = 0.206392 +- 0.00771836 (every state), nu_c_static = ...; nu_c_rest not
+/// determined"). The results are the file's: a reading is determined exactly when the
+/// product holds it.
+std::string critical_readings(const Product& p);
+
 /// The tables critical_study makes with these options, in order (so that a tool can refuse
 /// an unknown --table before it reads anything).
 std::vector<std::string> critical_table_names(const CriticalOptions& opt);
