@@ -9,7 +9,10 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
+#include <span>
+#include <stdexcept>
 
 using namespace cdpile;
 using namespace cdpile::analysis;
@@ -708,4 +711,49 @@ TEST(CriticalStudy, StaticStatesAreReadApartFromMovingOnes) {
   EXPECT_NEAR(*fr.column("nu_rest").get(11),
               static_cast<double>(std::llround(0.125 * env(1.1) * 3600)) / 3600.0,
               1e-12);  // frame 11: theta 1.1
+}
+
+namespace {
+struct PairRow {
+  std::string name;
+  std::int64_t count;
+  std::optional<double> share;
+};
+const ColumnSpec<PairRow> pair_columns[] = {
+    {"name", "", ColumnKind::text, [](const PairRow& x) -> Cell { return x.name; }},
+    {"count", "", ColumnKind::integer, [](const PairRow& x) -> Cell { return x.count; }},
+    {"share", "", ColumnKind::real, [](const PairRow& x) -> Cell { return x.share; }},
+};
+const ColumnSpec<PairRow> wrong_kind[] = {
+    {"count", "", ColumnKind::text, [](const PairRow& x) -> Cell { return x.count; }},
+};
+}  // namespace
+
+TEST(Table, DeclaredOnceLaidOutAndWrittenFromOneList) {
+  Table t;
+  t.name = "pairs";
+  declare_columns(t, std::span<const ColumnSpec<PairRow>>(pair_columns));
+  ASSERT_EQ(t.columns.size(), 3u);
+  EXPECT_EQ(t.columns[1].name, "count");
+  EXPECT_EQ(t.columns[1].kind, ColumnKind::integer);
+  add_row(t, std::span<const ColumnSpec<PairRow>>(pair_columns), PairRow{"a", 3, 0.25});
+  add_row(t, std::span<const ColumnSpec<PairRow>>(pair_columns), PairRow{"b", 1, std::nullopt});
+  add_row(t, std::span<const ColumnSpec<PairRow>>(pair_columns),
+          PairRow{"c", 0, std::numeric_limits<double>::infinity()});
+  EXPECT_EQ(t.rows(), 3u);
+  EXPECT_EQ(t.column("name").text[1], "b");
+  EXPECT_EQ(t.column("count").num[0], 3.0);
+  EXPECT_EQ(*t.column("share").get(0), 0.25);
+  EXPECT_FALSE(t.column("share").defined(1));  // missing
+  EXPECT_FALSE(t.column("share").defined(2));  // not finite: missing, never inf in a file
+  // a list given to a table that has other columns, a cell of another kind: refused
+  EXPECT_THROW(declare_columns(t, std::span<const ColumnSpec<PairRow>>(pair_columns)),
+               std::logic_error);
+  Table u;
+  u.name = "wrong";
+  declare_columns(u, std::span<const ColumnSpec<PairRow>>(wrong_kind));
+  EXPECT_THROW(add_row(u, std::span<const ColumnSpec<PairRow>>(wrong_kind), PairRow{"a", 1, 0.0}),
+               std::logic_error);
+  EXPECT_THROW(add_row(u, std::span<const ColumnSpec<PairRow>>(pair_columns), PairRow{"a", 1, 0.0}),
+               std::logic_error);
 }

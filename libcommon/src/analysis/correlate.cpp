@@ -129,11 +129,11 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
     w_t.add_column(n, u, k);
 
   // Group the states rows.
-  struct Cell {
+  struct Groups {
     std::map<std::int64_t, Sums> by_run;
     std::map<std::size_t, Sums> by_frame;
   };
-  std::map<std::pair<std::int64_t, double>, Cell> cells;  // (window, r)
+  std::map<std::pair<std::int64_t, double>, Groups> cells;  // (window, r)
   {
     const Column &run = st.column("run"), &frame = st.column("frame"), &r = st.column("r"),
                  &n = st.column("n"), &sum = st.column("sum"), &sum2 = st.column("sum2");
@@ -169,7 +169,7 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
         fr_t->column("nu_pile").add(f.nu);
       }
       if (!f.window) continue;
-      Cell& c = cells[{*f.window, *rr}];
+      Groups& c = cells[{*f.window, *rr}];
       c.by_run[f.run].add(s);
       c.by_frame[it->second].add(s);
     }

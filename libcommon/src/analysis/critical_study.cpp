@@ -718,8 +718,10 @@ Product critical_study(const std::vector<RunRecord>& runs, const CriticalOptions
         tot.steps_static += st_static[k];
       }
 
+    std::vector<std::optional<bool>> frame_static;  // each frame, static or moving, once
+    for (const FrameRecord& f : r.frames) frame_static.push_back(static_frame(r, f, opt.rest));
     if (t.steps) write_step_rows(*t.steps, r, run, q, st_static);
-    write_frame_rows(t.frames, r, run, cut, opt.rest);
+    write_frame_rows(t.frames, r, run, cut, frame_static);
     tally_loading_frames(r, cut, opt, tot, rd.rest[ri]);
     std::vector<std::int64_t> cv_step;
     rd.all[ri] = nu_series(r, src, q, cv_step);

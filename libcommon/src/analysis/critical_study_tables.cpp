@@ -70,231 +70,380 @@ Product describe_study(const CriticalOptions& opt, SeriesSource src) {
 
 namespace {
 
-using Columns = std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>;
+// Each table below is one list of columns (ColumnSpec, table.hpp): name, unit, kind and the
+// cell a row gives. A row type holds what its getters read.
 
-void add_columns(Table& t, Columns columns) {
-  for (auto [n, u, k] : columns) t.add_column(n, u, k);
+using K = ColumnKind;
+
+std::optional<double> count(const std::optional<std::int64_t>& v) {
+  return v ? std::optional<double>(static_cast<double>(*v)) : std::nullopt;
+}
+
+std::int64_t size(std::size_t n) { return static_cast<std::int64_t>(n); }
+
+// --- runs: one row per run
+struct RunRow {
+  const RunRecord& r;
+  std::int64_t run;
+  std::size_t events;
+  std::optional<double> theta_c;
+  double nu_max;
+};
+const ColumnSpec<RunRow> run_columns[] = {
+    {"run", "", K::integer, [](const RunRow& x) -> Cell { return x.run; }},
+    {"name", "", K::text, [](const RunRow& x) -> Cell { return x.r.name; }},
+    {"grains", "", K::integer, [](const RunRow& x) -> Cell { return x.r.free_grains; }},
+    {"diameter", "m", K::real, [](const RunRow& x) -> Cell { return x.r.diameter; }},
+    {"steps", "", K::integer, [](const RunRow& x) -> Cell { return size(x.r.steps.step.size()); }},
+    {"frames", "", K::integer, [](const RunRow& x) -> Cell { return size(x.r.frames.size()); }},
+    {"events", "", K::integer, [](const RunRow& x) -> Cell { return size(x.events); }},
+    {"theta_c", "deg", K::real, [](const RunRow& x) -> Cell { return x.theta_c; }},
+    {"theta_c_recorded", "deg", K::real,
+     [](const RunRow& x) -> Cell { return x.r.recorded_avalanche; }},
+    {"nu_max", "", K::real, [](const RunRow& x) -> Cell { return x.nu_max; }},
+};
+
+// --- steps: one row per time step of a run
+struct StepRow {
+  const RunRecord& r;
+  const StepFractions& q;
+  const std::vector<std::int64_t>& st_static;  // empty: unknown
+  std::int64_t run;
+  std::size_t k;
+  std::optional<double> z_all() const { return ratio(2 * r.steps.contacts[k], r.free_grains); }
+};
+const ColumnSpec<StepRow> step_columns[] = {
+    {"run", "", K::integer, [](const StepRow& x) -> Cell { return x.run; }},
+    {"step", "", K::integer, [](const StepRow& x) -> Cell { return x.r.steps.step[x.k]; }},
+    {"theta", "deg", K::real, [](const StepRow& x) -> Cell { return x.r.steps.theta[x.k]; }},
+    {"N", "", K::integer, [](const StepRow& x) -> Cell { return x.r.steps.contacts[x.k]; }},
+    {"Nc", "", K::integer,
+     [](const StepRow& x) -> Cell {
+       return x.q.have_nc ? static_cast<double>(x.r.steps.critical[x.k]) : nan;
+     }},
+    {"nu", "", K::real, [](const StepRow& x) -> Cell { return x.q.nu_c[x.k]; }},
+    {"sliding", "", K::integer,
+     [](const StepRow& x) -> Cell {
+       return x.r.steps.sliding.empty() ? nan : static_cast<double>(x.r.steps.sliding[x.k]);
+     }},
+    {"nu_sliding", "", K::real, [](const StepRow& x) -> Cell { return x.q.nu_s[x.k]; }},
+    {"z_all", "", K::real, [](const StepRow& x) -> Cell { return x.z_all(); }},
+    {"lambda", "D", K::real,
+     [](const StepRow& x) -> Cell {
+       const auto z = x.z_all();
+       return z && std::isfinite(x.q.nu_c[x.k]) ? critical_spacing(*z, x.q.nu_c[x.k], 1.0)
+                                                : std::nullopt;
+     }},
+    {"Ek", "J m-1", K::real,
+     [](const StepRow& x) -> Cell {
+       const RunSteps& s = x.r.steps;
+       return !s.kinetic_energy.empty() && x.r.free_grains > 0
+                  ? s.kinetic_energy[x.k] / static_cast<double>(x.r.free_grains)
+                  : nan;
+     }},
+    {"ek_norm", "", K::real, [](const StepRow& x) -> Cell { return x.q.ekn[x.k]; }},
+    {"static", "", K::integer,
+     [](const StepRow& x) -> Cell {
+       return x.st_static.empty() ? nan : static_cast<double>(x.st_static[x.k]);
+     }},
+};
+
+// --- frames: one row per saved frame of a run
+struct FrameRow {
+  const RunRecord& r;
+  const FrameRecord& f;
+  std::int64_t run;
+  bool loading;
+  std::optional<bool> still;
+  double scale() const { return r.mean_mass * r.gravity * r.diameter; }  // m g D
+  double v_scale() const { return std::sqrt(r.gravity * r.diameter); }
+  // McNamara & Herrmann 2004 (docs/analysis.md, "Static bound")
+  template <class Get>
+  std::optional<double> bound(Get get) const {
+    return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt;
+  }
+  // whether the frame's step converged; NA when the run does not say
+  std::optional<double> converged() const {
+    const RunSteps& s = r.steps;
+    const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
+    if (it == s.step.end() || *it != f.step || s.converged.size() != s.step.size())
+      return std::nullopt;
+    return static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())]);
+  }
+};
+const ColumnSpec<FrameRow> frame_columns[] = {
+    {"run", "", K::integer, [](const FrameRow& x) -> Cell { return x.run; }},
+    {"frame", "", K::integer, [](const FrameRow& x) -> Cell { return x.f.frame; }},
+    {"step", "", K::integer, [](const FrameRow& x) -> Cell { return x.f.step; }},
+    {"theta", "deg", K::real, [](const FrameRow& x) -> Cell { return x.f.theta; }},
+    {"N", "", K::integer, [](const FrameRow& x) -> Cell { return x.f.state.contacts; }},
+    {"Nc", "", K::integer, [](const FrameRow& x) -> Cell { return x.f.state.critical; }},
+    {"nu", "", K::real, [](const FrameRow& x) -> Cell { return x.f.state.nu; }},
+    {"sliding", "", K::integer, [](const FrameRow& x) -> Cell { return x.f.state.sliding; }},
+    {"nu_sliding", "", K::real, [](const FrameRow& x) -> Cell { return x.f.state.nu_sliding; }},
+    {"z", "", K::real, [](const FrameRow& x) -> Cell { return x.f.state.z; }},
+    {"z_all", "", K::real, [](const FrameRow& x) -> Cell { return x.f.state.z_all; }},
+    {"loaded_grains", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.f.state.loaded_grains; }},
+    {"lambda", "D", K::real,
+     [](const FrameRow& x) -> Cell {
+       return x.f.state.lambda && x.r.diameter > 0
+                  ? std::optional<double>(*x.f.state.lambda / x.r.diameter)
+                  : std::nullopt;
+     }},
+    {"Ek", "J m-1", K::real, [](const FrameRow& x) -> Cell { return x.f.kinetic_energy; }},
+    {"ek_norm", "", K::real,
+     [](const FrameRow& x) -> Cell {
+       return x.f.kinetic_energy && x.scale() > 0.0
+                  ? std::optional<double>(*x.f.kinetic_energy / x.scale())
+                  : std::nullopt;
+     }},
+    {"loading", "", K::integer, [](const FrameRow& x) -> Cell { return std::int64_t{x.loading}; }},
+    {"contacts_load_bearing", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.contacts; }); }},
+    {"grains_load_bearing", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.grains; }); }},
+    {"critical_load_bearing", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.critical; }); }},
+    {"static_bound", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.bound(); }); }},
+    {"above_static_bound", "", K::integer,
+     [](const FrameRow& x) -> Cell {
+       return x.bound([](const StaticBound& b) { return std::int64_t{b.above()}; });
+     }},
+    {"agitation_norm", "", K::real,
+     [](const FrameRow& x) -> Cell {
+       return x.f.agitation && x.scale() > 0.0 ? std::optional<double>(*x.f.agitation / x.scale())
+                                               : std::nullopt;
+     }},
+    {"max_speed_norm", "", K::real,
+     [](const FrameRow& x) -> Cell {
+       return x.f.max_speed && x.v_scale() > 0.0
+                  ? std::optional<double>(*x.f.max_speed / x.v_scale())
+                  : std::nullopt;
+     }},
+    {"grains_without_contact", "", K::integer,
+     [](const FrameRow& x) -> Cell { return x.f.grains_without_contact; }},
+    {"converged", "", K::integer, [](const FrameRow& x) -> Cell { return x.converged(); }},
+    // static or moving (docs/analysis.md, "Static and moving states")
+    {"static", "", K::integer,
+     [](const FrameRow& x) -> Cell {
+       return x.still ? std::optional<double>(*x.still ? 1.0 : 0.0) : std::nullopt;
+     }},
+    {"slipping", "", K::integer, [](const FrameRow& x) -> Cell { return count(x.f.slipping); }},
+    {"critical_slipping", "", K::integer,
+     [](const FrameRow& x) -> Cell { return count(x.f.critical_slipping); }},
+    {"z_paper", "", K::real, [](const FrameRow& x) -> Cell { return x.f.z_paper; }},
+    {"N_rest", "", K::integer, [](const FrameRow& x) -> Cell { return count(x.f.contacts_at_rest); }},
+    {"Nc_rest", "", K::integer,
+     [](const FrameRow& x) -> Cell { return count(x.f.critical_at_rest); }},
+    {"nu_rest", "", K::real, [](const FrameRow& x) -> Cell { return nu_at_rest(x.f); }},
+};
+
+// --- events: one row per rearrangement event of a run (Fig 2)
+struct EventRow {
+  const RunSteps& s;
+  const StepFractions& q;
+  const Event& e;
+  std::int64_t run, index;
+  std::optional<double> nu_before, nu_before_step;  // the series just before the peak
+  double cut;
+};
+const ColumnSpec<EventRow> event_columns[] = {
+    {"run", "", K::integer, [](const EventRow& x) -> Cell { return x.run; }},
+    {"event", "", K::integer, [](const EventRow& x) -> Cell { return x.index; }},
+    {"peak_step", "", K::integer, [](const EventRow& x) -> Cell { return x.s.step[x.e.peak]; }},
+    {"trough_step", "", K::integer,
+     [](const EventRow& x) -> Cell { return x.s.step[x.e.trough]; }},
+    {"theta", "deg", K::real, [](const EventRow& x) -> Cell { return x.s.theta[x.e.peak]; }},
+    {"theta_end", "deg", K::real, [](const EventRow& x) -> Cell { return x.s.theta[x.e.trough]; }},
+    {"n_peak", "", K::integer, [](const EventRow& x) -> Cell { return x.e.n_peak; }},
+    {"n_trough", "", K::integer, [](const EventRow& x) -> Cell { return x.e.n_trough; }},
+    {"loss", "", K::real, [](const EventRow& x) -> Cell { return x.e.loss; }},
+    {"nu_before", "", K::real, [](const EventRow& x) -> Cell { return x.nu_before; }},
+    {"nu_before_step", "", K::integer, [](const EventRow& x) -> Cell { return x.nu_before_step; }},
+    {"nu_sliding_before", "", K::real,
+     [](const EventRow& x) -> Cell { return x.q.nu_s.empty() ? nan : x.q.nu_s[x.e.peak]; }},
+    {"open", "", K::integer, [](const EventRow& x) -> Cell { return std::int64_t{x.e.open}; }},
+    {"after_avalanche", "", K::integer,
+     [](const EventRow& x) -> Cell { return std::int64_t{x.s.theta[x.e.peak] > x.cut}; }},
+};
+
+// --- ensemble and envelope: one row per bin of the grid, or window, that a run reaches
+struct BinRow {
+  const Grid& g;
+  std::size_t b;
+  const Reading &all, &still, &rest;
+};
+const ColumnSpec<BinRow> ensemble_columns[] = {
+    {"theta", "deg", K::real, [](const BinRow& x) -> Cell { return x.g.centre(x.b); }},
+    {"theta_lo", "deg", K::real, [](const BinRow& x) -> Cell { return x.g.lower(x.b); }},
+    {"theta_hi", "deg", K::real, [](const BinRow& x) -> Cell { return x.g.upper(x.b); }},
+    {"runs", "", K::integer, [](const BinRow& x) -> Cell { return x.all.ens[x.b].n; }},
+    {"nu", "", K::real, [](const BinRow& x) -> Cell { return x.all.ens[x.b].mean; }},
+    {"nu_se", "", K::real, [](const BinRow& x) -> Cell { return x.all.ens[x.b].se; }},
+    {"runs_static", "", K::integer, [](const BinRow& x) -> Cell { return x.still.ens[x.b].n; }},
+    {"nu_static", "", K::real, [](const BinRow& x) -> Cell { return x.still.ens[x.b].mean; }},
+    {"nu_static_se", "", K::real, [](const BinRow& x) -> Cell { return x.still.ens[x.b].se; }},
+    {"runs_rest", "", K::integer, [](const BinRow& x) -> Cell { return x.rest.ens[x.b].n; }},
+    {"nu_rest", "", K::real, [](const BinRow& x) -> Cell { return x.rest.ens[x.b].mean; }},
+    {"nu_rest_se", "", K::real, [](const BinRow& x) -> Cell { return x.rest.ens[x.b].se; }},
+};
+// where a reading's maxima occur, on average over runs; none where no run has one
+std::optional<double> maxima_at(const Reading& rd, std::size_t b) {
+  return rd.env[b].n ? rd.env_at[b].mean : std::nullopt;
+}
+const ColumnSpec<BinRow> envelope_columns[] = {
+    {"theta", "deg", K::real,
+     [](const BinRow& x) -> Cell { return x.all.env_at[x.b].mean.value_or(x.g.centre(x.b)); }},
+    {"theta_lo", "deg", K::real, [](const BinRow& x) -> Cell { return x.g.lower(x.b); }},
+    {"theta_hi", "deg", K::real, [](const BinRow& x) -> Cell { return x.g.upper(x.b); }},
+    {"runs", "", K::integer, [](const BinRow& x) -> Cell { return x.all.env[x.b].n; }},
+    {"envelope", "", K::real, [](const BinRow& x) -> Cell { return x.all.env[x.b].mean; }},
+    {"envelope_se", "", K::real, [](const BinRow& x) -> Cell { return x.all.env[x.b].se; }},
+    {"fit", "", K::real, [](const BinRow& x) -> Cell { return x.all.fit[x.b]; }},
+    {"in_fit", "", K::integer,
+     [](const BinRow& x) -> Cell { return std::int64_t{x.all.in_fit[x.b]}; }},
+    {"theta_static", "deg", K::real, [](const BinRow& x) -> Cell { return maxima_at(x.still, x.b); }},
+    {"runs_static", "", K::integer, [](const BinRow& x) -> Cell { return x.still.env[x.b].n; }},
+    {"envelope_static", "", K::real,
+     [](const BinRow& x) -> Cell { return x.still.env[x.b].mean; }},
+    {"envelope_static_se", "", K::real,
+     [](const BinRow& x) -> Cell { return x.still.env[x.b].se; }},
+    {"fit_static", "", K::real, [](const BinRow& x) -> Cell { return x.still.fit[x.b]; }},
+    {"in_fit_static", "", K::integer,
+     [](const BinRow& x) -> Cell { return std::int64_t{x.still.in_fit[x.b]}; }},
+    {"theta_rest", "deg", K::real, [](const BinRow& x) -> Cell { return maxima_at(x.rest, x.b); }},
+    {"runs_rest", "", K::integer, [](const BinRow& x) -> Cell { return x.rest.env[x.b].n; }},
+    {"envelope_rest", "", K::real, [](const BinRow& x) -> Cell { return x.rest.env[x.b].mean; }},
+    {"envelope_rest_se", "", K::real, [](const BinRow& x) -> Cell { return x.rest.env[x.b].se; }},
+    {"fit_rest", "", K::real, [](const BinRow& x) -> Cell { return x.rest.fit[x.b]; }},
+    {"in_fit_rest", "", K::integer,
+     [](const BinRow& x) -> Cell { return std::int64_t{x.rest.in_fit[x.b]}; }},
+};
+
+// --- windows and mobilisation: per tilt window of the loading phase, pooled over runs
+double fraction(std::int64_t x, std::int64_t n) {
+  return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan;
+}
+struct WindowRow {
+  double lo, hi;
+  const WindowCounts &all, &still;
+};
+const ColumnSpec<WindowRow> window_columns[] = {
+    {"theta_lo", "deg", K::real, [](const WindowRow& x) -> Cell { return x.lo; }},
+    {"theta_hi", "deg", K::real, [](const WindowRow& x) -> Cell { return x.hi; }},
+    {"frames", "", K::integer, [](const WindowRow& x) -> Cell { return x.all.frames; }},
+    {"frames_static", "", K::integer, [](const WindowRow& x) -> Cell { return x.still.frames; }},
+    {"nu", "", K::real,
+     [](const WindowRow& x) -> Cell { return fraction(x.all.critical, x.all.contacts); }},
+    {"nu_static", "", K::real,
+     [](const WindowRow& x) -> Cell { return fraction(x.still.critical, x.still.contacts); }},
+    {"nu_slipping", "", K::real,
+     [](const WindowRow& x) -> Cell { return fraction(x.all.slipping, x.all.contacts); }},
+    {"nu_slipping_static", "", K::real,
+     [](const WindowRow& x) -> Cell { return fraction(x.still.slipping, x.still.contacts); }},
+    {"critical_slipping_fraction", "", K::real,
+     [](const WindowRow& x) -> Cell { return fraction(x.all.critical_slipping, x.all.critical); }},
+    {"critical_slipping_fraction_static", "", K::real,
+     [](const WindowRow& x) -> Cell {
+       return fraction(x.still.critical_slipping, x.still.critical);
+     }},
+};
+constexpr double bin_width = 1.0 / static_cast<double>(mobilisation_bins);
+struct MobilisationRow {
+  const WindowRow& w;
+  std::size_t b;
+  std::int64_t total, total_static;  // counted contacts of the window, all and static
+};
+const ColumnSpec<MobilisationRow> mobilisation_columns[] = {
+    {"theta_lo", "deg", K::real, [](const MobilisationRow& x) -> Cell { return x.w.lo; }},
+    {"theta_hi", "deg", K::real, [](const MobilisationRow& x) -> Cell { return x.w.hi; }},
+    {"m_lo", "", K::real,
+     [](const MobilisationRow& x) -> Cell { return static_cast<double>(x.b) * bin_width; }},
+    {"m_hi", "", K::real,
+     [](const MobilisationRow& x) -> Cell { return static_cast<double>(x.b + 1) * bin_width; }},
+    {"contacts", "", K::integer,
+     [](const MobilisationRow& x) -> Cell { return x.w.all.mobilisation[x.b]; }},
+    {"pdf", "", K::real,
+     [](const MobilisationRow& x) -> Cell {
+       return fraction(x.w.all.mobilisation[x.b], x.total) / bin_width;
+     }},
+    {"contacts_static", "", K::integer,
+     [](const MobilisationRow& x) -> Cell { return x.w.still.mobilisation[x.b]; }},
+    {"pdf_static", "", K::real,
+     [](const MobilisationRow& x) -> Cell {
+       return fraction(x.w.still.mobilisation[x.b], x.total_static) / bin_width;
+     }},
+};
+
+// --- critical --contacts: one row per counted contact of a frame
+struct ContactRow {
+  std::int64_t run;
+  const FrameRecord& f;
+  std::size_t q;
+  // NA, not 0, where the input says nothing (a flag absent for the whole frame)
+  std::optional<double> flag(const std::optional<std::vector<std::uint8_t>>& v) const {
+    return v ? std::optional<double>((*v)[q]) : std::nullopt;
+  }
+};
+const ColumnSpec<ContactRow> contact_columns[] = {
+    {"run", "", K::integer, [](const ContactRow& x) -> Cell { return x.run; }},
+    {"frame", "", K::integer, [](const ContactRow& x) -> Cell { return x.f.frame; }},
+    {"theta", "deg", K::real, [](const ContactRow& x) -> Cell { return x.f.theta; }},
+    {"i", "", K::integer, [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->i[x.q]}; }},
+    {"j", "", K::integer, [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->j[x.q]}; }},
+    {"critical", "", K::integer,
+     [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->critical[x.q]}; }},
+    {"sliding", "", K::integer,
+     [](const ContactRow& x) -> Cell { return x.flag(x.f.contacts->sliding); }},
+    {"slip", "", K::integer, [](const ContactRow& x) -> Cell { return x.flag(x.f.contacts->slip); }},
+};
+
+template <class Row, std::size_t N>
+Table& declared(Table& t, const ColumnSpec<Row> (&spec)[N]) {
+  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
+  return t;
+}
+
+template <class Row, std::size_t N>
+void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
+  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
 }
 
 }  // namespace
 
 StudyTables add_study_tables(Product& p, bool step_table) {
-  StudyTables t{p.add_table("runs", "one row per run"),
-                step_table ? &p.add_table("steps", "one row per time step of each run") : nullptr,
-                p.add_table("frames", "one row per saved frame of each run"),
-                p.add_table("events", "rearrangement events: a drop of the contact count N"),
-                p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
-                p.add_table("envelope", "mean over runs of the maximum of nu in theta windows")};
-  add_columns(t.runs, {{"run", "", ColumnKind::integer},
-                       {"name", "", ColumnKind::text},
-                       {"grains", "", ColumnKind::integer},
-                       {"diameter", "m", ColumnKind::real},
-                       {"steps", "", ColumnKind::integer},
-                       {"frames", "", ColumnKind::integer},
-                       {"events", "", ColumnKind::integer},
-                       {"theta_c", "deg", ColumnKind::real},
-                       {"theta_c_recorded", "deg", ColumnKind::real},
-                       {"nu_max", "", ColumnKind::real}});
-  if (t.steps)
-    add_columns(*t.steps, {{"run", "", ColumnKind::integer},
-                           {"step", "", ColumnKind::integer},
-                           {"theta", "deg", ColumnKind::real},
-                           {"N", "", ColumnKind::integer},
-                           {"Nc", "", ColumnKind::integer},
-                           {"nu", "", ColumnKind::real},
-                           {"sliding", "", ColumnKind::integer},
-                           {"nu_sliding", "", ColumnKind::real},
-                           {"z_all", "", ColumnKind::real},
-                           {"lambda", "D", ColumnKind::real},
-                           {"Ek", "J m-1", ColumnKind::real},
-                           {"ek_norm", "", ColumnKind::real},
-                           {"static", "", ColumnKind::integer}});
-  add_columns(t.frames, {{"run", "", ColumnKind::integer},
-                         {"frame", "", ColumnKind::integer},
-                         {"step", "", ColumnKind::integer},
-                         {"theta", "deg", ColumnKind::real},
-                         {"N", "", ColumnKind::integer},
-                         {"Nc", "", ColumnKind::integer},
-                         {"nu", "", ColumnKind::real},
-                         {"sliding", "", ColumnKind::integer},
-                         {"nu_sliding", "", ColumnKind::real},
-                         {"z", "", ColumnKind::real},
-                         {"z_all", "", ColumnKind::real},
-                         {"loaded_grains", "", ColumnKind::integer},
-                         {"lambda", "D", ColumnKind::real},
-                         {"Ek", "J m-1", ColumnKind::real},
-                         {"ek_norm", "", ColumnKind::real},
-                         {"loading", "", ColumnKind::integer},
-                         {"contacts_load_bearing", "", ColumnKind::integer},
-                         {"grains_load_bearing", "", ColumnKind::integer},
-                         {"critical_load_bearing", "", ColumnKind::integer},
-                         {"static_bound", "", ColumnKind::integer},
-                         {"above_static_bound", "", ColumnKind::integer},
-                         {"agitation_norm", "", ColumnKind::real},
-                         {"max_speed_norm", "", ColumnKind::real},
-                         {"grains_without_contact", "", ColumnKind::integer},
-                         {"converged", "", ColumnKind::integer},
-                         {"static", "", ColumnKind::integer},
-                         {"slipping", "", ColumnKind::integer},
-                         {"critical_slipping", "", ColumnKind::integer},
-                         {"z_paper", "", ColumnKind::real},
-                         {"N_rest", "", ColumnKind::integer},
-                         {"Nc_rest", "", ColumnKind::integer},
-                         {"nu_rest", "", ColumnKind::real}});
-  add_columns(t.events, {{"run", "", ColumnKind::integer},
-                         {"event", "", ColumnKind::integer},
-                         {"peak_step", "", ColumnKind::integer},
-                         {"trough_step", "", ColumnKind::integer},
-                         {"theta", "deg", ColumnKind::real},
-                         {"theta_end", "deg", ColumnKind::real},
-                         {"n_peak", "", ColumnKind::integer},
-                         {"n_trough", "", ColumnKind::integer},
-                         {"loss", "", ColumnKind::real},
-                         {"nu_before", "", ColumnKind::real},
-                         {"nu_before_step", "", ColumnKind::integer},
-                         {"nu_sliding_before", "", ColumnKind::real},
-                         {"open", "", ColumnKind::integer},
-                         {"after_avalanche", "", ColumnKind::integer}});
-  add_columns(t.ensemble, {{"theta", "deg", ColumnKind::real},
-                           {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real},
-                           {"runs", "", ColumnKind::integer},
-                           {"nu", "", ColumnKind::real},
-                           {"nu_se", "", ColumnKind::real},
-                           {"runs_static", "", ColumnKind::integer},
-                           {"nu_static", "", ColumnKind::real},
-                           {"nu_static_se", "", ColumnKind::real},
-                           {"runs_rest", "", ColumnKind::integer},
-                           {"nu_rest", "", ColumnKind::real},
-                           {"nu_rest_se", "", ColumnKind::real}});
-  add_columns(t.envelope, {{"theta", "deg", ColumnKind::real},
-                           {"theta_lo", "deg", ColumnKind::real},
-                           {"theta_hi", "deg", ColumnKind::real},
-                           {"runs", "", ColumnKind::integer},
-                           {"envelope", "", ColumnKind::real},
-                           {"envelope_se", "", ColumnKind::real},
-                           {"fit", "", ColumnKind::real},
-                           {"in_fit", "", ColumnKind::integer},
-                           {"theta_static", "deg", ColumnKind::real},
-                           {"runs_static", "", ColumnKind::integer},
-                           {"envelope_static", "", ColumnKind::real},
-                           {"envelope_static_se", "", ColumnKind::real},
-                           {"fit_static", "", ColumnKind::real},
-                           {"in_fit_static", "", ColumnKind::integer},
-                           {"theta_rest", "deg", ColumnKind::real},
-                           {"runs_rest", "", ColumnKind::integer},
-                           {"envelope_rest", "", ColumnKind::real},
-                           {"envelope_rest_se", "", ColumnKind::real},
-                           {"fit_rest", "", ColumnKind::real},
-                           {"in_fit_rest", "", ColumnKind::integer}});
+  StudyTables t{
+      declared(p.add_table("runs", "one row per run"), run_columns),
+      step_table ? &declared(p.add_table("steps", "one row per time step of each run"),
+                             step_columns)
+                 : nullptr,
+      declared(p.add_table("frames", "one row per saved frame of each run"), frame_columns),
+      declared(p.add_table("events", "rearrangement events: a drop of the contact count N"),
+               event_columns),
+      declared(p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
+               ensemble_columns),
+      declared(p.add_table("envelope", "mean over runs of the maximum of nu in theta windows"),
+               envelope_columns)};
   return t;
 }
 
 void write_run_row(Table& t, const RunRecord& r, std::int64_t run, std::size_t events,
                    std::optional<double> theta_c, double nu_max) {
-  t.column("run").add_int(run);
-  t.column("name").add_text(r.name);
-  t.column("grains").add_int(r.free_grains);
-  t.column("diameter").add(r.diameter);
-  t.column("steps").add_int(static_cast<std::int64_t>(r.steps.step.size()));
-  t.column("frames").add_int(static_cast<std::int64_t>(r.frames.size()));
-  t.column("events").add_int(static_cast<std::int64_t>(events));
-  t.column("theta_c").add(theta_c);
-  t.column("theta_c_recorded").add(r.recorded_avalanche);
-  t.column("nu_max").add(nu_max);
+  add(t, run_columns, RunRow{r, run, events, theta_c, nu_max});
 }
 
 void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepFractions& q,
                      const std::vector<std::int64_t>& st_static) {
-  const RunSteps& s = r.steps;
-  const double np = static_cast<double>(r.free_grains);
-  const bool have_ek = !s.kinetic_energy.empty() && r.free_grains > 0;
-  for (std::size_t k = 0; k < s.step.size(); ++k) {
-    t.column("run").add_int(run);
-    t.column("step").add_int(s.step[k]);
-    t.column("theta").add(s.theta[k]);
-    t.column("N").add_int(s.contacts[k]);
-    t.column("Nc").add(q.have_nc ? static_cast<double>(s.critical[k]) : nan);
-    t.column("nu").add(q.nu_c[k]);
-    t.column("sliding").add(s.sliding.empty() ? nan : static_cast<double>(s.sliding[k]));
-    t.column("nu_sliding").add(q.nu_s[k]);
-    const auto z_all = ratio(2 * s.contacts[k], r.free_grains);
-    t.column("z_all").add(z_all);
-    t.column("lambda").add(z_all && std::isfinite(q.nu_c[k])
-                               ? critical_spacing(*z_all, q.nu_c[k], 1.0)
-                               : std::nullopt);
-    t.column("Ek").add(have_ek ? s.kinetic_energy[k] / np : nan);
-    t.column("ek_norm").add(q.ekn[k]);
-    t.column("static").add(st_static.empty() ? nan : static_cast<double>(st_static[k]));
-  }
+  for (std::size_t k = 0; k < r.steps.step.size(); ++k)
+    add(t, step_columns, StepRow{r, q, st_static, run, k});
 }
 
 void write_frame_rows(Table& t, const RunRecord& r, std::int64_t run, double cut,
-                      const RestRule& rest) {
-  const RunSteps& s = r.steps;
-  const double scale = r.mean_mass * r.gravity * r.diameter;  // m g D
-  const double v_scale = std::sqrt(r.gravity * r.diameter);
-  for (const FrameRecord& f : r.frames) {
-    const PileState& st = f.state;
-    t.column("run").add_int(run);
-    t.column("frame").add_int(f.frame);
-    t.column("step").add_int(f.step);
-    t.column("theta").add(f.theta);
-    t.column("N").add_int(st.contacts);
-    t.column("Nc").add_int(st.critical);
-    t.column("nu").add(st.nu);
-    t.column("sliding").add_int(st.sliding);
-    t.column("nu_sliding").add(st.nu_sliding);
-    t.column("z").add(st.z);
-    t.column("z_all").add(st.z_all);
-    t.column("loaded_grains").add_int(st.loaded_grains);
-    t.column("lambda").add(st.lambda && r.diameter > 0
-                               ? std::optional<double>(*st.lambda / r.diameter)
-                               : std::nullopt);
-    t.column("Ek").add(f.kinetic_energy);
-    t.column("ek_norm").add(f.kinetic_energy && scale > 0.0
-                                ? std::optional<double>(*f.kinetic_energy / scale)
-                                : std::nullopt);
-    t.column("loading").add_int(f.theta <= cut);
-    // McNamara & Herrmann 2004 (docs/analysis.md, "Static bound")
-    auto count = [&](auto get) {
-      return f.bound ? std::optional<double>(static_cast<double>(get(*f.bound))) : std::nullopt;
-    };
-    t.column("contacts_load_bearing").add(count([](const StaticBound& b) { return b.contacts; }));
-    t.column("grains_load_bearing").add(count([](const StaticBound& b) { return b.grains; }));
-    t.column("critical_load_bearing").add(count([](const StaticBound& b) { return b.critical; }));
-    t.column("static_bound").add(count([](const StaticBound& b) { return b.bound(); }));
-    t.column("above_static_bound").add(count([](const StaticBound& b) {
-      return std::int64_t{b.above()};
-    }));
-    // static or moving (docs/analysis.md, "Static and moving states")
-    const std::optional<bool> still = static_frame(r, f, rest);
-    t.column("agitation_norm")
-        .add(f.agitation && scale > 0.0 ? std::optional<double>(*f.agitation / scale)
-                                        : std::nullopt);
-    t.column("max_speed_norm")
-        .add(f.max_speed && v_scale > 0.0 ? std::optional<double>(*f.max_speed / v_scale)
-                                          : std::nullopt);
-    t.column("grains_without_contact").add_int(f.grains_without_contact);
-    {
-      const auto it = std::lower_bound(s.step.begin(), s.step.end(), f.step);
-      const bool found = it != s.step.end() && *it == f.step && s.converged.size() == s.step.size();
-      t.column("converged")
-          .add(found
-                   ? static_cast<double>(s.converged[static_cast<std::size_t>(it - s.step.begin())])
-                   : nan);
-    }
-    t.column("static").add(still ? std::optional<double>(*still ? 1.0 : 0.0) : std::nullopt);
-    auto count_opt = [](const std::optional<std::int64_t>& v) {
-      return v ? std::optional<double>(static_cast<double>(*v)) : std::nullopt;
-    };
-    t.column("slipping").add(count_opt(f.slipping));
-    t.column("critical_slipping").add(count_opt(f.critical_slipping));
-    t.column("z_paper").add(f.z_paper);
-    t.column("N_rest").add(count_opt(f.contacts_at_rest));
-    t.column("Nc_rest").add(count_opt(f.critical_at_rest));
-    t.column("nu_rest").add(nu_at_rest(f));
-  }
+                      const std::vector<std::optional<bool>>& frame_static) {
+  for (std::size_t k = 0; k < r.frames.size(); ++k)
+    add(t, frame_columns, FrameRow{r, r.frames[k], run, r.frames[k].theta <= cut, frame_static[k]});
 }
 
 std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const Curve& cv,
@@ -302,147 +451,54 @@ std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const C
                          double cut, const EventRule& rule) {
   const RunSteps& s = r.steps;
   const auto events = rearrangements(s.contacts, rule);
-  std::int64_t e_index = 0;
+  std::int64_t index = 0;
   for (const Event& e : events) {
-    const std::int64_t peak_step = s.step[e.peak];
     // the state just before: the last sample of the series at or before the peak step
-    std::optional<double> nu_before;
-    std::optional<double> nu_before_step;
-    auto it = std::upper_bound(cv_step.begin(), cv_step.end(), peak_step);
+    EventRow row{s, q, e, run, index++, std::nullopt, std::nullopt, cut};
+    auto it = std::upper_bound(cv_step.begin(), cv_step.end(), s.step[e.peak]);
     if (it != cv_step.begin()) {
       const auto k = static_cast<std::size_t>(it - cv_step.begin() - 1);
-      nu_before = cv.nu[k];
-      nu_before_step = static_cast<double>(cv_step[k]);
+      row.nu_before = cv.nu[k];
+      row.nu_before_step = static_cast<double>(cv_step[k]);
     }
-    t.column("run").add_int(run);
-    t.column("event").add_int(e_index++);
-    t.column("peak_step").add_int(peak_step);
-    t.column("trough_step").add_int(s.step[e.trough]);
-    t.column("theta").add(s.theta[e.peak]);
-    t.column("theta_end").add(s.theta[e.trough]);
-    t.column("n_peak").add_int(e.n_peak);
-    t.column("n_trough").add_int(e.n_trough);
-    t.column("loss").add(e.loss);
-    t.column("nu_before").add(nu_before);
-    t.column("nu_before_step").add(nu_before_step);
-    t.column("nu_sliding_before").add(q.nu_s.empty() ? nan : q.nu_s[e.peak]);
-    t.column("open").add_int(e.open);
-    t.column("after_avalanche").add_int(s.theta[e.peak] > cut);
+    add(t, event_columns, row);
   }
   return events.size();
 }
 
 void write_ensemble_rows(Table& t, const Grid& g, const Reading& all, const Reading& still,
                          const Reading& rest) {
-  for (std::size_t b = 0; b < g.count; ++b) {
-    if (all.ens[b].n == 0) continue;
-    t.column("theta").add(g.centre(b));
-    t.column("theta_lo").add(g.lower(b));
-    t.column("theta_hi").add(g.upper(b));
-    t.column("runs").add_int(all.ens[b].n);
-    t.column("nu").add(all.ens[b].mean);
-    t.column("nu_se").add(all.ens[b].se);
-    t.column("runs_static").add_int(still.ens[b].n);
-    t.column("nu_static").add(still.ens[b].mean);
-    t.column("nu_static_se").add(still.ens[b].se);
-    t.column("runs_rest").add_int(rest.ens[b].n);
-    t.column("nu_rest").add(rest.ens[b].mean);
-    t.column("nu_rest_se").add(rest.ens[b].se);
-  }
+  for (std::size_t b = 0; b < g.count; ++b)
+    if (all.ens[b].n > 0) add(t, ensemble_columns, BinRow{g, b, all, still, rest});
 }
 
 void write_envelope_rows(Table& t, const Grid& w, const Reading& all, const Reading& still,
                          const Reading& rest) {
-  for (std::size_t b = 0; b < w.count; ++b) {
-    if (all.env[b].n == 0) continue;
-    t.column("theta").add(all.env_at[b].mean.value_or(w.centre(b)));
-    t.column("theta_lo").add(w.lower(b));
-    t.column("theta_hi").add(w.upper(b));
-    t.column("runs").add_int(all.env[b].n);
-    t.column("envelope").add(all.env[b].mean);
-    t.column("envelope_se").add(all.env[b].se);
-    t.column("fit").add(all.fit[b]);
-    t.column("in_fit").add_int(all.in_fit[b]);
-    t.column("theta_static").add(still.env[b].n ? still.env_at[b].mean : std::nullopt);
-    t.column("runs_static").add_int(still.env[b].n);
-    t.column("envelope_static").add(still.env[b].mean);
-    t.column("envelope_static_se").add(still.env[b].se);
-    t.column("fit_static").add(still.fit[b]);
-    t.column("in_fit_static").add_int(still.in_fit[b]);
-    t.column("theta_rest").add(rest.env[b].n ? rest.env_at[b].mean : std::nullopt);
-    t.column("runs_rest").add_int(rest.env[b].n);
-    t.column("envelope_rest").add(rest.env[b].mean);
-    t.column("envelope_rest_se").add(rest.env[b].se);
-    t.column("fit_rest").add(rest.fit[b]);
-    t.column("in_fit_rest").add_int(rest.in_fit[b]);
-  }
+  for (std::size_t b = 0; b < w.count; ++b)
+    if (all.env[b].n > 0) add(t, envelope_columns, BinRow{w, b, all, still, rest});
 }
 
 void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOptions& opt) {
-  Table& mob_t = p.add_table("mobilisation",
-                             "P(|f_t|/(mu f_n)) of the counted contacts per tilt window, "
-                             "loading frames (all and static)");
-  Table& win_t = p.add_table("windows",
-                             "per tilt window, loading frames pooled over runs: critical and "
-                             "slipping contacts, all frames and static ones");
-  add_columns(mob_t, {{"theta_lo", "deg", ColumnKind::real},
-                      {"theta_hi", "deg", ColumnKind::real},
-                      {"m_lo", "", ColumnKind::real},
-                      {"m_hi", "", ColumnKind::real},
-                      {"contacts", "", ColumnKind::integer},
-                      {"pdf", "", ColumnKind::real},
-                      {"contacts_static", "", ColumnKind::integer},
-                      {"pdf_static", "", ColumnKind::real}});
-  add_columns(win_t, {{"theta_lo", "deg", ColumnKind::real},
-                      {"theta_hi", "deg", ColumnKind::real},
-                      {"frames", "", ColumnKind::integer},
-                      {"frames_static", "", ColumnKind::integer},
-                      {"nu", "", ColumnKind::real},
-                      {"nu_static", "", ColumnKind::real},
-                      {"nu_slipping", "", ColumnKind::real},
-                      {"nu_slipping_static", "", ColumnKind::real},
-                      {"critical_slipping_fraction", "", ColumnKind::real},
-                      {"critical_slipping_fraction_static", "", ColumnKind::real}});
-  const double width = 1.0 / static_cast<double>(mobilisation_bins);
+  Table& mob_t = declared(p.add_table("mobilisation",
+                                      "P(|f_t|/(mu f_n)) of the counted contacts per tilt "
+                                      "window, loading frames (all and static)"),
+                          mobilisation_columns);
+  Table& win_t = declared(p.add_table("windows",
+                                      "per tilt window, loading frames pooled over runs: "
+                                      "critical and slipping contacts, all frames and static ones"),
+                          window_columns);
   for (std::size_t wi = 0; wi < tot.win_all.size(); ++wi) {
-    const WindowCounts& a = tot.win_all[wi];
-    const WindowCounts& st = tot.win_static[wi];
-    if (a.frames == 0) continue;
-    const double lo = static_cast<double>(wi) * opt.mobilisation_window,
-                 hi = lo + opt.mobilisation_window;
-    auto frac = [](std::int64_t x, std::int64_t n) {
-      return n > 0 ? static_cast<double>(x) / static_cast<double>(n) : nan;
-    };
-    win_t.column("theta_lo").add(lo);
-    win_t.column("theta_hi").add(hi);
-    win_t.column("frames").add_int(a.frames);
-    win_t.column("frames_static").add_int(st.frames);
-    win_t.column("nu").add(frac(a.critical, a.contacts));
-    win_t.column("nu_static").add(frac(st.critical, st.contacts));
-    win_t.column("nu_slipping").add(frac(a.slipping, a.contacts));
-    win_t.column("nu_slipping_static").add(frac(st.slipping, st.contacts));
-    win_t.column("critical_slipping_fraction").add(frac(a.critical_slipping, a.critical));
-    win_t.column("critical_slipping_fraction_static").add(frac(st.critical_slipping, st.critical));
+    if (tot.win_all[wi].frames == 0) continue;
+    const double lo = static_cast<double>(wi) * opt.mobilisation_window;
+    const WindowRow w{lo, lo + opt.mobilisation_window, tot.win_all[wi], tot.win_static[wi]};
+    add(win_t, window_columns, w);
     std::int64_t total = 0, total_static = 0;
     for (std::size_t b = 0; b < mobilisation_bins; ++b) {
-      total += a.mobilisation[b];
-      total_static += st.mobilisation[b];
+      total += w.all.mobilisation[b];
+      total_static += w.still.mobilisation[b];
     }
-    for (std::size_t b = 0; b < mobilisation_bins; ++b) {
-      mob_t.column("theta_lo").add(lo);
-      mob_t.column("theta_hi").add(hi);
-      mob_t.column("m_lo").add(static_cast<double>(b) * width);
-      mob_t.column("m_hi").add(static_cast<double>(b + 1) * width);
-      mob_t.column("contacts").add_int(a.mobilisation[b]);
-      mob_t.column("pdf").add(total > 0 ? static_cast<double>(a.mobilisation[b]) /
-                                              static_cast<double>(total) / width
-                                        : nan);
-      mob_t.column("contacts_static").add_int(st.mobilisation[b]);
-      mob_t.column("pdf_static")
-          .add(total_static > 0 ? static_cast<double>(st.mobilisation[b]) /
-                                      static_cast<double>(total_static) / width
-                                : nan);
-    }
+    for (std::size_t b = 0; b < mobilisation_bins; ++b)
+      add(mob_t, mobilisation_columns, MobilisationRow{w, b, total, total_static});
   }
 }
 
@@ -461,34 +517,15 @@ Product critical_contacts(const std::vector<RunRecord>& runs, const CriticalOpti
       "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; sliding: the solver's status slide "
       "(NA without a status); slip: |u_t| above slip_speed sqrt(g D) (NA without velocities, "
       "g or D)"};
-  Table& t = p.add_table("contacts", "one row per counted contact of a frame");
-  critical_parts::add_columns(t, {{"run", "", ColumnKind::integer},
-                                  {"frame", "", ColumnKind::integer},
-                                  {"theta", "deg", ColumnKind::real},
-                                  {"i", "", ColumnKind::integer},
-                                  {"j", "", ColumnKind::integer},
-                                  {"critical", "", ColumnKind::integer},
-                                  {"sliding", "", ColumnKind::integer},
-                                  {"slip", "", ColumnKind::integer}});
-  // NA, not 0, where the input says nothing (a flag absent for the whole frame)
-  auto flag = [](const std::optional<std::vector<std::uint8_t>>& v, std::size_t q) {
-    return v ? std::optional<double>((*v)[q]) : std::nullopt;
-  };
+  Table& t = critical_parts::declared(p.add_table("contacts", "one row per counted contact of a frame"),
+                                      critical_parts::contact_columns);
   for (std::size_t run = 0; run < runs.size(); ++run)
     for (const FrameRecord& f : runs[run].frames) {
       if (!f.contacts)
         throw std::logic_error("critical_contacts: a frame read without its contacts");
-      const FrameContacts& c = *f.contacts;
-      for (std::size_t q = 0; q < c.i.size(); ++q) {
-        t.column("run").add_int(static_cast<std::int64_t>(run));
-        t.column("frame").add_int(f.frame);
-        t.column("theta").add(f.theta);
-        t.column("i").add_int(c.i[q]);
-        t.column("j").add_int(c.j[q]);
-        t.column("critical").add_int(c.critical[q]);
-        t.column("sliding").add(flag(c.sliding, q));
-        t.column("slip").add(flag(c.slip, q));
-      }
+      for (std::size_t q = 0; q < f.contacts->i.size(); ++q)
+        critical_parts::add(t, critical_parts::contact_columns,
+                            critical_parts::ContactRow{static_cast<std::int64_t>(run), f, q});
     }
   return p;
 }

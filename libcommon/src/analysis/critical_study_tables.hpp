@@ -92,10 +92,11 @@ void write_run_row(Table& t, const RunRecord& r, std::int64_t run, std::size_t e
 void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepFractions& q,
                      const std::vector<std::int64_t>& st_static);
 
-// The run's frames, each classified as loading (at or below `cut`) and static or moving
-// (docs/analysis.md, "Static and moving states").
+// The run's frames, each classified as loading (at or below `cut`) and, as the estimation
+// found, static or moving (frame_static, one per frame; docs/analysis.md, "Static and
+// moving states").
 void write_frame_rows(Table& t, const RunRecord& r, std::int64_t run, double cut,
-                      const RestRule& rest);
+                      const std::vector<std::optional<bool>>& frame_static);
 
 // The run's rearrangement events (Fig 2), each with the state of the series just before;
 // returns how many.

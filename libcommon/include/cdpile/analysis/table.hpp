@@ -16,6 +16,8 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -59,6 +61,39 @@ struct Table {
   /// Rows; cdpile::Error if the columns differ in length.
   std::size_t rows() const;
 };
+
+/// One cell as a row gives it: an integer, a real (empty, NaN or infinite: missing) or a
+/// text. Integer columns take a real too, for a count that may be missing.
+struct Cell {
+  ColumnKind kind;
+  std::int64_t integer = 0;
+  std::optional<double> real;
+  std::string text;
+  Cell(std::int64_t v) : kind(ColumnKind::integer), integer(v) {}
+  Cell(double v) : kind(ColumnKind::real), real(v) {}
+  Cell(std::optional<double> v) : kind(ColumnKind::real), real(v) {}
+  Cell(std::string v) : kind(ColumnKind::text), text(std::move(v)) {}
+};
+
+/// A column of a table made of rows of type Row: its name, unit and kind, and how a row
+/// gives its value. A table is declared as one list of these, from which both its layout
+/// (declare_columns) and its rows (add_row) follow: a column is one line
+/// (docs/architecture.md, "A new product column").
+template <class Row>
+struct ColumnSpec {
+  const char* name;
+  const char* unit;  ///< as Column::unit
+  ColumnKind kind;
+  Cell (*get)(const Row&);
+};
+
+/// Adds spec's columns to t, in order; t must have none yet.
+template <class Row>
+void declare_columns(Table& t, std::span<const ColumnSpec<Row>> spec);
+
+/// Appends one row to a table declared by spec: each column's cell from its getter.
+template <class Row>
+void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row);
 
 struct Product {
   std::string kind;   ///< the tool that made it: critical, localnu, correlate, clusterfit
@@ -139,6 +174,31 @@ inline std::size_t Table::rows() const {
       throw Error("table '" + name + "': column '" + c.name + "' has " + std::to_string(c.size()) +
                   " rows, '" + columns.front().name + "' has " + std::to_string(n));
   return n;
+}
+
+template <class Row>
+void declare_columns(Table& t, std::span<const ColumnSpec<Row>> spec) {
+  if (!t.columns.empty())
+    throw std::logic_error("table " + t.name + ": declared from a list after other columns");
+  for (const ColumnSpec<Row>& c : spec) t.add_column(c.name, c.unit, c.kind);
+}
+
+template <class Row>
+void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row) {
+  if (t.columns.size() != spec.size())
+    throw std::logic_error("table " + t.name + ": a row of another list of columns");
+  for (std::size_t i = 0; i < spec.size(); ++i) {
+    Column& c = t.columns[i];
+    Cell v = spec[i].get(row);
+    if ((c.kind == ColumnKind::text) != (v.kind == ColumnKind::text))
+      throw std::logic_error("table " + t.name + ": column " + c.name + " given a cell of another kind");
+    if (v.kind == ColumnKind::text)
+      c.add_text(std::move(v.text));
+    else if (v.kind == ColumnKind::integer)
+      c.add_int(v.integer);
+    else
+      c.add(v.real);
+  }
 }
 
 inline Table& Product::add_table(const std::string& name, const std::string& title) {
