@@ -75,8 +75,9 @@ static void run(const cli::Args& a) {
   const std::size_t n = io::lammps::write_dump(out.text(), r, opt);
   if (contacts) {
     const analysis::Friction mu = io::run_friction(r.header(), {}, in.name());
-    const double eps = io::recorded_rule(r.header(), in.name()).eps.value_or(analysis::default_eps);
-    io::lammps::write_contacts_dump(contacts->text(), r, opt, mu, eps);
+    io::lammps::write_contacts_dump(
+        contacts->text(), r, opt, mu,
+        analysis::view_rule(std::nullopt, false, io::recorded_rule(r.header(), in.name()), mu));
   }
   // said once the run has been read: a file that is refused gets its one line, not a note
   if (const std::string note = io::partial_run_note(r); !note.empty()) cli::warn(note);

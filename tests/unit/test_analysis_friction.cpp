@@ -80,3 +80,13 @@ TEST(Friction, MuMustBePositive) {
             }),
             "--mu-wall must be > 0 (mu = 0 makes every active contact critical), got 0");
 }
+
+TEST(Friction, AViewFlagsByTheEpsGivenElseTheRunsElseTheDefault) {
+  const Friction mu{0.5, 0.5};
+  const RecordedRule recorded{0.01, 0.5, 0.5}, silent{{}, 0.5, 0.5};
+  EXPECT_EQ(view_rule(0.2, false, recorded, mu).eps, 0.2);
+  EXPECT_EQ(view_rule(std::nullopt, false, recorded, mu).eps, 0.01);
+  EXPECT_EQ(view_rule(std::nullopt, false, silent, mu).eps, default_eps);
+  EXPECT_TRUE(view_rule(std::nullopt, true, silent, mu).include_walls);
+  EXPECT_THROW(view_rule(1.0, false, silent, mu), Error);  // eps must be below 1
+}

@@ -102,7 +102,7 @@ TEST(Views, TheContactsDumpHoldsThePairsWithTheirForcesAndFlags) {
   const h5::File run = h5::open_read((s.dir / "run.h5").string(), "run.h5");
   const io::RunReader r(run);
   std::ostringstream os;
-  EXPECT_EQ(io::lammps::write_contacts_dump(os, r, {}, {0.5, 0.5}, 1e-3), 1u);
+  EXPECT_EQ(io::lammps::write_contacts_dump(os, r, {}, {0.5, 0.5}, analysis::CriticalRule{}), 1u);
   const std::string text = os.str();
   EXPECT_EQ(text.substr(0, text.find("ITEM: BOX")),
             "ITEM: TIMESTEP\n40\nITEM: NUMBER OF ENTRIES\n2\n");

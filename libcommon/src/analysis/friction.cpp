@@ -1,4 +1,5 @@
-// The friction coefficients of an analysis (analysis/studies.hpp, choose_friction).
+// The friction coefficients of an analysis (analysis/studies.hpp, choose_friction), and the
+// rule a view of a run flags its critical contacts by (view_rule).
 #include "cdpile/analysis/studies.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
@@ -47,6 +48,15 @@ Friction choose_friction(const FrictionChoice& given, const RecordedRule* run,
   if (!(mu.wall > 0.0) || !std::isfinite(mu.wall))
     throw Error(file, run ? "/parameters" : "", "mu_wall must be > 0, got " + shortest(mu.wall));
   return mu;
+}
+
+CriticalRule view_rule(std::optional<double> given, bool include_walls, const RecordedRule& run,
+                       const Friction& mu) {
+  CriticalRule rule;
+  rule.eps = given ? *given : run.eps.value_or(default_eps);
+  rule.include_walls = include_walls;
+  validate(rule, mu);
+  return rule;
 }
 
 }  // namespace cdpile::analysis

@@ -74,15 +74,9 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
   const std::size_t F = run.frame_count(), N = run.grain_count();
   if (F == 0) throw Error(file, "/particles/grains/position", "no frame to show");
   const RunHeader& h = run.header();
-  auto param = [&](const char* key) -> std::optional<double> {
-    if (h.parameters.find(key) == h.parameters.end()) return std::nullopt;
-    return as_real(h.parameters, key, file);
-  };
   const analysis::Friction mu = run_friction(h, opt.mu, file);
-  analysis::CriticalRule rule;
-  rule.eps = opt.eps ? *opt.eps : param(keys::critical_eps).value_or(analysis::default_eps);
-  rule.include_walls = opt.walls;
-  analysis::validate(rule, mu);
+  const analysis::CriticalRule rule =
+      analysis::view_rule(opt.eps, opt.walls, recorded_rule(h, file), mu);
   const double diameter = analysis::mean_diameter(run.grain_properties());
   const double nu_radius = opt.nu_radius * diameter;  // [m]
   const std::string cg = "/contacts", gp = "/particles/grains";

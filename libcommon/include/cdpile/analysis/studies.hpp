@@ -109,6 +109,12 @@ struct FrictionChoice {
 Friction choose_friction(const FrictionChoice& given, const RecordedRule* run,
                          const std::string& file);
 
+/// The rule a view of a run (to-xdmf, to-lammps) flags its critical contacts by, decided in
+/// this one place: eps `given`, else the run's recorded critical_eps, else default_eps; the
+/// walls as asked. Validated against mu.
+CriticalRule view_rule(std::optional<double> given, bool include_walls, const RecordedRule& run,
+                       const Friction& mu);
+
 /// How a recorded per-step count departs from the rule asked for.
 struct StepRuleMismatch {
   bool unknown = false;  ///< the run does not record its rule (e.g. no critical_eps)
