@@ -21,6 +21,52 @@ struct FrameInfo {
   std::optional<std::int64_t> window;
 };
 
+// The two tables, each one list of columns (ColumnSpec, table.hpp).
+using K = ColumnKind;
+
+// --- frames: nu_bar(r) of each frame
+struct FrameStateRow {
+  const FrameInfo& f;
+  double r;  // [D]
+  Sums s;
+};
+const ColumnSpec<FrameStateRow> frame_columns[] = {
+    {"run", "", K::integer, [](const FrameStateRow& x) -> Cell { return x.f.run; }},
+    {"frame", "", K::integer, [](const FrameStateRow& x) -> Cell { return x.f.frame; }},
+    {"theta", "deg", K::real, [](const FrameStateRow& x) -> Cell { return x.f.theta; }},
+    {"r", "D", K::real, [](const FrameStateRow& x) -> Cell { return x.r; }},
+    {"n", "", K::integer, [](const FrameStateRow& x) -> Cell { return x.s.n; }},
+    {"nu_bar", "", K::real, [](const FrameStateRow& x) -> Cell { return x.s.summary().mean; }},
+    {"se", "", K::real, [](const FrameStateRow& x) -> Cell { return x.s.summary().se; }},
+    {"nu_pile", "", K::real, [](const FrameStateRow& x) -> Cell { return x.f.nu; }},
+};
+
+// --- windows: nu_bar(r) pooled over the frames and runs of a theta window
+struct WindowRow {
+  std::optional<double> theta, theta_lo, theta_hi;  // none when no frame has a tilt
+  double r;                                         // [D]
+  std::int64_t runs, frames;
+  Pooled pm;     // nu_bar and its se
+  Summary pile;  // the pile's nu
+};
+const ColumnSpec<WindowRow> window_columns[] = {
+    {"theta", "deg", K::real, [](const WindowRow& x) -> Cell { return x.theta; }},
+    {"theta_lo", "deg", K::real, [](const WindowRow& x) -> Cell { return x.theta_lo; }},
+    {"theta_hi", "deg", K::real, [](const WindowRow& x) -> Cell { return x.theta_hi; }},
+    {"r", "D", K::real, [](const WindowRow& x) -> Cell { return x.r; }},
+    {"runs", "", K::integer, [](const WindowRow& x) -> Cell { return x.runs; }},
+    {"frames", "", K::integer, [](const WindowRow& x) -> Cell { return x.frames; }},
+    {"n", "", K::integer, [](const WindowRow& x) -> Cell { return x.pm.n; }},
+    {"nu_bar", "", K::real, [](const WindowRow& x) -> Cell { return x.pm.mean; }},
+    {"se", "", K::real, [](const WindowRow& x) -> Cell { return x.pm.se; }},
+    {"se_over", "", K::text,
+     [](const WindowRow& x) -> Cell {
+       return std::string(x.pm.se ? se_over_name(x.pm.over) : "none");
+     }},
+    {"nu_pile", "", K::real, [](const WindowRow& x) -> Cell { return x.pile.mean; }},
+    {"nu_pile_se", "", K::real, [](const WindowRow& x) -> Cell { return x.pile.se; }},
+};
+
 std::int64_t as_int(const Column& c, std::size_t r, const std::string& table,
                     const std::string& src) {
   auto v = c.get(r);
@@ -100,33 +146,11 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   Table* fr_t = nullptr;
   if (opt.frame_table) {
     fr_t = &p.add_table("frames", "nu_bar(r) of each frame");
-    for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-             {"run", "", ColumnKind::integer},
-             {"frame", "", ColumnKind::integer},
-             {"theta", "deg", ColumnKind::real},
-             {"r", "D", ColumnKind::real},
-             {"n", "", ColumnKind::integer},
-             {"nu_bar", "", ColumnKind::real},
-             {"se", "", ColumnKind::real},
-             {"nu_pile", "", ColumnKind::real}})
-      fr_t->add_column(n, u, k);
+    declare_columns(*fr_t, std::span<const ColumnSpec<FrameStateRow>>(frame_columns));
   }
   Table& w_t =
       p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window");
-  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real},
-           {"theta_lo", "deg", ColumnKind::real},
-           {"theta_hi", "deg", ColumnKind::real},
-           {"r", "D", ColumnKind::real},
-           {"runs", "", ColumnKind::integer},
-           {"frames", "", ColumnKind::integer},
-           {"n", "", ColumnKind::integer},
-           {"nu_bar", "", ColumnKind::real},
-           {"se", "", ColumnKind::real},
-           {"se_over", "", ColumnKind::text},
-           {"nu_pile", "", ColumnKind::real},
-           {"nu_pile_se", "", ColumnKind::real}})
-    w_t.add_column(n, u, k);
+  declare_columns(w_t, std::span<const ColumnSpec<WindowRow>>(window_columns));
 
   // Group the states rows.
   struct Groups {
@@ -157,17 +181,9 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       s.sum2 = sum2.get(q).value_or(0.0);
       if (s.n < 0)
         throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
-      if (fr_t) {
-        const Summary sm = s.summary();
-        fr_t->column("run").add_int(f.run);
-        fr_t->column("frame").add_int(f.frame);
-        fr_t->column("theta").add(f.theta);
-        fr_t->column("r").add(*rr);
-        fr_t->column("n").add_int(s.n);
-        fr_t->column("nu_bar").add(sm.mean);
-        fr_t->column("se").add(sm.se);
-        fr_t->column("nu_pile").add(f.nu);
-      }
+      if (fr_t)
+        add_row(*fr_t, std::span<const ColumnSpec<FrameStateRow>>(frame_columns),
+                FrameStateRow{f, *rr, s});
       if (!f.window) continue;
       Groups& c = cells[{*f.window, *rr}];
       c.by_run[f.run].add(s);
@@ -208,24 +224,14 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       pile = summarize(nus);
     }
     const bool has_theta = !thetas.empty();
-    w_t.column("theta").add(has_theta ? summarize(thetas).mean : std::nullopt);
-    w_t.column("theta_lo")
-        .add(has_theta
-                 ? std::optional<double>(opt.window_start + static_cast<double>(win) * opt.window)
-                 : std::nullopt);
-    w_t.column("theta_hi")
-        .add(has_theta ? std::optional<double>(opt.window_start +
-                                               static_cast<double>(win + 1) * opt.window)
-                       : std::nullopt);
-    w_t.column("r").add(r);
-    w_t.column("runs").add_int(static_cast<std::int64_t>(c.by_run.size()));
-    w_t.column("frames").add_int(static_cast<std::int64_t>(c.by_frame.size()));
-    w_t.column("n").add_int(pm.n);
-    w_t.column("nu_bar").add(pm.mean);
-    w_t.column("se").add(pm.se);
-    w_t.column("se_over").add_text(pm.se ? se_over_name(pm.over) : "none");
-    w_t.column("nu_pile").add(pile.mean);
-    w_t.column("nu_pile_se").add(pile.se);
+    const double lo = opt.window_start + static_cast<double>(win) * opt.window,
+                 hi = opt.window_start + static_cast<double>(win + 1) * opt.window;
+    add_row(w_t, std::span<const ColumnSpec<WindowRow>>(window_columns),
+            WindowRow{has_theta ? summarize(thetas).mean : std::nullopt,
+                      has_theta ? std::optional<double>(lo) : std::nullopt,
+                      has_theta ? std::optional<double>(hi) : std::nullopt, r,
+                      static_cast<std::int64_t>(c.by_run.size()),
+                      static_cast<std::int64_t>(c.by_frame.size()), pm, pile});
   }
   std::set<std::int64_t> windows;
   for (const auto& [k, c] : cells) windows.insert(k.first);

@@ -22,6 +22,134 @@ std::string radius_name(double r) {
   auto [p, ec] = std::to_chars(buf, buf + sizeof buf, r);
   return "nu_r" + (ec == std::errc() ? std::string(buf, p) : std::to_string(r));
 }
+
+// Each table is one list of columns (ColumnSpec, table.hpp); a row type holds what its
+// getters read.
+using K = ColumnKind;
+
+// --- frames: one row per frame, the state of the pile
+struct FrameRow {
+  std::int64_t run, frame, step;
+  std::optional<double> theta;
+  double diameter;
+  std::int64_t n, nc;
+  bool loading;
+};
+const ColumnSpec<FrameRow> frame_columns[] = {
+    {"run", "", K::integer, [](const FrameRow& x) -> Cell { return x.run; }},
+    {"frame", "", K::integer, [](const FrameRow& x) -> Cell { return x.frame; }},
+    {"step", "", K::integer, [](const FrameRow& x) -> Cell { return x.step; }},
+    {"theta", "deg", K::real, [](const FrameRow& x) -> Cell { return x.theta; }},
+    {"diameter", "m", K::real, [](const FrameRow& x) -> Cell { return x.diameter; }},
+    {"N", "", K::integer, [](const FrameRow& x) -> Cell { return x.n; }},
+    {"Nc", "", K::integer, [](const FrameRow& x) -> Cell { return x.nc; }},
+    {"nu", "", K::real,
+     [](const FrameRow& x) -> Cell {
+       return x.n > 0 ? std::optional<double>(static_cast<double>(x.nc) / static_cast<double>(x.n))
+                      : std::nullopt;
+     }},
+    {"loading", "", K::integer, [](const FrameRow& x) -> Cell { return std::int64_t{x.loading}; }},
+};
+
+// --- states: one row per frame and radius, the sums of eq (3) over critical contacts
+struct StateRow {
+  std::int64_t run, frame;
+  std::optional<double> theta;
+  double r;  // [D]
+  Sums sums;
+};
+const ColumnSpec<StateRow> state_columns[] = {
+    {"run", "", K::integer, [](const StateRow& x) -> Cell { return x.run; }},
+    {"frame", "", K::integer, [](const StateRow& x) -> Cell { return x.frame; }},
+    {"theta", "deg", K::real, [](const StateRow& x) -> Cell { return x.theta; }},
+    {"r", "D", K::real, [](const StateRow& x) -> Cell { return x.r; }},
+    {"n", "", K::integer, [](const StateRow& x) -> Cell { return x.sums.n; }},
+    {"sum", "", K::real, [](const StateRow& x) -> Cell { return x.sums.sum; }},
+    {"sum2", "", K::real, [](const StateRow& x) -> Cell { return x.sums.sum2; }},
+    {"nu_bar", "", K::real, [](const StateRow& x) -> Cell { return x.sums.summary().mean; }},
+    {"se", "", K::real, [](const StateRow& x) -> Cell { return x.sums.summary().se; }},
+};
+
+// --- map: the nu field on a grid over the pile (Fig 5)
+struct MapRow {
+  const Field& f;
+  std::size_t a, b;
+  double diameter, nu_c;
+  double x() const { return f.x0 + static_cast<double>(a) * f.dx; }
+  double y() const { return f.y0 + static_cast<double>(b) * f.dx; }
+};
+const ColumnSpec<MapRow> map_columns[] = {
+    {"ix", "", K::integer, [](const MapRow& m) -> Cell { return static_cast<std::int64_t>(m.a); }},
+    {"iy", "", K::integer, [](const MapRow& m) -> Cell { return static_cast<std::int64_t>(m.b); }},
+    {"x", "m", K::real, [](const MapRow& m) -> Cell { return m.x(); }},
+    {"y", "m", K::real, [](const MapRow& m) -> Cell { return m.y(); }},
+    {"x_D", "D", K::real, [](const MapRow& m) -> Cell { return m.x() / m.diameter; }},
+    {"y_D", "D", K::real, [](const MapRow& m) -> Cell { return m.y() / m.diameter; }},
+    {"contacts", "", K::integer,
+     [](const MapRow& m) -> Cell { return std::int64_t{m.f.total[m.b * m.f.nx + m.a]}; }},
+    {"critical", "", K::integer,
+     [](const MapRow& m) -> Cell { return std::int64_t{m.f.critical[m.b * m.f.nx + m.a]}; }},
+    {"nu", "", K::real, [](const MapRow& m) -> Cell { return m.f.nu(m.a, m.b); }},
+    {"above", "", K::integer,
+     [](const MapRow& m) -> Cell {
+       const auto v = m.f.nu(m.a, m.b);
+       return v ? std::optional<double>(*v >= m.nu_c ? 1.0 : 0.0) : std::nullopt;
+     }},
+};
+
+// --- contacts: every contact of the mapped frame; then a column nu_r<r> per radius
+struct ContactRow {
+  const ContactSet& set;
+  std::size_t c;
+};
+const ColumnSpec<ContactRow> contact_columns[] = {
+    {"x", "m", K::real, [](const ContactRow& k) -> Cell { return k.set.point[k.c].x(); }},
+    {"y", "m", K::real, [](const ContactRow& k) -> Cell { return k.set.point[k.c].y(); }},
+    {"i", "", K::integer, [](const ContactRow& k) -> Cell { return std::int64_t{k.set.i[k.c]}; }},
+    {"j", "", K::integer, [](const ContactRow& k) -> Cell { return std::int64_t{k.set.j[k.c]}; }},
+    {"critical", "", K::integer,
+     [](const ContactRow& k) -> Cell { return std::int64_t{k.set.critical[k.c]}; }},
+    // NA, not 0, when the input says nothing about the solver's status
+    {"sliding", "", K::integer,
+     [](const ContactRow& k) -> Cell {
+       return k.set.has_status ? std::optional<double>(k.set.sliding[k.c]) : std::nullopt;
+     }},
+    {"mobilisation", "", K::real,
+     [](const ContactRow& k) -> Cell { return k.set.mobilisation[k.c]; }},
+};
+
+// --- pdf: P_c and P_nc of nu_i at the pdf radius (Fig 3)
+struct PdfRow {
+  const Histogram &pc, &pnc;
+  std::size_t b;
+};
+const ColumnSpec<PdfRow> pdf_columns[] = {
+    {"nu", "", K::real, [](const PdfRow& x) -> Cell { return x.pc.centre(x.b); }},
+    {"nu_lo", "", K::real,
+     [](const PdfRow& x) -> Cell { return x.pc.lo + static_cast<double>(x.b) * x.pc.width(); }},
+    {"nu_hi", "", K::real,
+     [](const PdfRow& x) -> Cell { return x.pc.lo + static_cast<double>(x.b + 1) * x.pc.width(); }},
+    {"count_c", "", K::integer, [](const PdfRow& x) -> Cell { return x.pc.count[x.b]; }},
+    {"count_nc", "", K::integer, [](const PdfRow& x) -> Cell { return x.pnc.count[x.b]; }},
+    // an empty pdf is missing, not zero
+    {"P_c", "", K::real,
+     [](const PdfRow& x) -> Cell {
+       return x.pc.total() ? std::optional<double>(x.pc.density(x.b)) : std::nullopt;
+     }},
+    {"P_nc", "", K::real,
+     [](const PdfRow& x) -> Cell {
+       return x.pnc.total() ? std::optional<double>(x.pnc.density(x.b)) : std::nullopt;
+     }},
+};
+
+template <class Row, std::size_t N>
+void declare(Table& t, const ColumnSpec<Row> (&spec)[N]) {
+  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
+}
+template <class Row, std::size_t N>
+void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
+  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
+}
 }  // namespace
 
 LocalNuOptions default_localnu_options() {
@@ -51,31 +179,11 @@ LocalNuStudy::LocalNuStudy(LocalNuOptions opt) : opt_(std::move(opt)) {
 
   frames_t_.name = "frames";
   frames_t_.title = "one row per frame: the state of the pile";
-  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"run", "", ColumnKind::integer},
-           {"frame", "", ColumnKind::integer},
-           {"step", "", ColumnKind::integer},
-           {"theta", "deg", ColumnKind::real},
-           {"diameter", "m", ColumnKind::real},
-           {"N", "", ColumnKind::integer},
-           {"Nc", "", ColumnKind::integer},
-           {"nu", "", ColumnKind::real},
-           {"loading", "", ColumnKind::integer}})
-    frames_t_.add_column(n, u, k);
+  declare(frames_t_, frame_columns);
   states_t_.name = "states";
   states_t_.title =
       "one row per frame and radius: sums of nu_i(r) over the frame's critical contacts";
-  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"run", "", ColumnKind::integer},
-           {"frame", "", ColumnKind::integer},
-           {"theta", "deg", ColumnKind::real},
-           {"r", "D", ColumnKind::real},
-           {"n", "", ColumnKind::integer},
-           {"sum", "", ColumnKind::real},
-           {"sum2", "", ColumnKind::real},
-           {"nu_bar", "", ColumnKind::real},
-           {"se", "", ColumnKind::real}})
-    states_t_.add_column(n, u, k);
+  declare(states_t_, state_columns);
 }
 
 void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std::int64_t frame,
@@ -97,32 +205,11 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
 
   const std::int64_t nc = static_cast<std::int64_t>(set.critical_count());
   const std::int64_t n = static_cast<std::int64_t>(set.size());
-  frames_t_.column("run").add_int(run);
-  frames_t_.column("frame").add_int(frame);
-  frames_t_.column("step").add_int(step);
-  frames_t_.column("theta").add(theta);
-  frames_t_.column("diameter").add(diameter);
-  frames_t_.column("N").add_int(n);
-  frames_t_.column("Nc").add_int(nc);
-  frames_t_.column("nu").add(
-      n > 0 ? std::optional<double>(static_cast<double>(nc) / static_cast<double>(n))
-            : std::nullopt);
-  frames_t_.column("loading").add_int(loading);
+  add(frames_t_, frame_columns, FrameRow{run, frame, step, theta, diameter, n, nc, loading});
 
   const std::vector<Sums> sums = state_sums(s, set.critical, 1);  // eq (3) numerators
-  for (std::size_t q = 0; q < opt_.radii.size(); ++q) {
-    const Sums& x = sums[out_k_[q]];
-    const Summary sm = x.summary();
-    states_t_.column("run").add_int(run);
-    states_t_.column("frame").add_int(frame);
-    states_t_.column("theta").add(theta);
-    states_t_.column("r").add(opt_.radii[q]);
-    states_t_.column("n").add_int(x.n);
-    states_t_.column("sum").add(x.sum);
-    states_t_.column("sum2").add(x.sum2);
-    states_t_.column("nu_bar").add(sm.mean);
-    states_t_.column("se").add(sm.se);
-  }
+  for (std::size_t q = 0; q < opt_.radii.size(); ++q)
+    add(states_t_, state_columns, StateRow{run, frame, theta, opt_.radii[q], sums[out_k_[q]]});
 
   const bool in_pdf = opt_.pdf_theta ? (theta && opt_.pdf_theta->contains(*theta)) : loading;
   if (in_pdf) {
@@ -158,35 +245,10 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
     map_t_.name = "map";
     map_t_.title =
         "the nu field on a grid over the pile at one frame (Fig 5); row-major, x fastest";
-    for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-             {"ix", "", ColumnKind::integer},
-             {"iy", "", ColumnKind::integer},
-             {"x", "m", ColumnKind::real},
-             {"y", "m", ColumnKind::real},
-             {"x_D", "D", ColumnKind::real},
-             {"y_D", "D", ColumnKind::real},
-             {"contacts", "", ColumnKind::integer},
-             {"critical", "", ColumnKind::integer},
-             {"nu", "", ColumnKind::real},
-             {"above", "", ColumnKind::integer}})
-      map_t_.add_column(nm, u, k);
+    declare(map_t_, map_columns);
     for (std::size_t b = 0; b < f.ny; ++b)
-      for (std::size_t a = 0; a < f.nx; ++a) {
-        const double x = f.x0 + static_cast<double>(a) * f.dx,
-                     y = f.y0 + static_cast<double>(b) * f.dx;
-        const auto v = f.nu(a, b);
-        map_t_.column("ix").add_int(static_cast<std::int64_t>(a));
-        map_t_.column("iy").add_int(static_cast<std::int64_t>(b));
-        map_t_.column("x").add(x);
-        map_t_.column("y").add(y);
-        map_t_.column("x_D").add(x / diameter);
-        map_t_.column("y_D").add(y / diameter);
-        map_t_.column("contacts").add_int(f.total[b * f.nx + a]);
-        map_t_.column("critical").add_int(f.critical[b * f.nx + a]);
-        map_t_.column("nu").add(v);
-        map_t_.column("above").add(v ? std::optional<double>(*v >= opt_.nu_c ? 1.0 : 0.0)
-                                     : std::nullopt);
-      }
+      for (std::size_t a = 0; a < f.nx; ++a)
+        add(map_t_, map_columns, MapRow{f, a, b, diameter, opt_.nu_c});
     map_info_["map_nx"] = static_cast<std::int64_t>(f.nx);
     map_info_["map_ny"] = static_cast<std::int64_t>(f.ny);
     map_info_["map_x0_m"] = f.x0;
@@ -196,66 +258,49 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
     if (opt_.per_contact) {
       contacts_t_.name = "contacts";
       contacts_t_.title = "nu_i(r) of every contact of the mapped frame";
-      for (auto [nm, u, k] :
-           std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-               {"x", "m", ColumnKind::real},
-               {"y", "m", ColumnKind::real},
-               {"i", "", ColumnKind::integer},
-               {"j", "", ColumnKind::integer},
-               {"critical", "", ColumnKind::integer},
-               {"sliding", "", ColumnKind::integer},
-               {"mobilisation", "", ColumnKind::real}})
-        contacts_t_.add_column(nm, u, k);
+      declare(contacts_t_, contact_columns);
+      constexpr std::size_t first_radius = std::size(contact_columns);
       for (double r : opt_.radii) contacts_t_.add_column(radius_name(r), "", ColumnKind::real);
       for (std::size_t c = 0; c < set.size(); ++c) {
-        contacts_t_.column("x").add(set.point[c].x());
-        contacts_t_.column("y").add(set.point[c].y());
-        contacts_t_.column("i").add_int(set.i[c]);
-        contacts_t_.column("j").add_int(set.j[c]);
-        contacts_t_.column("critical").add_int(set.critical[c]);
-        // NA, not 0, when the input says nothing about the solver's status
-        contacts_t_.column("sliding").add(set.has_status ? std::optional<double>(set.sliding[c])
-                                                         : std::nullopt);
-        contacts_t_.column("mobilisation").add(set.mobilisation[c]);
+        add(contacts_t_, contact_columns, ContactRow{set, c});
         for (std::size_t q = 0; q < opt_.radii.size(); ++q)
-          contacts_t_.columns[7 + q].add(s.nu(c, out_k_[q]));
+          contacts_t_.columns[first_radius + q].add(s.nu(c, out_k_[q]));
       }
     }
   }
 }
 
-namespace {
-// Appends the rows of `from` to `to` column by column (the same columns, by name, but
-// those of `derived`, left to the caller), with column `run` set to `run`.
-void append_rows(Table& to, const Table& from, std::int64_t run, const std::string& source,
-                 const std::vector<std::string>& derived = {}) {
-  const std::size_t n = from.rows();
-  for (Column& c : to.columns) {
-    if (std::find(derived.begin(), derived.end(), c.name) != derived.end()) continue;
-    const Column* f = from.find(c.name);
-    if (!f || f->kind != c.kind)
-      throw Error(source, "/tables/" + from.name, "no " + std::string(c.name) + " column of its kind");
-    if (c.name == "run")
-      c.num.insert(c.num.end(), n, static_cast<double>(run));
-    else if (c.kind == ColumnKind::text)
-      c.text.insert(c.text.end(), f->text.begin(), f->text.end());
-    else
-      c.num.insert(c.num.end(), f->num.begin(), f->num.end());
-  }
-}
-}  // namespace
 
 void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
+  // A summary's rows as add_frame writes them, nu, nu_bar and se from the counts and sums
+  // a summary keeps.
   const Table& frames = s.table("localnu_frames");
-  append_rows(frames_t_, frames, run, s.source);
-  // nu_bar and se from the sums, as add_frame computes them (a summary keeps the sums)
+  auto number = [&](const Table& t, const char* name) -> const Column& {
+    const Column* c = t.find(name);
+    if (!c || c->kind == ColumnKind::text)
+      throw Error(s.source, "/tables/" + t.name, "no " + std::string(name) + " column of its kind");
+    return *c;
+  };
+  auto integer = [](const Column& c, std::size_t k) { return static_cast<std::int64_t>(c.num[k]); };
+  {
+    const Column &frame = number(frames, "frame"), &step = number(frames, "step"),
+                 &theta = number(frames, "theta"), &diameter = number(frames, "diameter"),
+                 &n = number(frames, "N"), &nc = number(frames, "Nc"),
+                 &loading = number(frames, "loading");
+    for (std::size_t k = 0; k < frames.rows(); ++k)
+      add(frames_t_, frame_columns,
+          FrameRow{run, integer(frame, k), integer(step, k), theta.get(k), diameter.num[k],
+                   integer(n, k), integer(nc, k), loading.num[k] != 0.0});
+  }
   const Table& states = s.table("localnu_states");
-  append_rows(states_t_, states, run, s.source, {"nu_bar", "se"});
-  const Column &n = states.column("n"), &sum = states.column("sum"), &sum2 = states.column("sum2");
-  for (std::size_t k = 0; k < states.rows(); ++k) {
-    const Summary sm = Sums{static_cast<std::int64_t>(n.num[k]), sum.num[k], sum2.num[k]}.summary();
-    states_t_.column("nu_bar").add(sm.mean);
-    states_t_.column("se").add(sm.se);
+  {
+    const Column &frame = number(states, "frame"), &theta = number(states, "theta"),
+                 &r = number(states, "r"), &n = number(states, "n"), &sum = number(states, "sum"),
+                 &sum2 = number(states, "sum2");
+    for (std::size_t k = 0; k < states.rows(); ++k)
+      add(states_t_, state_columns,
+          StateRow{run, integer(frame, k), theta.get(k), r.num[k],
+                   Sums{integer(n, k), sum.num[k], sum2.num[k]}});
   }
   frames_ += frames.rows();
   const Table& pdf = s.table("localnu_pdf");
@@ -339,25 +384,8 @@ Product LocalNuStudy::product() const {
   p.tables.push_back(states_t_);
   Table& pdf = p.add_table(
       "pdf", "pdfs of nu_i(pdf_radius) over critical (P_c) and non-critical (P_nc) contacts");
-  for (auto [nm, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"nu", "", ColumnKind::real},
-           {"nu_lo", "", ColumnKind::real},
-           {"nu_hi", "", ColumnKind::real},
-           {"count_c", "", ColumnKind::integer},
-           {"count_nc", "", ColumnKind::integer},
-           {"P_c", "", ColumnKind::real},
-           {"P_nc", "", ColumnKind::real}})
-    pdf.add_column(nm, u, k);
-  for (std::size_t b = 0; b < pc_.count.size(); ++b) {
-    pdf.column("nu").add(pc_.centre(b));
-    pdf.column("nu_lo").add(pc_.lo + static_cast<double>(b) * pc_.width());
-    pdf.column("nu_hi").add(pc_.lo + static_cast<double>(b + 1) * pc_.width());
-    pdf.column("count_c").add_int(pc_.count[b]);
-    pdf.column("count_nc").add_int(pnc_.count[b]);
-    // an empty pdf is missing, not zero
-    pdf.column("P_c").add(pc_.total() ? std::optional<double>(pc_.density(b)) : std::nullopt);
-    pdf.column("P_nc").add(pnc_.total() ? std::optional<double>(pnc_.density(b)) : std::nullopt);
-  }
+  declare(pdf, pdf_columns);
+  for (std::size_t b = 0; b < pc_.count.size(); ++b) add(pdf, pdf_columns, PdfRow{pc_, pnc_, b});
   if (mapped_) p.tables.push_back(relabel(map_t_));
   if (mapped_ && opt_.per_contact) p.tables.push_back(relabel(contacts_t_));
   return p;

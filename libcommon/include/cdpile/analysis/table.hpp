@@ -91,7 +91,8 @@ struct ColumnSpec {
 template <class Row>
 void declare_columns(Table& t, std::span<const ColumnSpec<Row>> spec);
 
-/// Appends one row to a table declared by spec: each column's cell from its getter.
+/// Appends one row to a table declared by spec: each column's cell from its getter. Columns
+/// added after spec's (one per radius of a list, say) are the caller's to fill.
 template <class Row>
 void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row);
 
@@ -185,10 +186,13 @@ void declare_columns(Table& t, std::span<const ColumnSpec<Row>> spec) {
 
 template <class Row>
 void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row) {
-  if (t.columns.size() != spec.size())
+  if (t.columns.size() < spec.size())
     throw std::logic_error("table " + t.name + ": a row of another list of columns");
   for (std::size_t i = 0; i < spec.size(); ++i) {
     Column& c = t.columns[i];
+    if (c.name != spec[i].name)
+      throw std::logic_error("table " + t.name + ": column " + c.name + " where the list has " +
+                             spec[i].name);
     Cell v = spec[i].get(row);
     if ((c.kind == ColumnKind::text) != (v.kind == ColumnKind::text))
       throw std::logic_error("table " + t.name + ": column " + c.name + " given a cell of another kind");
