@@ -76,6 +76,276 @@ std::optional<std::pair<double, std::optional<double>>> ensemble_nu(const Table&
   if (se.get(*below) && se.get(*above)) s = (1 - u) * *se.get(*below) + u * *se.get(*above);
   return std::make_pair(v, s);
 }
+
+// One theta window's fit of eq (4), then its r_c (eq 5) and its place in the power law:
+// a row of the table fits.
+struct WindowFit {
+  explicit WindowFit(const Window& window) : w(window) {}
+  const Window& w;
+  std::int64_t points = 0;  // radii in [r_min, L]
+  bool weighted = false;
+  std::optional<double> nu_inf, nu_inf_se;
+  std::optional<ClusterLawFit> f;  // converged fits only
+  std::optional<double> r_c, r_c_se, r_c_fit;
+  bool in_power = false;
+  std::optional<double> fitted(double v) const { return f ? std::optional<double>(v) : std::nullopt; }
+};
+
+using K = ColumnKind;
+const ColumnSpec<WindowFit> fit_columns[] = {
+    {"theta", "deg", K::real, [](const WindowFit& x) -> Cell { return x.w.theta; }},
+    {"theta_lo", "deg", K::real, [](const WindowFit& x) -> Cell { return x.w.lo; }},
+    {"theta_hi", "deg", K::real, [](const WindowFit& x) -> Cell { return x.w.hi; }},
+    {"points", "", K::integer, [](const WindowFit& x) -> Cell { return x.points; }},
+    {"weighted", "", K::integer, [](const WindowFit& x) -> Cell { return std::int64_t{x.weighted}; }},
+    {"nu_inf", "", K::real, [](const WindowFit& x) -> Cell { return x.nu_inf; }},
+    {"nu_inf_se", "", K::real, [](const WindowFit& x) -> Cell { return x.nu_inf_se; }},
+    {"A", "", K::real,
+     [](const WindowFit& x) -> Cell { return x.f ? x.fitted(x.f->a()) : std::nullopt; }},
+    {"A_se", "", K::real,
+     [](const WindowFit& x) -> Cell { return x.f ? x.f->fit.se(0) : std::nullopt; }},
+    {"alpha", "", K::real,
+     [](const WindowFit& x) -> Cell { return x.f ? x.fitted(x.f->alpha()) : std::nullopt; }},
+    {"alpha_se", "", K::real,
+     [](const WindowFit& x) -> Cell { return x.f ? x.f->fit.se(1) : std::nullopt; }},
+    {"chi2", "", K::real,
+     [](const WindowFit& x) -> Cell { return x.f ? x.fitted(x.f->fit.chi2) : std::nullopt; }},
+    {"dof", "", K::integer,
+     [](const WindowFit& x) -> Cell {
+       return x.f ? x.fitted(static_cast<double>(x.f->fit.dof)) : std::nullopt;
+     }},
+    {"converged", "", K::integer,
+     [](const WindowFit& x) -> Cell { return std::int64_t{x.f.has_value()}; }},
+    {"r_c", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c; }},
+    {"r_c_se", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c_se; }},
+    {"r_c_fit", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c_fit; }},
+    {"in_power", "", K::integer, [](const WindowFit& x) -> Cell { return std::int64_t{x.in_power}; }},
+};
+
+// nu_bar(r) of a window beside the fitted eq (4): a row of the table model
+struct ModelRow {
+  const WindowFit& fit;
+  std::size_t k;   // the window's radius
+  double r_min, L;  // the fitted range [D]
+  double r() const { return fit.w.r[k]; }
+};
+const ColumnSpec<ModelRow> model_columns[] = {
+    {"theta", "deg", K::real, [](const ModelRow& m) -> Cell { return m.fit.w.theta; }},
+    {"r", "D", K::real, [](const ModelRow& m) -> Cell { return m.r(); }},
+    {"nu_bar", "", K::real, [](const ModelRow& m) -> Cell { return m.fit.w.nu[m.k]; }},
+    {"se", "", K::real, [](const ModelRow& m) -> Cell { return m.fit.w.se[m.k]; }},
+    // eq (4), and nu_inf beyond L
+    {"model", "", K::real,
+     [](const ModelRow& m) -> Cell {
+       if (!m.fit.f) return std::optional<double>();
+       const double nu_inf = *m.fit.nu_inf;
+       return m.r() <= m.L ? nu_inf * (1.0 + m.fit.f->a() * std::pow(m.r(), m.fit.f->alpha()))
+                           : nu_inf;
+     }},
+    {"in_fit", "", K::integer,
+     [](const ModelRow& m) -> Cell { return std::int64_t{m.r() >= m.r_min && m.r() <= m.L}; }},
+};
+
+// an affine fit of A or alpha in theta: a row of the table affine
+struct AffineRow {
+  const char* param;
+  const FitResult& r;
+};
+const ColumnSpec<AffineRow> affine_columns[] = {
+    {"param", "", K::text, [](const AffineRow& a) -> Cell { return std::string(a.param); }},
+    {"c0", "", K::real, [](const AffineRow& a) -> Cell { return a.r.p[0]; }},
+    {"c0_se", "", K::real, [](const AffineRow& a) -> Cell { return a.r.se(0); }},
+    {"c1", "deg-1", K::real, [](const AffineRow& a) -> Cell { return a.r.p[1]; }},
+    {"c1_se", "deg-1", K::real, [](const AffineRow& a) -> Cell { return a.r.se(1); }},
+    {"chi2", "", K::real, [](const AffineRow& a) -> Cell { return a.r.chi2; }},
+    {"dof", "", K::integer, [](const AffineRow& a) -> Cell { return std::int64_t{a.r.dof}; }},
+    {"points", "", K::integer, [](const AffineRow& a) -> Cell { return std::int64_t{a.r.points}; }},
+};
+
+template <class Row, std::size_t N>
+Table& declared(Table& t, const ColumnSpec<Row> (&spec)[N]) {
+  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
+  return t;
+}
+template <class Row, std::size_t N>
+void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
+  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
+}
+
+// Stage 1: eq (4) in each window, with nu_inf from its source (the fit's own for
+// NuInfSource::fit); only converged fits are kept.
+std::vector<WindowFit> fit_windows(const std::map<std::pair<double, double>, Window>& windows,
+                                   const Table* ens, NuInfSource src,
+                                   const ClusterFitOptions& opt) {
+  std::vector<WindowFit> out;
+  for (const auto& [key, w] : windows) {
+    WindowFit wf(w);
+    std::vector<double> r, y, s;
+    bool all_se = true;
+    for (std::size_t k = 0; k < w.r.size(); ++k) {
+      if (w.r[k] < opt.r_min || w.r[k] > opt.r_max) continue;
+      r.push_back(w.r[k]);
+      y.push_back(w.nu[k]);
+      s.push_back(w.se[k]);
+      all_se = all_se && std::isfinite(w.se[k]) && w.se[k] > 0;
+    }
+    wf.points = static_cast<std::int64_t>(r.size());
+    wf.weighted = all_se && !r.empty();
+    if (src == NuInfSource::ensemble) {
+      if (auto e = ensemble_nu(*ens, w)) {
+        wf.nu_inf = e->first;
+        wf.nu_inf_se = e->second;
+      }
+    } else if (src == NuInfSource::pile) {
+      wf.nu_inf = w.nu_pile;
+      wf.nu_inf_se = w.nu_pile_se;
+    }
+    const bool in_range = !w.theta || opt.theta.contains(*w.theta);
+    if (in_range && static_cast<int>(r.size()) >= opt.min_points &&
+        (src == NuInfSource::fit || (wf.nu_inf && *wf.nu_inf > 0))) {
+      try {
+        wf.f = fit_cluster_law(r, y, all_se ? std::span<const double>(s) : std::span<const double>(),
+                               src == NuInfSource::fit ? std::nullopt : wf.nu_inf);
+      } catch (const Error&) {
+        wf.f.reset();
+      }
+    }
+    if (wf.f && !wf.f->fit.converged) wf.f.reset();
+    if (wf.f && src == NuInfSource::fit) {
+      wf.nu_inf = wf.f->nu_inf_fitted();
+      wf.nu_inf_se = wf.f->fit.se(2);
+    }
+    out.push_back(std::move(wf));
+  }
+  return out;
+}
+
+// Stage 2: the affine fits of A(theta) and alpha(theta) over the fitted windows with a
+// theta (in opt.affine when given); none with fewer than 2 windows.
+struct AffineFits {
+  std::optional<FitResult> a, alpha;
+};
+AffineFits fit_affine_laws(const std::vector<WindowFit>& fits, const ClusterFitOptions& opt) {
+  std::vector<double> th, a, as, al, als;
+  bool a_w = true, al_w = true;
+  for (const WindowFit& f : fits) {
+    if (!f.f || !f.w.theta || !std::isfinite(*f.w.theta)) continue;
+    const double theta = *f.w.theta;
+    if (opt.affine && !opt.affine->contains(theta)) continue;
+    const std::optional<double> a_se = f.f->fit.se(0), alpha_se = f.f->fit.se(1);
+    th.push_back(theta);
+    a.push_back(f.f->a());
+    al.push_back(f.f->alpha());
+    as.push_back(a_se.value_or(0.0));
+    als.push_back(alpha_se.value_or(0.0));
+    a_w = a_w && a_se && *a_se > 0;
+    al_w = al_w && alpha_se && *alpha_se > 0;
+  }
+  auto affine = [&](const std::vector<double>& v, const std::vector<double>& sv,
+                    bool weighted) -> std::optional<FitResult> {
+    if (th.size() < 2) return std::nullopt;
+    try {
+      return fit_affine(th, v, weighted ? std::span<const double>(sv) : std::span<const double>());
+    } catch (const Error&) {
+      return std::nullopt;
+    }
+  };
+  return {affine(a, as, a_w), affine(al, als, al_w)};
+}
+
+// Stage 3: r_c of each fitted window (eq 5), from its own A and alpha or from the affine
+// laws at its theta.
+void cluster_sizes(std::vector<WindowFit>& fits, double nu_c, double nu_c_se,
+                   const AffineFits& laws, const ClusterFitOptions& opt) {
+  for (WindowFit& f : fits) {
+    if (!f.f) continue;
+    const double theta = f.w.theta.value_or(nan);
+    const double nu_inf_se = f.nu_inf_se.value_or(0.0);
+    std::optional<ClusterSize> cs;
+    if (opt.rc_from == RcFrom::window) {
+      Eigen::Matrix2d cov;
+      const bool has_cov = f.f->fit.cov.rows() >= 2;
+      if (has_cov) cov = f.f->fit.cov.topLeftCorner<2, 2>();
+      cs = cluster_size(nu_c, *f.nu_inf, f.f->a(), f.f->alpha(), has_cov ? &cov : nullptr,
+                        nu_c_se, nu_inf_se);
+    } else if (laws.a && laws.alpha && std::isfinite(theta)) {
+      const double a = laws.a->p[0] + laws.a->p[1] * theta;
+      const double al = laws.alpha->p[0] + laws.alpha->p[1] * theta;
+      Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
+      const Eigen::Vector2d g(1.0, theta);
+      if (laws.a->cov.rows() == 2) c(0, 0) = g.dot(laws.a->cov * g);
+      if (laws.alpha->cov.rows() == 2) c(1, 1) = g.dot(laws.alpha->cov * g);
+      cs = cluster_size(nu_c, *f.nu_inf, a, al, &c, nu_c_se, nu_inf_se);
+    }
+    if (!cs) continue;
+    f.r_c = cs->r_c;
+    f.r_c_se = cs->se;
+  }
+}
+
+// Stage 4: r_c ~ (theta_c - theta)^-beta over the windows with r_c in the power range
+// (Fig 6): its results and notes in p, r_c_fit and in_power in the windows.
+void fit_power_law(Product& p, std::vector<WindowFit>& fits, bool have_nu_c,
+                   const ClusterFitOptions& opt) {
+  std::vector<double> pth, prc, pse;
+  std::vector<WindowFit*> in;
+  bool p_w = true;
+  for (WindowFit& f : fits) {
+    const double theta = f.w.theta.value_or(nan);
+    if (!f.r_c || !std::isfinite(theta) || !opt.power.contains(theta)) continue;
+    pth.push_back(theta);
+    prc.push_back(*f.r_c);
+    pse.push_back(f.r_c_se.value_or(0.0));
+    p_w = p_w && f.r_c_se && *f.r_c_se > 0;
+    in.push_back(&f);
+  }
+  const std::size_t need = opt.theta_c ? 3 : 4;
+  if (pth.size() < need) {
+    if (have_nu_c)
+      p.omit("power-law fit not done: " + std::to_string(pth.size()) +
+             " windows with r_c in the power range, need " + std::to_string(need));
+    return;
+  }
+  try {
+    DivergenceFit d = fit_divergence(
+        pth, prc, p_w ? std::span<const double>(pse) : std::span<const double>(), opt.theta_c);
+    // A fitted theta_c that runs onto the last angle of the range is a boundary solution,
+    // not a divergence: r_c does not grow toward any theta_c in the data, and the fit
+    // sends (theta_c - theta_max) to zero, with a meaningless beta and a vanishing error.
+    const double theta_max = *std::max_element(pth.begin(), pth.end());
+    const double theta_min = *std::min_element(pth.begin(), pth.end());
+    const bool degenerate = d.fit.converged && d.theta_c_fitted &&
+                            d.theta_c - theta_max <= 1e-6 * (theta_max - theta_min);
+    if (degenerate) {
+      p.results["power_degenerate"] = std::int64_t{1};
+      p.omit(
+          "power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
+          "power range (r_c does not grow toward a theta_c in these windows); no beta. "
+          "Give " +
+          field("theta_c") + ", or more runs or a wider " + field("power_from") + " range");
+    } else if (d.fit.converged) {
+      p.results["beta"] = d.beta;
+      if (d.se_beta) p.results["beta_se"] = *d.se_beta;
+      p.results["theta_c_deg"] = d.theta_c;
+      if (d.se_theta_c) p.results["theta_c_se_deg"] = *d.se_theta_c;
+      p.results["theta_c_fitted"] = std::int64_t{d.theta_c_fitted};
+      p.results["log_c"] = d.log_c;
+      if (d.se_log_c) p.results["log_c_se"] = *d.se_log_c;
+      p.results["power_points"] = static_cast<std::int64_t>(pth.size());
+      p.results["power_chi2"] = d.fit.chi2;
+      p.results["power_dof"] = static_cast<std::int64_t>(d.fit.dof);
+      p.results["power_weighted"] = std::int64_t{p_w};
+      for (std::size_t k = 0; k < in.size(); ++k) {
+        in[k]->in_power = true;
+        in[k]->r_c_fit = std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
+      }
+    } else {
+      p.omit("power-law fit did not converge: " + d.fit.status);
+    }
+  } catch (const Error& e) {
+    p.omit(std::string("power-law fit failed: ") + e.what());
+  }
+}
 }  // namespace
 
 Product clusterfit(const Product& cor, const Product* critical, const ClusterFitOptions& opt) {
@@ -157,268 +427,37 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
       "se(r_c)/r_c; theta_c fitted (as theta_max + exp(u)) unless given; se from the covariance "
       "(delta method for theta_c)"};
 
-  Table& fits = p.add_table("fits", "eq (4) fitted in each theta window, and r_c (eq 5)");
-  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real},
-           {"theta_lo", "deg", ColumnKind::real},
-           {"theta_hi", "deg", ColumnKind::real},
-           {"points", "", ColumnKind::integer},
-           {"weighted", "", ColumnKind::integer},
-           {"nu_inf", "", ColumnKind::real},
-           {"nu_inf_se", "", ColumnKind::real},
-           {"A", "", ColumnKind::real},
-           {"A_se", "", ColumnKind::real},
-           {"alpha", "", ColumnKind::real},
-           {"alpha_se", "", ColumnKind::real},
-           {"chi2", "", ColumnKind::real},
-           {"dof", "", ColumnKind::integer},
-           {"converged", "", ColumnKind::integer},
-           {"r_c", "D", ColumnKind::real},
-           {"r_c_se", "D", ColumnKind::real},
-           {"r_c_fit", "D", ColumnKind::real},
-           {"in_power", "", ColumnKind::integer}})
-    fits.add_column(n, u, k);
-  Table& model = p.add_table("model", "nu_bar(r) of each window with the fitted eq (4)");
-  for (auto [n, u, k] : std::initializer_list<std::tuple<const char*, const char*, ColumnKind>>{
-           {"theta", "deg", ColumnKind::real},
-           {"r", "D", ColumnKind::real},
-           {"nu_bar", "", ColumnKind::real},
-           {"se", "", ColumnKind::real},
-           {"model", "", ColumnKind::real},
-           {"in_fit", "", ColumnKind::integer}})
-    model.add_column(n, u, k);
+  Table& fits_t = declared(p.add_table("fits", "eq (4) fitted in each theta window, and r_c (eq 5)"),
+                           fit_columns);
+  Table& model_t =
+      declared(p.add_table("model", "nu_bar(r) of each window with the fitted eq (4)"), model_columns);
+  Table& affine_t = declared(
+      p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta"),
+      affine_columns);
 
-  struct Fitted {
-    double theta, a, alpha, nu_inf;
-    std::optional<double> a_se, alpha_se, nu_inf_se;
-    Eigen::Matrix2d cov;
-    bool has_cov = false;
-    std::size_t row;
-  };
-  std::vector<Fitted> fitted;
-  std::int64_t skipped = 0;
-
-  for (const auto& [key, w] : windows) {
-    const std::size_t row = fits.column("theta").num.size();
-    std::vector<double> r, y, s;
-    bool all_se = true;
-    for (std::size_t k = 0; k < w.r.size(); ++k) {
-      if (w.r[k] < opt.r_min || w.r[k] > opt.r_max) continue;
-      r.push_back(w.r[k]);
-      y.push_back(w.nu[k]);
-      s.push_back(w.se[k]);
-      all_se = all_se && std::isfinite(w.se[k]) && w.se[k] > 0;
-    }
-    std::optional<double> nu_inf, nu_inf_se;
-    if (src == NuInfSource::ensemble) {
-      if (auto e = ensemble_nu(*ens, w)) {
-        nu_inf = e->first;
-        nu_inf_se = e->second;
-      }
-    } else if (src == NuInfSource::pile) {
-      nu_inf = w.nu_pile;
-      nu_inf_se = w.nu_pile_se;
-    }
-    const bool in_range = !w.theta || opt.theta.contains(*w.theta);
-    std::optional<ClusterLawFit> f;
-    if (in_range && static_cast<int>(r.size()) >= opt.min_points &&
-        (src == NuInfSource::fit || (nu_inf && *nu_inf > 0))) {
-      try {
-        f = fit_cluster_law(r, y, all_se ? std::span<const double>(s) : std::span<const double>(),
-                            src == NuInfSource::fit ? std::nullopt : nu_inf);
-      } catch (const Error&) {
-        f.reset();
-      }
-    }
-    if (!f || !f->fit.converged) ++skipped;
-    const bool ok = f && f->fit.converged;
-    if (ok && src == NuInfSource::fit) {
-      nu_inf = f->nu_inf_fitted();
-      nu_inf_se = f->fit.se(2);
-    }
-    fits.column("theta").add(w.theta);
-    fits.column("theta_lo").add(w.lo);
-    fits.column("theta_hi").add(w.hi);
-    fits.column("points").add_int(static_cast<std::int64_t>(r.size()));
-    fits.column("weighted").add_int(all_se && !r.empty());
-    fits.column("nu_inf").add(nu_inf);
-    fits.column("nu_inf_se").add(nu_inf_se);
-    fits.column("A").add(ok ? std::optional<double>(f->a()) : std::nullopt);
-    fits.column("A_se").add(ok ? f->fit.se(0) : std::nullopt);
-    fits.column("alpha").add(ok ? std::optional<double>(f->alpha()) : std::nullopt);
-    fits.column("alpha_se").add(ok ? f->fit.se(1) : std::nullopt);
-    fits.column("chi2").add(ok ? std::optional<double>(f->fit.chi2) : std::nullopt);
-    fits.column("dof").add(ok ? static_cast<double>(f->fit.dof) : nan);
-    fits.column("converged").add_int(ok);
-    if (ok) {
-      Fitted ft;
-      ft.theta = w.theta.value_or(nan);
-      ft.a = f->a();
-      ft.alpha = f->alpha();
-      ft.nu_inf = *nu_inf;
-      ft.a_se = f->fit.se(0);
-      ft.alpha_se = f->fit.se(1);
-      ft.nu_inf_se = nu_inf_se;
-      if (f->fit.cov.rows() >= 2) {
-        ft.cov = f->fit.cov.topLeftCorner<2, 2>();
-        ft.has_cov = true;
-      }
-      ft.row = row;
-      fitted.push_back(ft);
-    }
-    // the model curve over every radius of the window (eq 4: nu_inf beyond L)
-    for (std::size_t k = 0; k < w.r.size(); ++k) {
-      model.column("theta").add(w.theta);
-      model.column("r").add(w.r[k]);
-      model.column("nu_bar").add(w.nu[k]);
-      model.column("se").add(std::isfinite(w.se[k]) ? std::optional<double>(w.se[k])
-                                                    : std::nullopt);
-      const bool in = w.r[k] >= opt.r_min && w.r[k] <= opt.r_max;
-      std::optional<double> m;
-      if (ok)
-        m = w.r[k] <= opt.r_max ? *nu_inf * (1.0 + f->a() * std::pow(w.r[k], f->alpha())) : *nu_inf;
-      model.column("model").add(m);
-      model.column("in_fit").add_int(in);
-    }
-  }
+  std::vector<WindowFit> fits = fit_windows(windows, ens, src, opt);
+  const auto fitted = std::count_if(fits.begin(), fits.end(), [](const WindowFit& f) { return f.f.has_value(); });
   p.results["windows"] = static_cast<std::int64_t>(windows.size());
-  p.results["windows_fitted"] = static_cast<std::int64_t>(fitted.size());
-  if (fitted.empty()) p.omit("no window could be fitted (too few radii, nu_inf = 0, or no data)");
+  p.results["windows_fitted"] = static_cast<std::int64_t>(fitted);
+  if (fitted == 0) p.omit("no window could be fitted (too few radii, nu_inf = 0, or no data)");
 
-  // Affine fits of A and alpha in theta.
-  Table& aff =
-      p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta");
-  aff.add_column("param", "", ColumnKind::text);
-  for (const char* n : {"c0", "c0_se", "c1", "c1_se", "chi2"})
-    aff.add_column(n, n[1] == '1' ? "deg-1" : "");
-  aff.add_column("dof", "", ColumnKind::integer);
-  aff.add_column("points", "", ColumnKind::integer);
-  std::optional<FitResult> fit_a, fit_alpha;
-  {
-    std::vector<double> th, a, as, al, als;
-    bool a_w = true, al_w = true;
-    for (const Fitted& f : fitted) {
-      if (!std::isfinite(f.theta)) continue;
-      if (opt.affine && !opt.affine->contains(f.theta)) continue;
-      th.push_back(f.theta);
-      a.push_back(f.a);
-      al.push_back(f.alpha);
-      as.push_back(f.a_se.value_or(0.0));
-      als.push_back(f.alpha_se.value_or(0.0));
-      a_w = a_w && f.a_se && *f.a_se > 0;
-      al_w = al_w && f.alpha_se && *f.alpha_se > 0;
-    }
-    auto affine = [&](const char* name, const std::vector<double>& v, const std::vector<double>& sv,
-                      bool weighted) -> std::optional<FitResult> {
-      if (th.size() < 2) return std::nullopt;
-      try {
-        FitResult r =
-            fit_affine(th, v, weighted ? std::span<const double>(sv) : std::span<const double>());
-        aff.column("param").add_text(name);
-        aff.column("c0").add(r.p[0]);
-        aff.column("c0_se").add(r.se(0));
-        aff.column("c1").add(r.p[1]);
-        aff.column("c1_se").add(r.se(1));
-        aff.column("chi2").add(r.chi2);
-        aff.column("dof").add_int(r.dof);
-        aff.column("points").add_int(r.points);
-        return r;
-      } catch (const Error&) {
-        return std::nullopt;
-      }
-    };
-    fit_a = affine("A", a, as, a_w);
-    fit_alpha = affine("alpha", al, als, al_w);
-    if (!fit_a || !fit_alpha)
-      p.omit("affine fits not done: fewer than 2 fitted windows with theta");
-  }
+  const AffineFits laws = fit_affine_laws(fits, opt);
+  if (laws.a) add(affine_t, affine_columns, AffineRow{"A", *laws.a});
+  if (laws.alpha) add(affine_t, affine_columns, AffineRow{"alpha", *laws.alpha});
+  if (!laws.a || !laws.alpha) p.omit("affine fits not done: fewer than 2 fitted windows with theta");
 
-  // r_c (eq 5) per window.
-  Column& rc_col = fits.column("r_c");
-  Column& rcse_col = fits.column("r_c_se");
-  const std::size_t nrows = fits.column("theta").num.size();
-  rc_col.num.assign(nrows, nan);
-  rcse_col.num.assign(nrows, nan);
-  fits.column("r_c_fit").num.assign(nrows, nan);
-  fits.column("in_power").num.assign(nrows, 0.0);
-  if (!nu_c)
+  if (nu_c)
+    cluster_sizes(fits, *nu_c, nu_c_se, laws, opt);
+  else
     p.omit("r_c not computed: no nu_c (give " + field("nu_c") + ", or " + field("nu") +
            " with a critical product that has one)");
-  std::vector<double> pth, prc, pse;
-  std::vector<std::size_t> prow;
-  bool p_w = true;
-  if (nu_c) {
-    for (const Fitted& f : fitted) {
-      std::optional<ClusterSize> cs;
-      if (opt.rc_from == RcFrom::window) {
-        cs = cluster_size(*nu_c, f.nu_inf, f.a, f.alpha, f.has_cov ? &f.cov : nullptr, nu_c_se,
-                          f.nu_inf_se.value_or(0.0));
-      } else if (fit_a && fit_alpha && std::isfinite(f.theta)) {
-        const double a = fit_a->p[0] + fit_a->p[1] * f.theta;
-        const double al = fit_alpha->p[0] + fit_alpha->p[1] * f.theta;
-        Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
-        const Eigen::Vector2d g(1.0, f.theta);
-        if (fit_a->cov.rows() == 2) c(0, 0) = g.dot(fit_a->cov * g);
-        if (fit_alpha->cov.rows() == 2) c(1, 1) = g.dot(fit_alpha->cov * g);
-        cs = cluster_size(*nu_c, f.nu_inf, a, al, &c, nu_c_se, f.nu_inf_se.value_or(0.0));
-      }
-      if (!cs) continue;
-      rc_col.num[f.row] = cs->r_c;
-      if (cs->se) rcse_col.num[f.row] = *cs->se;
-      if (std::isfinite(f.theta) && opt.power.contains(f.theta)) {
-        pth.push_back(f.theta);
-        prc.push_back(cs->r_c);
-        pse.push_back(cs->se.value_or(0.0));
-        p_w = p_w && cs->se && *cs->se > 0;
-        prow.push_back(f.row);
-      }
-    }
-  }
-  const std::size_t need = opt.theta_c ? 3 : 4;
-  if (pth.size() >= need) {
-    try {
-      DivergenceFit d = fit_divergence(
-          pth, prc, p_w ? std::span<const double>(pse) : std::span<const double>(), opt.theta_c);
-      // A fitted theta_c that runs onto the last angle of the range is a boundary solution,
-      // not a divergence: r_c does not grow toward any theta_c in the data, and the fit
-      // sends (theta_c - theta_max) to zero, with a meaningless beta and a vanishing error.
-      const double theta_max = *std::max_element(pth.begin(), pth.end());
-      const double theta_min = *std::min_element(pth.begin(), pth.end());
-      const bool degenerate = d.fit.converged && d.theta_c_fitted &&
-                              d.theta_c - theta_max <= 1e-6 * (theta_max - theta_min);
-      if (degenerate) {
-        p.results["power_degenerate"] = std::int64_t{1};
-        p.omit(
-            "power-law fit degenerate: the fitted theta_c ran onto the last angle of the "
-            "power range (r_c does not grow toward a theta_c in these windows); no beta. "
-            "Give " +
-            field("theta_c") + ", or more runs or a wider " + field("power_from") + " range");
-      } else if (d.fit.converged) {
-        p.results["beta"] = d.beta;
-        if (d.se_beta) p.results["beta_se"] = *d.se_beta;
-        p.results["theta_c_deg"] = d.theta_c;
-        if (d.se_theta_c) p.results["theta_c_se_deg"] = *d.se_theta_c;
-        p.results["theta_c_fitted"] = std::int64_t{d.theta_c_fitted};
-        p.results["log_c"] = d.log_c;
-        if (d.se_log_c) p.results["log_c_se"] = *d.se_log_c;
-        p.results["power_points"] = static_cast<std::int64_t>(pth.size());
-        p.results["power_chi2"] = d.fit.chi2;
-        p.results["power_dof"] = static_cast<std::int64_t>(d.fit.dof);
-        p.results["power_weighted"] = std::int64_t{p_w};
-        for (std::size_t k = 0; k < prow.size(); ++k) {
-          fits.column("in_power").num[prow[k]] = 1.0;
-          fits.column("r_c_fit").num[prow[k]] =
-              std::exp(d.log_c) * std::pow(d.theta_c - pth[k], -d.beta);
-        }
-      } else if (!d.fit.converged) {
-        p.omit("power-law fit did not converge: " + d.fit.status);
-      }
-    } catch (const Error& e) {
-      p.omit(std::string("power-law fit failed: ") + e.what());
-    }
-  } else if (nu_c) {
-    p.omit("power-law fit not done: " + std::to_string(pth.size()) +
-           " windows with r_c in the power range, need " + std::to_string(need));
+  fit_power_law(p, fits, nu_c.has_value(), opt);
+
+  for (const WindowFit& f : fits) {
+    add(fits_t, fit_columns, f);
+    // the model curve over every radius of the window (eq 4: nu_inf beyond L)
+    for (std::size_t k = 0; k < f.w.r.size(); ++k)
+      add(model_t, model_columns, ModelRow{f, k, opt.r_min, opt.r_max});
   }
   return p;
 }
