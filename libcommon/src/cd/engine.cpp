@@ -248,9 +248,7 @@ void Engine::detect(const Vec2& g) {
   margin_.resize(n);
   velocity_begin_.resize(n);
   omega_begin_.resize(n);
-  double r_max = 0.0, m_max = 0.0;
-  Vec2 lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
-  Vec2 hi = -lo;
+  double r_max = 0.0;
   const double g_norm = g.norm();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2& v = grains_.velocity[i];
@@ -263,133 +261,17 @@ void Engine::detect(const Vec2& g) {
                          inv_inertia_[i]};
     predicted_[i] = grains_.position[i] + lead * v;
     margin_[i] = fixed ? 0.0 : h * (v.norm() + g_norm * h);
-    // The grid below indexes cells with these: a state that is not finite (from an input's
-    // absurd force, a solver's, a parameter at its extreme) stops here, named, not as a
-    // wild index (a NaN would pass the min and max below unseen).
+    // Detection indexes its cell grid with these: a state that is not finite (from an
+    // input's absurd force, a solver's, a parameter at its extreme) stops here, named, not
+    // as a wild index (a NaN would pass the grid's min and max unseen).
     if (!std::isfinite(predicted_[i].x() + predicted_[i].y() + margin_[i])) refuse_non_finite_state();
     r_max = std::max(r_max, grains_.radius[i]);
-    m_max = std::max(m_max, margin_[i]);
-    lo = lo.cwiseMin(predicted_[i]);
-    hi = hi.cwiseMax(predicted_[i]);
   }
   if (settings_.sweep_order == SweepOrder::strips) assign_strips(r_max);
-  std::vector<ContactRow>& rows = system_.rows;
-  rows.clear();
-  if (n == 0) return;
-
-  // Cell grid: a cell is at least as wide as the largest interaction range, so pairs
-  // are in neighbouring cells; it is widened if scattered grains would need too many.
-  double cell = 2.0 * r_max + settings_.alert_distance + 2.0 * m_max;
-  const Vec2 extent = hi - lo;
-  const double max_cells = 4.0 * static_cast<double>(n) + 16.0;
-  if ((extent.x() / cell + 1.0) * (extent.y() / cell + 1.0) > max_cells)
-    cell = std::max(cell, std::sqrt((extent.x() + cell) * (extent.y() + cell) / max_cells) * 1.01);
-  const auto nx = static_cast<std::int32_t>(extent.x() / cell) + 1;
-  const auto ny = static_cast<std::int32_t>(extent.y() / cell) + 1;
-  auto cell_of = [&](const Vec2& p, std::int32_t& cx, std::int32_t& cy) {
-    cx = std::min(nx - 1, static_cast<std::int32_t>((p.x() - lo.x()) / cell));
-    cy = std::min(ny - 1, static_cast<std::int32_t>((p.y() - lo.y()) / cell));
-  };
-  // Counting sort of the grains into cells (row-major, cy then cx): deterministic.
-  cell_start_.assign(static_cast<std::size_t>(nx) * ny + 1, 0);
-  std::vector<std::int32_t>& items = cell_items_;
-  items.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::int32_t cx, cy;
-    cell_of(predicted_[i], cx, cy);
-    ++cell_start_[static_cast<std::size_t>(cy) * nx + cx + 1];
-  }
-  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
-  {
-    std::vector<std::int32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) {
-      std::int32_t cx, cy;
-      cell_of(predicted_[i], cx, cy);
-      items[fill[static_cast<std::size_t>(cy) * nx + cx]++] = static_cast<std::int32_t>(i);
-    }
-  }
-
-  const double alert = settings_.alert_distance;
-  // The candidates of grain i (with j > i, and its walls), in the order of j: a grain's
-  // rows depend on nothing but the grains, so ranges of grains are detected apart and
-  // their rows put one after the other give the same list on any number of threads.
-  auto detect_grain = [&](std::size_t ui, std::vector<ContactRow>& out,
-                          std::vector<std::int32_t>& neighbours) {
-    const auto i = static_cast<std::int32_t>(ui);
-    auto add_row = [&](std::int32_t j, double gap, const Vec2& normal) {
-      ContactRow r{};
-      r.i = i;
-      r.j = j;
-      r.bi = i;
-      r.bj = j < 0 ? static_cast<std::int32_t>(n) : j;
-      r.nx = normal.x();
-      r.ny = normal.y();
-      r.gap = gap;
-      out.push_back(r);
-    };
-    const Vec2& xi = predicted_[ui];
-    const double ri = grains_.radius[ui];
-    const double reach = alert + margin_[ui];
-    if (inv_mass_[ui] != 0.0) {  // walls, in the order of their ids: right, left, floor
-      const double g_right = box_.width - xi.x() - ri;
-      if (g_right < reach) add_row(wall_right, g_right, Vec2(-1.0, 0.0));
-      const double g_left = xi.x() - ri;
-      if (g_left < reach) add_row(wall_left, g_left, Vec2(1.0, 0.0));
-      const double g_floor = xi.y() - ri;
-      if (g_floor < reach) add_row(wall_floor, g_floor, Vec2(0.0, 1.0));
-    }
-    std::int32_t cx, cy;
-    cell_of(xi, cx, cy);
-    neighbours.clear();
-    for (std::int32_t y = std::max(0, cy - 1); y <= std::min(ny - 1, cy + 1); ++y)
-      for (std::int32_t x = std::max(0, cx - 1); x <= std::min(nx - 1, cx + 1); ++x) {
-        const std::size_t c = static_cast<std::size_t>(y) * nx + x;
-        for (std::int32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const std::int32_t j = items[k];
-          if (j <= i) continue;
-          const auto uj = static_cast<std::size_t>(j);
-          if (inv_mass_[ui] == 0.0 && inv_mass_[uj] == 0.0) continue;  // two glued grains
-          const double d = (xi - predicted_[uj]).norm();
-          if (d - ri - grains_.radius[uj] < reach + margin_[uj]) neighbours.push_back(j);
-        }
-      }
-    std::sort(neighbours.begin(), neighbours.end());
-    for (const std::int32_t j : neighbours) {
-      const Vec2 dx = xi - predicted_[static_cast<std::size_t>(j)];
-      const double d = dx.norm();
-      // Coincident centres cannot happen without a huge overlap; keep a valid normal.
-      const Vec2 normal = d > 0.0 ? Vec2(dx / d) : Vec2(0.0, 1.0);
-      add_row(j, d - ri - grains_.radius[static_cast<std::size_t>(j)], normal);
-    }
-  };
-  const auto threads = team_ ? static_cast<std::size_t>(team_->size()) : std::size_t{1};
-  detect_parts_.resize(threads);
-  if (threads == 1 || n < team_->smallest_shared()) {
-    for (std::size_t ui = 0; ui < n; ++ui) detect_grain(ui, rows, detect_parts_[0].neighbours);
-    return;
-  }
-  // Each thread detects its range of grains into its own part (the first thread's part
-  // is the rows themselves), then copies the part to its place in the rows (the parts'
-  // sizes summed in thread order).
-  std::vector<std::size_t> offset(threads + 1, 0);
-  team_->run([&](int t) {
-    const auto u = static_cast<std::size_t>(t);
-    DetectPart& part = detect_parts_[u];
-    std::vector<ContactRow>& mine = u == 0 ? rows : part.rows;
-    mine.clear();
-    for (std::size_t ui = n * u / threads; ui < n * (u + 1) / threads; ++ui)
-      detect_grain(ui, mine, part.neighbours);
-    offset[u + 1] = mine.size();
-    team_->barrier();
-    if (u == 0) {
-      for (std::size_t k = 0; k < threads; ++k) offset[k + 1] += offset[k];
-      rows.resize(offset[threads]);
-    }
-    team_->barrier();
-    if (u > 0)
-      std::copy(part.rows.begin(), part.rows.end(),
-                rows.begin() + static_cast<std::ptrdiff_t>(offset[u]));
-  });
+  // Stage 2: the candidates (cd/detection.hpp)
+  detection_.detect({predicted_, grains_.radius, margin_, inv_mass_, box_.width,
+                     settings_.alert_distance},
+                    system_.rows, team_.get());
 }
 
 // Stage 3. Lever arms and the gap term of each contact. The tangent is

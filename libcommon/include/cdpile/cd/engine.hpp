@@ -22,6 +22,7 @@
 #pragma once
 
 #include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/detection.hpp"
 #include "cdpile/cd/solver.hpp"
 #include "cdpile/cd/team.hpp"
 #include "cdpile/model.hpp"
@@ -216,14 +217,7 @@ class Engine {
   int substep_level_ = 0;                               // EngineState::substep_level
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
-  std::vector<std::int32_t> cell_start_, cell_items_;
-  // The candidates of a range of grains and that range's neighbour list, one per thread
-  // of the team (detect)
-  struct DetectPart {
-    std::vector<ContactRow> rows;
-    std::vector<std::int32_t> neighbours;
-  };
-  std::vector<DetectPart> detect_parts_;
+  ContactDetection detection_;  // stage 2's cell grid and per-thread scratch
   std::vector<std::uint64_t> stored_keys_;
   std::vector<double> stored_rn_, stored_rt_;
   // The grains and stored impulses at the start of a step split into sub-steps, kept before
