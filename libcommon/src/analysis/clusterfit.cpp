@@ -88,7 +88,9 @@ struct WindowFit {
   std::optional<ClusterLawFit> f;  // converged fits only
   std::optional<double> r_c, r_c_se, r_c_fit;
   bool in_power = false;
-  std::optional<double> fitted(double v) const { return f ? std::optional<double>(v) : std::nullopt; }
+  std::optional<double> fitted(double v) const {
+    return f ? std::optional<double>(v) : std::nullopt;
+  }
 };
 
 using K = ColumnKind;
@@ -97,7 +99,8 @@ const ColumnSpec<WindowFit> fit_columns[] = {
     {"theta_lo", "deg", K::real, [](const WindowFit& x) -> Cell { return x.w.lo; }},
     {"theta_hi", "deg", K::real, [](const WindowFit& x) -> Cell { return x.w.hi; }},
     {"points", "", K::integer, [](const WindowFit& x) -> Cell { return x.points; }},
-    {"weighted", "", K::integer, [](const WindowFit& x) -> Cell { return std::int64_t{x.weighted}; }},
+    {"weighted", "", K::integer,
+     [](const WindowFit& x) -> Cell { return std::int64_t{x.weighted}; }},
     {"nu_inf", "", K::real, [](const WindowFit& x) -> Cell { return x.nu_inf; }},
     {"nu_inf_se", "", K::real, [](const WindowFit& x) -> Cell { return x.nu_inf_se; }},
     {"A", "", K::real,
@@ -119,13 +122,14 @@ const ColumnSpec<WindowFit> fit_columns[] = {
     {"r_c", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c; }},
     {"r_c_se", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c_se; }},
     {"r_c_fit", "D", K::real, [](const WindowFit& x) -> Cell { return x.r_c_fit; }},
-    {"in_power", "", K::integer, [](const WindowFit& x) -> Cell { return std::int64_t{x.in_power}; }},
+    {"in_power", "", K::integer,
+     [](const WindowFit& x) -> Cell { return std::int64_t{x.in_power}; }},
 };
 
 // nu_bar(r) of a window beside the fitted eq (4): a row of the table model
 struct ModelRow {
   const WindowFit& fit;
-  std::size_t k;   // the window's radius
+  std::size_t k;    // the window's radius
   double r_min, L;  // the fitted range [D]
   double r() const { return fit.w.r[k]; }
 };
@@ -162,16 +166,6 @@ const ColumnSpec<AffineRow> affine_columns[] = {
     {"points", "", K::integer, [](const AffineRow& a) -> Cell { return std::int64_t{a.r.points}; }},
 };
 
-template <class Row, std::size_t N>
-Table& declared(Table& t, const ColumnSpec<Row> (&spec)[N]) {
-  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
-  return t;
-}
-template <class Row, std::size_t N>
-void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
-  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
-}
-
 // Stage 1: eq (4) in each window, with nu_inf from its source (the fit's own for
 // NuInfSource::fit); only converged fits are kept.
 std::vector<WindowFit> fit_windows(const std::map<std::pair<double, double>, Window>& windows,
@@ -204,8 +198,9 @@ std::vector<WindowFit> fit_windows(const std::map<std::pair<double, double>, Win
     if (in_range && static_cast<int>(r.size()) >= opt.min_points &&
         (src == NuInfSource::fit || (wf.nu_inf && *wf.nu_inf > 0))) {
       try {
-        wf.f = fit_cluster_law(r, y, all_se ? std::span<const double>(s) : std::span<const double>(),
-                               src == NuInfSource::fit ? std::nullopt : wf.nu_inf);
+        wf.f =
+            fit_cluster_law(r, y, all_se ? std::span<const double>(s) : std::span<const double>(),
+                            src == NuInfSource::fit ? std::nullopt : wf.nu_inf);
       } catch (const Error&) {
         wf.f.reset();
       }
@@ -266,8 +261,8 @@ void cluster_sizes(std::vector<WindowFit>& fits, double nu_c, double nu_c_se,
       Eigen::Matrix2d cov;
       const bool has_cov = f.f->fit.cov.rows() >= 2;
       if (has_cov) cov = f.f->fit.cov.topLeftCorner<2, 2>();
-      cs = cluster_size(nu_c, *f.nu_inf, f.f->a(), f.f->alpha(), has_cov ? &cov : nullptr,
-                        nu_c_se, nu_inf_se);
+      cs = cluster_size(nu_c, *f.nu_inf, f.f->a(), f.f->alpha(), has_cov ? &cov : nullptr, nu_c_se,
+                        nu_inf_se);
     } else if (laws.a && laws.alpha && std::isfinite(theta)) {
       const double a = laws.a->p[0] + laws.a->p[1] * theta;
       const double al = laws.alpha->p[0] + laws.alpha->p[1] * theta;
@@ -427,24 +422,26 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
       "se(r_c)/r_c; theta_c fitted (as theta_max + exp(u)) unless given; se from the covariance "
       "(delta method for theta_c)"};
 
-  Table& fits_t = declared(p.add_table("fits", "eq (4) fitted in each theta window, and r_c (eq 5)"),
-                           fit_columns);
-  Table& model_t =
-      declared(p.add_table("model", "nu_bar(r) of each window with the fitted eq (4)"), model_columns);
-  Table& affine_t = declared(
+  Table& fits_t = declare_columns(
+      p.add_table("fits", "eq (4) fitted in each theta window, and r_c (eq 5)"), fit_columns);
+  Table& model_t = declare_columns(
+      p.add_table("model", "nu_bar(r) of each window with the fitted eq (4)"), model_columns);
+  Table& affine_t = declare_columns(
       p.add_table("affine", "affine fits in theta: A = c0 + c1 theta, alpha = c0 + c1 theta"),
       affine_columns);
 
   std::vector<WindowFit> fits = fit_windows(windows, ens, src, opt);
-  const auto fitted = std::count_if(fits.begin(), fits.end(), [](const WindowFit& f) { return f.f.has_value(); });
+  const auto fitted =
+      std::count_if(fits.begin(), fits.end(), [](const WindowFit& f) { return f.f.has_value(); });
   p.results["windows"] = static_cast<std::int64_t>(windows.size());
   p.results["windows_fitted"] = static_cast<std::int64_t>(fitted);
   if (fitted == 0) p.omit("no window could be fitted (too few radii, nu_inf = 0, or no data)");
 
   const AffineFits laws = fit_affine_laws(fits, opt);
-  if (laws.a) add(affine_t, affine_columns, AffineRow{"A", *laws.a});
-  if (laws.alpha) add(affine_t, affine_columns, AffineRow{"alpha", *laws.alpha});
-  if (!laws.a || !laws.alpha) p.omit("affine fits not done: fewer than 2 fitted windows with theta");
+  if (laws.a) add_row(affine_t, affine_columns, AffineRow{"A", *laws.a});
+  if (laws.alpha) add_row(affine_t, affine_columns, AffineRow{"alpha", *laws.alpha});
+  if (!laws.a || !laws.alpha)
+    p.omit("affine fits not done: fewer than 2 fitted windows with theta");
 
   if (nu_c)
     cluster_sizes(fits, *nu_c, nu_c_se, laws, opt);
@@ -454,10 +451,10 @@ Product clusterfit(const Product& cor, const Product* critical, const ClusterFit
   fit_power_law(p, fits, nu_c.has_value(), opt);
 
   for (const WindowFit& f : fits) {
-    add(fits_t, fit_columns, f);
+    add_row(fits_t, fit_columns, f);
     // the model curve over every radius of the window (eq 4: nu_inf beyond L)
     for (std::size_t k = 0; k < f.w.r.size(); ++k)
-      add(model_t, model_columns, ModelRow{f, k, opt.r_min, opt.r_max});
+      add_row(model_t, model_columns, ModelRow{f, k, opt.r_min, opt.r_max});
   }
   return p;
 }

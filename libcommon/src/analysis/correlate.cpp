@@ -146,11 +146,11 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
   Table* fr_t = nullptr;
   if (opt.frame_table) {
     fr_t = &p.add_table("frames", "nu_bar(r) of each frame");
-    declare_columns(*fr_t, std::span<const ColumnSpec<FrameStateRow>>(frame_columns));
+    declare_columns(*fr_t, frame_columns);
   }
   Table& w_t =
       p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window");
-  declare_columns(w_t, std::span<const ColumnSpec<WindowRow>>(window_columns));
+  declare_columns(w_t, window_columns);
 
   // Group the states rows.
   struct Groups {
@@ -181,9 +181,7 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       s.sum2 = sum2.get(q).value_or(0.0);
       if (s.n < 0)
         throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
-      if (fr_t)
-        add_row(*fr_t, std::span<const ColumnSpec<FrameStateRow>>(frame_columns),
-                FrameStateRow{f, *rr, s});
+      if (fr_t) add_row(*fr_t, frame_columns, FrameStateRow{f, *rr, s});
       if (!f.window) continue;
       Groups& c = cells[{*f.window, *rr}];
       c.by_run[f.run].add(s);
@@ -226,7 +224,7 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
     const bool has_theta = !thetas.empty();
     const double lo = opt.window_start + static_cast<double>(win) * opt.window,
                  hi = opt.window_start + static_cast<double>(win + 1) * opt.window;
-    add_row(w_t, std::span<const ColumnSpec<WindowRow>>(window_columns),
+    add_row(w_t, window_columns,
             WindowRow{has_theta ? summarize(thetas).mean : std::nullopt,
                       has_theta ? std::optional<double>(lo) : std::nullopt,
                       has_theta ? std::optional<double>(hi) : std::nullopt, r,

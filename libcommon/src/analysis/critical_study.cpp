@@ -271,10 +271,10 @@ Reading read_envelope(Product& p, const std::vector<Curve>& curves, const Grid& 
       p.results[key("envelope", suffix, "_saturates")] = std::int64_t{rd.saturates};
     if (ef.fit.converged && !rd.saturates)
       p.omit(label + "not determined: the envelope does not saturate in the fitted range [" +
-             format_short(ft.front()) + ", " + format_short(ft.back()) +
-             "] deg (tau = " + format_short(ef.tau()) + " deg, limit = " +
-             format_short(ef.nu_c()) + ")");
-    if (!ef.fit.converged) p.omit(label + "not determined: the envelope fit did not converge: " + ef.fit.status);
+             format_short(ft.front()) + ", " + format_short(ft.back()) + "] deg (tau = " +
+             format_short(ef.tau()) + " deg, limit = " + format_short(ef.nu_c()) + ")");
+    if (!ef.fit.converged)
+      p.omit(label + "not determined: the envelope fit did not converge: " + ef.fit.status);
     if (!rd.saturates) return rd;
     p.results[key("nu_c", suffix)] = ef.nu_c();
     if (auto e = ef.fit.se(0)) p.results[key("nu_c", suffix, "_se")] = *e;
@@ -321,9 +321,9 @@ std::string critical_readings(const Product& p) {
   std::string line;
   if (auto t = p.result("theta_c_deg")) line = "theta_c = " + six(*t) + " deg; ";
   std::string found, missing;
-  for (const auto& [key, what] : {std::pair{"nu_c", "every state"},
-                                  std::pair{"nu_c_static", "static states"},
-                                  std::pair{"nu_c_rest", "contacts at rest"}}) {
+  for (const auto& [key, what] :
+       {std::pair{"nu_c", "every state"}, std::pair{"nu_c_static", "static states"},
+        std::pair{"nu_c_rest", "contacts at rest"}}) {
     if (auto v = p.result(key)) {
       const std::optional<double> se = p.result(std::string(key) + "_se");
       found += (found.empty() ? "" : ", ") + std::string(key) + " = " + six(*v) +
@@ -662,8 +662,10 @@ void write_envelopes(Product& p, const StudyTables& t, const std::vector<RunReco
   const Grid g = grid_of(opt.grid_step);
   const Grid w = grid_of(opt.envelope_window);
   // the static readings first: notes on the reading of every state come last, as before
-  const Reading rest = read_envelope(p, rd.rest, g, w, opt, "_rest", "nu_c_rest (contacts at rest) ", z_mean);
-  const Reading still = read_envelope(p, rd.still, g, w, opt, "_static", "nu_c_static (static states) ", z_mean);
+  const Reading rest =
+      read_envelope(p, rd.rest, g, w, opt, "_rest", "nu_c_rest (contacts at rest) ", z_mean);
+  const Reading still =
+      read_envelope(p, rd.still, g, w, opt, "_static", "nu_c_static (static states) ", z_mean);
   const Reading all = read_envelope(p, rd.all, g, w, opt, "", "nu_c (every state) ", z_mean);
   if (all.saturates)
     judge_static_bound(p, runs, rd.all, rd.all_steps, w, all.windows_in_fit, tot.bound_frames,

@@ -200,13 +200,21 @@ const ColumnSpec<FrameRow> frame_columns[] = {
      }},
     {"loading", "", K::integer, [](const FrameRow& x) -> Cell { return std::int64_t{x.loading}; }},
     {"contacts_load_bearing", "", K::integer,
-     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.contacts; }); }},
+     [](const FrameRow& x) -> Cell {
+       return x.bound([](const StaticBound& b) { return b.contacts; });
+     }},
     {"grains_load_bearing", "", K::integer,
-     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.grains; }); }},
+     [](const FrameRow& x) -> Cell {
+       return x.bound([](const StaticBound& b) { return b.grains; });
+     }},
     {"critical_load_bearing", "", K::integer,
-     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.critical; }); }},
+     [](const FrameRow& x) -> Cell {
+       return x.bound([](const StaticBound& b) { return b.critical; });
+     }},
     {"static_bound", "", K::integer,
-     [](const FrameRow& x) -> Cell { return x.bound([](const StaticBound& b) { return b.bound(); }); }},
+     [](const FrameRow& x) -> Cell {
+       return x.bound([](const StaticBound& b) { return b.bound(); });
+     }},
     {"above_static_bound", "", K::integer,
      [](const FrameRow& x) -> Cell {
        return x.bound([](const StaticBound& b) { return std::int64_t{b.above()}; });
@@ -234,7 +242,8 @@ const ColumnSpec<FrameRow> frame_columns[] = {
     {"critical_slipping", "", K::integer,
      [](const FrameRow& x) -> Cell { return count(x.f.critical_slipping); }},
     {"z_paper", "", K::real, [](const FrameRow& x) -> Cell { return x.f.z_paper; }},
-    {"N_rest", "", K::integer, [](const FrameRow& x) -> Cell { return count(x.f.contacts_at_rest); }},
+    {"N_rest", "", K::integer,
+     [](const FrameRow& x) -> Cell { return count(x.f.contacts_at_rest); }},
     {"Nc_rest", "", K::integer,
      [](const FrameRow& x) -> Cell { return count(x.f.critical_at_rest); }},
     {"nu_rest", "", K::real, [](const FrameRow& x) -> Cell { return nu_at_rest(x.f); }},
@@ -253,8 +262,7 @@ const ColumnSpec<EventRow> event_columns[] = {
     {"run", "", K::integer, [](const EventRow& x) -> Cell { return x.run; }},
     {"event", "", K::integer, [](const EventRow& x) -> Cell { return x.index; }},
     {"peak_step", "", K::integer, [](const EventRow& x) -> Cell { return x.s.step[x.e.peak]; }},
-    {"trough_step", "", K::integer,
-     [](const EventRow& x) -> Cell { return x.s.step[x.e.trough]; }},
+    {"trough_step", "", K::integer, [](const EventRow& x) -> Cell { return x.s.step[x.e.trough]; }},
     {"theta", "deg", K::real, [](const EventRow& x) -> Cell { return x.s.theta[x.e.peak]; }},
     {"theta_end", "deg", K::real, [](const EventRow& x) -> Cell { return x.s.theta[x.e.trough]; }},
     {"n_peak", "", K::integer, [](const EventRow& x) -> Cell { return x.e.n_peak; }},
@@ -304,10 +312,10 @@ const ColumnSpec<BinRow> envelope_columns[] = {
     {"fit", "", K::real, [](const BinRow& x) -> Cell { return x.all.fit[x.b]; }},
     {"in_fit", "", K::integer,
      [](const BinRow& x) -> Cell { return std::int64_t{x.all.in_fit[x.b]}; }},
-    {"theta_static", "deg", K::real, [](const BinRow& x) -> Cell { return maxima_at(x.still, x.b); }},
+    {"theta_static", "deg", K::real,
+     [](const BinRow& x) -> Cell { return maxima_at(x.still, x.b); }},
     {"runs_static", "", K::integer, [](const BinRow& x) -> Cell { return x.still.env[x.b].n; }},
-    {"envelope_static", "", K::real,
-     [](const BinRow& x) -> Cell { return x.still.env[x.b].mean; }},
+    {"envelope_static", "", K::real, [](const BinRow& x) -> Cell { return x.still.env[x.b].mean; }},
     {"envelope_static_se", "", K::real,
      [](const BinRow& x) -> Cell { return x.still.env[x.b].se; }},
     {"fit_static", "", K::real, [](const BinRow& x) -> Cell { return x.still.fit[x.b]; }},
@@ -391,59 +399,54 @@ const ColumnSpec<ContactRow> contact_columns[] = {
     {"run", "", K::integer, [](const ContactRow& x) -> Cell { return x.run; }},
     {"frame", "", K::integer, [](const ContactRow& x) -> Cell { return x.f.frame; }},
     {"theta", "deg", K::real, [](const ContactRow& x) -> Cell { return x.f.theta; }},
-    {"i", "", K::integer, [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->i[x.q]}; }},
-    {"j", "", K::integer, [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->j[x.q]}; }},
+    {"i", "", K::integer,
+     [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->i[x.q]}; }},
+    {"j", "", K::integer,
+     [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->j[x.q]}; }},
     {"critical", "", K::integer,
      [](const ContactRow& x) -> Cell { return std::int64_t{x.f.contacts->critical[x.q]}; }},
     {"sliding", "", K::integer,
      [](const ContactRow& x) -> Cell { return x.flag(x.f.contacts->sliding); }},
-    {"slip", "", K::integer, [](const ContactRow& x) -> Cell { return x.flag(x.f.contacts->slip); }},
+    {"slip", "", K::integer,
+     [](const ContactRow& x) -> Cell { return x.flag(x.f.contacts->slip); }},
 };
-
-template <class Row, std::size_t N>
-Table& declared(Table& t, const ColumnSpec<Row> (&spec)[N]) {
-  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
-  return t;
-}
-
-template <class Row, std::size_t N>
-void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
-  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
-}
 
 }  // namespace
 
 StudyTables add_study_tables(Product& p, bool step_table) {
   StudyTables t{
-      declared(p.add_table("runs", "one row per run"), run_columns),
-      step_table ? &declared(p.add_table("steps", "one row per time step of each run"),
-                             step_columns)
+      declare_columns(p.add_table("runs", "one row per run"), run_columns),
+      step_table ? &declare_columns(p.add_table("steps", "one row per time step of each run"),
+                                    step_columns)
                  : nullptr,
-      declared(p.add_table("frames", "one row per saved frame of each run"), frame_columns),
-      declared(p.add_table("events", "rearrangement events: a drop of the contact count N"),
-               event_columns),
-      declared(p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
-               ensemble_columns),
-      declared(p.add_table("envelope", "mean over runs of the maximum of nu in theta windows"),
-               envelope_columns)};
+      declare_columns(p.add_table("frames", "one row per saved frame of each run"), frame_columns),
+      declare_columns(p.add_table("events", "rearrangement events: a drop of the contact count N"),
+                      event_columns),
+      declare_columns(
+          p.add_table("ensemble", "nu(theta) averaged over runs on a common theta grid"),
+          ensemble_columns),
+      declare_columns(
+          p.add_table("envelope", "mean over runs of the maximum of nu in theta windows"),
+          envelope_columns)};
   return t;
 }
 
 void write_run_row(Table& t, const RunRecord& r, std::int64_t run, std::size_t events,
                    std::optional<double> theta_c, double nu_max) {
-  add(t, run_columns, RunRow{r, run, events, theta_c, nu_max});
+  add_row(t, run_columns, RunRow{r, run, events, theta_c, nu_max});
 }
 
 void write_step_rows(Table& t, const RunRecord& r, std::int64_t run, const StepFractions& q,
                      const std::vector<std::int64_t>& st_static) {
   for (std::size_t k = 0; k < r.steps.step.size(); ++k)
-    add(t, step_columns, StepRow{r, q, st_static, run, k});
+    add_row(t, step_columns, StepRow{r, q, st_static, run, k});
 }
 
 void write_frame_rows(Table& t, const RunRecord& r, std::int64_t run, double cut,
                       const std::vector<std::optional<bool>>& frame_static) {
   for (std::size_t k = 0; k < r.frames.size(); ++k)
-    add(t, frame_columns, FrameRow{r, r.frames[k], run, r.frames[k].theta <= cut, frame_static[k]});
+    add_row(t, frame_columns,
+            FrameRow{r, r.frames[k], run, r.frames[k].theta <= cut, frame_static[k]});
 }
 
 std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const Curve& cv,
@@ -461,7 +464,7 @@ std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const C
       row.nu_before = cv.nu[k];
       row.nu_before_step = static_cast<double>(cv_step[k]);
     }
-    add(t, event_columns, row);
+    add_row(t, event_columns, row);
   }
   return events.size();
 }
@@ -469,36 +472,37 @@ std::size_t write_events(Table& t, const RunRecord& r, std::int64_t run, const C
 void write_ensemble_rows(Table& t, const Grid& g, const Reading& all, const Reading& still,
                          const Reading& rest) {
   for (std::size_t b = 0; b < g.count; ++b)
-    if (all.ens[b].n > 0) add(t, ensemble_columns, BinRow{g, b, all, still, rest});
+    if (all.ens[b].n > 0) add_row(t, ensemble_columns, BinRow{g, b, all, still, rest});
 }
 
 void write_envelope_rows(Table& t, const Grid& w, const Reading& all, const Reading& still,
                          const Reading& rest) {
   for (std::size_t b = 0; b < w.count; ++b)
-    if (all.env[b].n > 0) add(t, envelope_columns, BinRow{w, b, all, still, rest});
+    if (all.env[b].n > 0) add_row(t, envelope_columns, BinRow{w, b, all, still, rest});
 }
 
 void write_distributions(Product& p, const LoadingTotals& tot, const CriticalOptions& opt) {
-  Table& mob_t = declared(p.add_table("mobilisation",
-                                      "P(|f_t|/(mu f_n)) of the counted contacts per tilt "
-                                      "window, loading frames (all and static)"),
-                          mobilisation_columns);
-  Table& win_t = declared(p.add_table("windows",
-                                      "per tilt window, loading frames pooled over runs: "
-                                      "critical and slipping contacts, all frames and static ones"),
-                          window_columns);
+  Table& mob_t = declare_columns(p.add_table("mobilisation",
+                                             "P(|f_t|/(mu f_n)) of the counted contacts per tilt "
+                                             "window, loading frames (all and static)"),
+                                 mobilisation_columns);
+  Table& win_t =
+      declare_columns(p.add_table("windows",
+                                  "per tilt window, loading frames pooled over runs: "
+                                  "critical and slipping contacts, all frames and static ones"),
+                      window_columns);
   for (std::size_t wi = 0; wi < tot.win_all.size(); ++wi) {
     if (tot.win_all[wi].frames == 0) continue;
     const double lo = static_cast<double>(wi) * opt.mobilisation_window;
     const WindowRow w{lo, lo + opt.mobilisation_window, tot.win_all[wi], tot.win_static[wi]};
-    add(win_t, window_columns, w);
+    add_row(win_t, window_columns, w);
     std::int64_t total = 0, total_static = 0;
     for (std::size_t b = 0; b < mobilisation_bins; ++b) {
       total += w.all.mobilisation[b];
       total_static += w.still.mobilisation[b];
     }
     for (std::size_t b = 0; b < mobilisation_bins; ++b)
-      add(mob_t, mobilisation_columns, MobilisationRow{w, b, total, total_static});
+      add_row(mob_t, mobilisation_columns, MobilisationRow{w, b, total, total_static});
   }
 }
 
@@ -517,15 +521,15 @@ Product critical_contacts(const std::vector<RunRecord>& runs, const CriticalOpti
       "critical: f_n > 0 and |f_t| >= (1 - eps) mu f_n; sliding: the solver's status slide "
       "(NA without a status); slip: |u_t| above slip_speed sqrt(g D) (NA without velocities, "
       "g or D)"};
-  Table& t = critical_parts::declared(p.add_table("contacts", "one row per counted contact of a frame"),
-                                      critical_parts::contact_columns);
+  Table& t = declare_columns(p.add_table("contacts", "one row per counted contact of a frame"),
+                             critical_parts::contact_columns);
   for (std::size_t run = 0; run < runs.size(); ++run)
     for (const FrameRecord& f : runs[run].frames) {
       if (!f.contacts)
         throw std::logic_error("critical_contacts: a frame read without its contacts");
       for (std::size_t q = 0; q < f.contacts->i.size(); ++q)
-        critical_parts::add(t, critical_parts::contact_columns,
-                            critical_parts::ContactRow{static_cast<std::int64_t>(run), f, q});
+        add_row(t, critical_parts::contact_columns,
+                critical_parts::ContactRow{static_cast<std::int64_t>(run), f, q});
     }
   return p;
 }

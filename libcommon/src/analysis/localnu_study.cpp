@@ -142,14 +142,6 @@ const ColumnSpec<PdfRow> pdf_columns[] = {
      }},
 };
 
-template <class Row, std::size_t N>
-void declare(Table& t, const ColumnSpec<Row> (&spec)[N]) {
-  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
-}
-template <class Row, std::size_t N>
-void add(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
-  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
-}
 }  // namespace
 
 LocalNuOptions default_localnu_options() {
@@ -179,11 +171,11 @@ LocalNuStudy::LocalNuStudy(LocalNuOptions opt) : opt_(std::move(opt)) {
 
   frames_t_.name = "frames";
   frames_t_.title = "one row per frame: the state of the pile";
-  declare(frames_t_, frame_columns);
+  declare_columns(frames_t_, frame_columns);
   states_t_.name = "states";
   states_t_.title =
       "one row per frame and radius: sums of nu_i(r) over the frame's critical contacts";
-  declare(states_t_, state_columns);
+  declare_columns(states_t_, state_columns);
 }
 
 void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std::int64_t frame,
@@ -205,11 +197,11 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
 
   const std::int64_t nc = static_cast<std::int64_t>(set.critical_count());
   const std::int64_t n = static_cast<std::int64_t>(set.size());
-  add(frames_t_, frame_columns, FrameRow{run, frame, step, theta, diameter, n, nc, loading});
+  add_row(frames_t_, frame_columns, FrameRow{run, frame, step, theta, diameter, n, nc, loading});
 
   const std::vector<Sums> sums = state_sums(s, set.critical, 1);  // eq (3) numerators
   for (std::size_t q = 0; q < opt_.radii.size(); ++q)
-    add(states_t_, state_columns, StateRow{run, frame, theta, opt_.radii[q], sums[out_k_[q]]});
+    add_row(states_t_, state_columns, StateRow{run, frame, theta, opt_.radii[q], sums[out_k_[q]]});
 
   const bool in_pdf = opt_.pdf_theta ? (theta && opt_.pdf_theta->contains(*theta)) : loading;
   if (in_pdf) {
@@ -245,10 +237,10 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
     map_t_.name = "map";
     map_t_.title =
         "the nu field on a grid over the pile at one frame (Fig 5); row-major, x fastest";
-    declare(map_t_, map_columns);
+    declare_columns(map_t_, map_columns);
     for (std::size_t b = 0; b < f.ny; ++b)
       for (std::size_t a = 0; a < f.nx; ++a)
-        add(map_t_, map_columns, MapRow{f, a, b, diameter, opt_.nu_c});
+        add_row(map_t_, map_columns, MapRow{f, a, b, diameter, opt_.nu_c});
     map_info_["map_nx"] = static_cast<std::int64_t>(f.nx);
     map_info_["map_ny"] = static_cast<std::int64_t>(f.ny);
     map_info_["map_x0_m"] = f.x0;
@@ -258,11 +250,11 @@ void LocalNuStudy::add_frame(std::int64_t run, const std::string& run_name, std:
     if (opt_.per_contact) {
       contacts_t_.name = "contacts";
       contacts_t_.title = "nu_i(r) of every contact of the mapped frame";
-      declare(contacts_t_, contact_columns);
+      declare_columns(contacts_t_, contact_columns);
       constexpr std::size_t first_radius = std::size(contact_columns);
       for (double r : opt_.radii) contacts_t_.add_column(radius_name(r), "", ColumnKind::real);
       for (std::size_t c = 0; c < set.size(); ++c) {
-        add(contacts_t_, contact_columns, ContactRow{set, c});
+        add_row(contacts_t_, contact_columns, ContactRow{set, c});
         for (std::size_t q = 0; q < opt_.radii.size(); ++q)
           contacts_t_.columns[first_radius + q].add(s.nu(c, out_k_[q]));
       }
@@ -288,7 +280,7 @@ void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
                  &n = number(frames, "N"), &nc = number(frames, "Nc"),
                  &loading = number(frames, "loading");
     for (std::size_t k = 0; k < frames.rows(); ++k)
-      add(frames_t_, frame_columns,
+      add_row(frames_t_, frame_columns,
           FrameRow{run, integer(frame, k), integer(step, k), theta.get(k), diameter.num[k],
                    integer(n, k), integer(nc, k), loading.num[k] != 0.0});
   }
@@ -298,7 +290,7 @@ void LocalNuStudy::add_summary(std::int64_t run, const Product& s) {
                  &r = number(states, "r"), &n = number(states, "n"), &sum = number(states, "sum"),
                  &sum2 = number(states, "sum2");
     for (std::size_t k = 0; k < states.rows(); ++k)
-      add(states_t_, state_columns,
+      add_row(states_t_, state_columns,
           StateRow{run, integer(frame, k), theta.get(k), r.num[k],
                    Sums{integer(n, k), sum.num[k], sum2.num[k]}});
   }
@@ -384,8 +376,8 @@ Product LocalNuStudy::product() const {
   p.tables.push_back(states_t_);
   Table& pdf = p.add_table(
       "pdf", "pdfs of nu_i(pdf_radius) over critical (P_c) and non-critical (P_nc) contacts");
-  declare(pdf, pdf_columns);
-  for (std::size_t b = 0; b < pc_.count.size(); ++b) add(pdf, pdf_columns, PdfRow{pc_, pnc_, b});
+  declare_columns(pdf, pdf_columns);
+  for (std::size_t b = 0; b < pc_.count.size(); ++b) add_row(pdf, pdf_columns, PdfRow{pc_, pnc_, b});
   if (mapped_) p.tables.push_back(relabel(map_t_));
   if (mapped_ && opt_.per_contact) p.tables.push_back(relabel(contacts_t_));
   return p;

@@ -21,7 +21,8 @@ void ContactDetection::build_grid(const DetectionInput& in, double r_max, double
   const Vec2 extent = hi - lo_;
   const double max_cells = 4.0 * static_cast<double>(n) + 16.0;
   if ((extent.x() / cell_ + 1.0) * (extent.y() / cell_ + 1.0) > max_cells)
-    cell_ = std::max(cell_, std::sqrt((extent.x() + cell_) * (extent.y() + cell_) / max_cells) * 1.01);
+    cell_ =
+        std::max(cell_, std::sqrt((extent.x() + cell_) * (extent.y() + cell_) / max_cells) * 1.01);
   nx_ = static_cast<std::int32_t>(extent.x() / cell_) + 1;
   ny_ = static_cast<std::int32_t>(extent.y() / cell_) + 1;
   // Counting sort of the grains into cells (row-major, cy then cx): deterministic.
@@ -101,8 +102,7 @@ void ContactDetection::detect_grain(const DetectionInput& in, std::size_t ui,
   }
 }
 
-void ContactDetection::detect(const DetectionInput& in, std::vector<ContactRow>& rows,
-                              Team* team) {
+void ContactDetection::detect(const DetectionInput& in, std::vector<ContactRow>& rows, Team* team) {
   const std::size_t n = in.position.size();
   rows.clear();
   if (n == 0) return;

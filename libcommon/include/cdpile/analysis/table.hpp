@@ -96,6 +96,18 @@ void declare_columns(Table& t, std::span<const ColumnSpec<Row>> spec);
 template <class Row>
 void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row);
 
+/// The same for a list written as an array (`const ColumnSpec<Row> frame_columns[] = {...}`);
+/// declare_columns returns the table.
+template <class Row, std::size_t N>
+Table& declare_columns(Table& t, const ColumnSpec<Row> (&spec)[N]) {
+  declare_columns(t, std::span<const ColumnSpec<Row>>(spec));
+  return t;
+}
+template <class Row, std::size_t N>
+void add_row(Table& t, const ColumnSpec<Row> (&spec)[N], const Row& row) {
+  add_row(t, std::span<const ColumnSpec<Row>>(spec), row);
+}
+
 struct Product {
   std::string kind;   ///< the tool that made it: critical, localnu, correlate, clusterfit
   Values parameters;  ///< the options and definitions used
@@ -195,7 +207,8 @@ void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row) {
                              spec[i].name);
     Cell v = spec[i].get(row);
     if ((c.kind == ColumnKind::text) != (v.kind == ColumnKind::text))
-      throw std::logic_error("table " + t.name + ": column " + c.name + " given a cell of another kind");
+      throw std::logic_error("table " + t.name + ": column " + c.name +
+                             " given a cell of another kind");
     if (v.kind == ColumnKind::text)
       c.add_text(std::move(v.text));
     else if (v.kind == ColumnKind::integer)

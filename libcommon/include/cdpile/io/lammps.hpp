@@ -174,8 +174,8 @@ std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptio
 /// (ITEM: NUMBER OF ENTRIES, ITEM: ENTRIES id1 id2 fn ft critical), the force network as
 /// bonds for OVITO's Load trajectory modifier: id1, id2 the atom ids of write_dump (grain
 /// index + 1), fn >= 0 and ft signed along the contact's tangent [N/m], critical 1 when
-/// |ft| >= (1 - eps) mu fn with fn > 0 (eps of `rule`: analysis::view_rule). Wall contacts are left out (no second atom). The box
-/// bounds are the atoms dump's. Returns the number of snapshots.
+/// |ft| >= (1 - eps) mu fn with fn > 0 (eps of `rule`: analysis::view_rule). Wall contacts are left
+/// out (no second atom). The box bounds are the atoms dump's. Returns the number of snapshots.
 std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt,
                                 const analysis::Friction& mu, const analysis::CriticalRule& rule);
 
