@@ -1,7 +1,7 @@
 // clusterfit: eq (4) of Staron, Vilotte & Radjai 2002 fitted per theta window, the affine
 // fits of A(theta) and alpha(theta), the cluster size r_c(theta) of eq (5) and its
 // power-law divergence r_c ~ (theta_c - theta)^-beta (Fig 6).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/clusterfit.hpp"
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/products.hpp"

@@ -1,7 +1,7 @@
 // correlate: nu_bar(theta, r), the mean local state around critical contacts (eq 3 of
 // Staron, Vilotte & Radjai 2002), per frame and pooled in theta windows over frames and
 // runs (Fig 4a, 4b).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/correlate.hpp"
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/io/products.hpp"

@@ -1,6 +1,6 @@
 // The friction coefficients of an analysis, decided in one place (analysis::choose_friction):
 // the value given, else the run's, else an error naming the file and what is missing.
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/run_record.hpp"
 #include "cdpile/error.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // alpha(theta), the cluster size r_c(theta) of eq (5), and its divergence
 // r_c ~ (theta_c - theta)^-beta (Fig 6).
 #include "cdpile/analysis/fit.hpp"
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/clusterfit.hpp"
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"

@@ -1,6 +1,6 @@
 // correlate: nu_bar(theta, r), the mean local state around critical contacts (eq 3),
 // per frame and pooled in theta windows over frames and runs (Fig 4).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/correlate.hpp"
 
 #include "cdpile/error.hpp"
 

@@ -3,7 +3,7 @@
 // limit nu_c (Fig 1c), the avalanche angle: the estimation. The product's parameters,
 // notes and tables are laid out and written in critical_study_tables.cpp.
 #include "cdpile/analysis/fit.hpp"
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/critical_study.hpp"
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"

@@ -3,7 +3,7 @@
 // functions that lay the product out and write its rows. Private to those two units.
 #pragma once
 
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/critical_study.hpp"
 
 #include <cstdint>
 #include <limits>

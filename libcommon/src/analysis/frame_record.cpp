@@ -1,5 +1,5 @@
 // One frame of a run as `critical` reads it (analysis/studies.hpp, frame_record).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/run_record.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // The friction coefficients of an analysis (analysis/studies.hpp, choose_friction), and the
 // rule a view of a run flags its critical contacts by (view_rule).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/run_record.hpp"
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"
 

@@ -1,7 +1,7 @@
 // localnu: the local state nu_i(r) of every contact (eq 1 on a disk of radius r), its
 // sums over critical contacts per frame (for eq 3), the pdfs P_c and P_nc at one radius
 // (Fig 3) and the nu field on a grid (Fig 5).
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/localnu_study.hpp"
 
 #include "cdpile/error.hpp"
 #include "cdpile/fields.hpp"

@@ -2,7 +2,7 @@
 /// that takes them (deposit, tilt-cd, critical, localnu, to-xdmf), with one range.
 #pragma once
 
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/run_record.hpp"
 #include "cdpile/cli/command.hpp"
 
 #include <optional>
