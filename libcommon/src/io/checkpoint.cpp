@@ -91,6 +91,12 @@ Checkpoint read_checkpoint(const h5::File& f, const Grains& properties) {
   for (std::size_t k = 0; k < ii.size(); ++k) c.impulses.push_back({ii[k], jj[k], rn[k], rt[k]});
   c.step = h5::attr_int(f, g, "step");
   c.time = h5::attr_double(f, g, "time");
+  // As a frame's step and time (docs/schema.md, "Ranges"): the step an integer of [0, 2^53].
+  if (c.step < 0 || c.step > (std::int64_t{1} << 53))
+    throw Error(f.name(), g,
+                "attribute 'step': " + std::to_string(c.step) + " is outside [0, 2^53]");
+  if (!(c.time >= 0))
+    throw Error(f.name(), g, "attribute 'time': " + format_number(c.time) + " s is outside [0, inf) s");
   for (const std::string& name : h5::attr_names(f, g)) {
     if (!is_counter(name)) continue;
     switch (h5::attr_class(f, g, name)) {
