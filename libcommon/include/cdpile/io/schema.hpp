@@ -141,7 +141,9 @@ class RunWriter {
 /// offsets) is an Error naming the file and the path inside it; so are magnitudes no
 /// pile can have (a radius over half the box width; in frame(), a grain outside the box
 /// by more than length_scale() or faster than speed_bound()) and a contact listed twice
-/// in a frame.
+/// in a frame, and every value outside the range docs/schema.md, "Ranges", states (box
+/// edges, masses, inertias, steps, times, tilts, contact gaps, points and normals, the
+/// standard observables): "WHERE: VALUE is outside RANGE".
 class RunReader {
  public:
   explicit RunReader(const h5::File& f);
