@@ -32,8 +32,9 @@ python3 "$corpus/../../tests/tools/from-lammps/make_dumps.py" liggghts plain q
 # The seeds in the earlier file format (superblock version 0, variable-length string
 # attributes: old-*.h5, made the same way by cdpile 0.1.0 at commit 8f7ef3f) are kept.
 find "$corpus" -type f ! -name 'old-*' -delete
-mkdir -p "$corpus"/{run,product,table,lammps}
+mkdir -p "$corpus"/{run,product,table,lammps,tilt}
 cp pile.h5 run.h5 "$corpus/run/"
+cp pile.h5 "$corpus/tilt/"  # tilt-cd's input
 cp partial.h5.partial "$corpus/run/partial.h5"
 cp critical.h5 critical.tsv localnu.h5 localnu.tsv correlate.h5 correlate.tsv "$corpus/product/"
 # The table harness reads its first byte as the duplicates rule (odd: merge).

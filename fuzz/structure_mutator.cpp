@@ -7,7 +7,11 @@
 // offsets, sizes and float layouts, both byte orders), data space (scalar, null, other
 // rank or extent), layout (contiguous, compact, chunks of any shape, filters), a missing
 // or extra link, a group where a dataset should be and back, soft, dangling, cyclic and
-// external links, text of every kind. One mutation in four is libFuzzer's own byte
+// external links, text of every kind; or a value of the right type in the right place
+// that no file should hold (three structural mutations in eight: one element of a numeric
+// dataset or attribute, or all of a dataset's, set to NaN, an infinity, 1e300, -0, a
+// denormal, an integer type's extreme, an id at or past the grain count, the old value
+// scaled; docs/schema.md, "Ranges"). One mutation in four is libFuzzer's own byte
 // mutation (the raw data the checksums do not cover). Inputs HDF5 cannot open in this
 // version's format (the earlier format, damaged bytes) get the byte mutation only: the
 // mutator never parses what the tools would parse in a child. The mutation itself runs in
@@ -20,12 +24,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <exception>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -374,6 +380,140 @@ bool mutate_links(hid_t file, Rng& rng) {
   }
 }
 
+/// A number no pile, run or product should hold, or one at the edge of a range
+/// (docs/schema.md, "Ranges"): the special floats, the extremes of the integer types, ids
+/// at and past the grain count and the walls, and the old value scaled, negated, nudged.
+double special_float(Rng& rng, double old) {
+  const double values[] = {std::numeric_limits<double>::quiet_NaN(),
+                           std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity(),
+                           1e300,
+                           -1e300,
+                           std::numeric_limits<double>::max(),
+                           -0.0,
+                           0.0,
+                           5e-324,                   // the smallest denormal
+                           2.2250738585072014e-308,  // the smallest normal
+                           -1.0,
+                           1.0,
+                           90.0,
+                           -90.0,
+                           90.00000000000001,
+                           9007199254740993.0,  // 2^53 + 1 (rounds to 2^53 + 2)
+                           9.3e18,              // past INT64_MAX
+                           old * 1e6,
+                           old * 1e-6,
+                           -old,
+                           std::nextafter(old, std::numeric_limits<double>::infinity()),
+                           old + 1.0};
+  return values[pick(rng, std::size(values))];
+}
+
+std::int64_t special_integer(Rng& rng, std::int64_t old, std::int64_t grains) {
+  const std::int64_t values[] = {std::numeric_limits<std::int64_t>::max(),
+                                 std::numeric_limits<std::int64_t>::min(),
+                                 std::numeric_limits<std::int32_t>::max(),
+                                 std::numeric_limits<std::int32_t>::min(),
+                                 std::int64_t{1} << 31,
+                                 (std::int64_t{1} << 53) + 1,
+                                 -1,
+                                 0,
+                                 1,
+                                 2,
+                                 3,
+                                 255,
+                                 -3,  // the right wall
+                                 -4,  // below the walls
+                                 grains,
+                                 grains - 1,
+                                 grains + 1,
+                                 old + 1,
+                                 old - 1,
+                                 -old,
+                                 old * 1000};
+  return values[pick(rng, std::size(values))];
+}
+
+/// The number of grains, if the file has them: ids at and past it are the ones to try.
+std::int64_t grain_count(hid_t file) {
+  if (H5Lexists(file, "/particles", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "/particles/grains", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "/particles/grains/radius", H5P_DEFAULT) <= 0)
+    return 12;
+  h5::Handle d(H5Dopen2(file, "/particles/grains/radius", H5P_DEFAULT));
+  if (!d.valid()) return 12;
+  h5::Handle space(H5Dget_space(d.id()));
+  return std::max<hssize_t>(H5Sget_simple_extent_npoints(space.id()), 0);
+}
+
+/// One value of a numeric dataset changed, its type, shape and layout kept (or, one time
+/// in eight, every value of it): what the checks of docs/schema.md, "Ranges", are for.
+bool mutate_dataset_value(hid_t file, const std::string& path, Rng& rng) {
+  h5::Handle d(H5Dopen2(file, path.c_str(), H5P_DEFAULT));
+  if (!d.valid()) return false;
+  h5::Handle type(H5Dget_type(d.id())), space(H5Dget_space(d.id()));
+  const H5T_class_t cls = H5Tget_class(type.id());
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT) return false;
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id());
+  if (n <= 0 || n > (1 << 22) || H5Sget_simple_extent_type(space.id()) != H5S_SIMPLE) return false;
+  const std::vector<hsize_t> dims = dims_of(space.id());
+  const bool all = pick(rng, 8) == 0;
+  hsize_t flat = pick(rng, static_cast<std::size_t>(n));
+  std::vector<hsize_t> at(dims.size());
+  for (std::size_t k = dims.size(); k-- > 0;) {
+    at[k] = flat % dims[k];
+    flat /= dims[k];
+  }
+  const hsize_t one = 1;
+  h5::Handle memory(H5Screate_simple(1, &one, nullptr));
+  if (!all && H5Sselect_elements(space.id(), H5S_SELECT_SET, 1, at.data()) < 0) return false;
+  const hid_t file_space = all ? H5S_ALL : space.id();
+  if (cls == H5T_FLOAT) {
+    double old = 0;
+    if (!all) H5Dread(d.id(), H5T_NATIVE_DOUBLE, memory.id(), file_space, H5P_DEFAULT, &old);
+    const double v = special_float(rng, std::isfinite(old) ? old : 1.0);
+    if (!all) return H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
+    const std::vector<double> w(static_cast<std::size_t>(n), v);
+    return H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.data()) >= 0;
+  }
+  std::int64_t old = 0;
+  if (!all) H5Dread(d.id(), H5T_NATIVE_INT64, memory.id(), file_space, H5P_DEFAULT, &old);
+  const std::int64_t v = special_integer(rng, old, grain_count(file));
+  if (!all) return H5Dwrite(d.id(), H5T_NATIVE_INT64, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
+  const std::vector<std::int64_t> w(static_cast<std::size_t>(n), v);
+  return H5Dwrite(d.id(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.data()) >= 0;
+}
+
+/// One value of a numeric attribute (a parameter, a result, a checkpoint's counter, the
+/// schema version) changed, its type and shape kept.
+bool mutate_attribute_value(hid_t file, Rng& rng) {
+  std::vector<std::string> objects = objects_of(file);
+  objects.push_back("/");
+  const std::string& path = objects[pick(rng, objects.size())];
+  h5::Handle obj(H5Oopen(file, path.c_str(), H5P_DEFAULT));
+  if (!obj.valid()) return false;
+  H5O_info_t info;
+  if (H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS) < 0 || info.num_attrs == 0) return false;
+  h5::Handle a(H5Aopen_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_NATIVE,
+                              pick(rng, info.num_attrs), H5P_DEFAULT, H5P_DEFAULT));
+  if (!a.valid()) return false;
+  h5::Handle type(H5Aget_type(a.id())), space(H5Aget_space(a.id()));
+  const H5T_class_t cls = H5Tget_class(type.id());
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id());
+  if ((cls != H5T_INTEGER && cls != H5T_FLOAT) || n <= 0 || n > (1 << 16)) return false;
+  const std::size_t k = pick(rng, static_cast<std::size_t>(n));
+  if (cls == H5T_FLOAT) {
+    std::vector<double> v(static_cast<std::size_t>(n));
+    if (H5Aread(a.id(), H5T_NATIVE_DOUBLE, v.data()) < 0) return false;
+    v[k] = special_float(rng, std::isfinite(v[k]) ? v[k] : 1.0);
+    return H5Awrite(a.id(), H5T_NATIVE_DOUBLE, v.data()) >= 0;
+  }
+  std::vector<std::int64_t> v(static_cast<std::size_t>(n));
+  if (H5Aread(a.id(), H5T_NATIVE_INT64, v.data()) < 0) return false;
+  v[k] = special_integer(rng, v[k], grain_count(file));
+  return H5Awrite(a.id(), H5T_NATIVE_INT64, v.data()) >= 0;
+}
+
 /// One structural mutation of an image of this version's format, or false (the caller
 /// then mutates bytes).
 bool mutate_structure(const std::vector<char>& in, Rng& rng, std::vector<char>& out) {
@@ -385,8 +525,15 @@ bool mutate_structure(const std::vector<char>& in, Rng& rng, std::vector<char>& 
   h5::File f(h5::Handle(id), "mutant");
   bool done = false;
   const std::vector<std::string> datasets = objects_of(f.id(), H5O_TYPE_DATASET);
-  const std::size_t kind = pick(rng, 5);
-  if (kind < 3 && !datasets.empty()) {
+  // Kinds 0 to 4 change the structure, 5 to 7 the values (docs/fuzzing.md, "The value
+  // mutations"): a dataset's element twice as often as an attribute's.
+  const std::size_t kind = pick(rng, 8);
+  if (kind >= 5) {
+    if (kind < 7 && !datasets.empty())
+      done = mutate_dataset_value(f.id(), datasets[pick(rng, datasets.size())], rng);
+    else
+      done = mutate_attribute_value(f.id(), rng);
+  } else if (kind < 3 && !datasets.empty()) {
     const std::string& path = datasets[pick(rng, datasets.size())];
     done = kind == 0   ? retype_dataset(f.id(), path, rng)
            : kind == 1 ? reshape_dataset(f.id(), path, rng)

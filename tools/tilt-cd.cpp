@@ -132,20 +132,9 @@ static void usage(cli::Usage& u) {
 // A branch's or a resume's are those given over the run's (inherited()), checked once
 // merged: --threads alone is then valid on a run in strips.
 static sim::TiltOptions options(const cli::Args& a, const sim::PileInput& pile) {
-  auto param = [&](const std::string& key, double fallback) {
-    return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
-  };
-  const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
-  const double gravity = param(sim::parameter_key("gravity"), cd::Settings{}.gravity);
   sim::TiltOptions o;
   const OptionValues values = cli::option_values(a, sim::declared_options());
-  o.settings =
-      sim::settings_from_options(values, {diameter, analysis::mean_mass(pile.grains), gravity});
-  o.settings.gravity = gravity;
-  o.settings.mu_grain =
-      a.real_opt("mu").value_or(param(sim::parameter_key("mu_grain"), o.settings.mu_grain));
-  o.settings.mu_wall =
-      a.real_opt("mu-wall").value_or(param(sim::parameter_key("mu_wall"), o.settings.mu_wall));
+  o.settings = sim::pile_settings(pile, values, a.real_opt("mu"), a.real_opt("mu-wall"));
   sim::set_declared_options(o, values);
   if (pile.branch) o.from_deg = pile.branch->tilt_deg;  // its frame's tilt, not --from
   const analysis::AvalancheRule avalanche = cli::avalanche_rule(a);

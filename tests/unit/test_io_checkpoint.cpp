@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 using namespace cdpile;
 
 namespace {
@@ -72,4 +74,34 @@ TEST(Checkpoint, AFileWithoutOneIsNotAPartialRun) {
   } catch (const Error& e) {
     EXPECT_STREQ(e.what(), "mem.h5: /checkpoint: missing: not a partial run");
   }
+}
+
+// docs/schema.md, "Ranges": the step and time as a frame's, the counters within 2^53, the
+// sub-step level (a shift count) within [0, 30].
+TEST(Checkpoint, ValuesOutsideTheirRangeAreRefused) {
+  auto message = [](io::Checkpoint c) {
+    io::h5::File f = io::h5::create_in_memory("mem.h5");
+    io::write_checkpoint(f, c);
+    try {
+      io::read_checkpoint(f, c.grains);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  io::Checkpoint c = sample();
+  c.step = -1;
+  EXPECT_EQ(message(c), "mem.h5: /checkpoint: attribute 'step': -1 is outside [0, 2^53]");
+  c = sample();
+  c.time = -1e-300;
+  EXPECT_EQ(message(c), "mem.h5: /checkpoint: attribute 'time': -1e-300 s is outside [0, inf) s");
+  c = sample();
+  c.counters.emplace_back("substep_level", std::int64_t{1} << 32);
+  EXPECT_EQ(message(c),
+            "mem.h5: /checkpoint: attribute 'substep_level': 4294967296 is outside [0, 30]");
+  c = sample();
+  c.counters.emplace_back("unconverged_steps", std::numeric_limits<std::int64_t>::min());
+  EXPECT_EQ(message(c),
+            "mem.h5: /checkpoint: attribute 'unconverged_steps': -9223372036854775808 is outside "
+            "[-2^53, 2^53]");
 }

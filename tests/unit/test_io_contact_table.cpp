@@ -175,3 +175,17 @@ TEST(ContactTable, LengthUnitComment) {
       "mm");
   EXPECT_EQ(read_contact_table("x\ty\tfn\tft\n0\t0\t1\t0\n", "c.tsv").length_unit, "");
 }
+
+// docs/schema.md, "Ranges": with the grains' diameter known (localnu's --diameter), a point
+// more than 1e9 D from the origin is no pile's contact.
+TEST(ContactTable, APointBeyondItsRangeIsRefused) {
+  const std::string text = "x\ty\tfn\tft\n0\t0\t1\t0\n1e300\t0\t1\t0\n";
+  EXPECT_NO_THROW(read_contact_table(text, "c.tsv", {}));  // no diameter, no bound
+  try {
+    read_contact_table(text, "c.tsv", {}, 1e-3);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "c.tsv: line 3, column x: 1e+300 is outside [-1e9 D, 1e9 D] (D = 0.001)");
+  }
+}

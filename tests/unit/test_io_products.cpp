@@ -206,3 +206,33 @@ TEST(Products, EmptyTableTsvRoundTrip) {
   write_tsv(os, empty_product(), {});
   expect_empty(read_product_tsv(os.str(), "x.tsv").product);
 }
+
+// docs/schema.md, "Ranges": an integer column holds ids and counts, read back as doubles and
+// cast to integers: within 2^53; a count of rows in the TSV header is a size.
+TEST(Products, ValuesOutsideTheirRangeAreRefused) {
+  Product p = sample();
+  h5::File f = h5::create_in_memory("mem.h5");
+  write_hdf5(f, p, {provenance_now("correlate", "correlate in.h5", "in.h5")});
+  const std::int64_t huge[3] = {4, -(std::int64_t{1} << 60), 0};
+  H5Ldelete(f.id(), "/tables/windows/n", H5P_DEFAULT);
+  h5::write(f, "/tables/windows/n", huge, {3});
+  try {
+    read_product_hdf5(f);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "mem.h5: /tables/windows/n: row 1: -1152921504606846976 is outside [-2^53, 2^53]");
+  }
+  std::ostringstream os;
+  write_tsv(os, p, {}, {});
+  std::string text = os.str();
+  const auto at = text.find("windows=3");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, 9, "windows=1e300");
+  try {
+    read_product_tsv(text, "p.tsv");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "p.tsv: bad '# tables:' entry 'windows=1e300'");
+  }
+}

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -675,4 +676,78 @@ TEST(Schema, FilesHaveChecksummedMetadataAndFixedLengthText) {
                                                         {"/provenance/000", "tool"},
                                                         {"/provenance/000", "command_line"}})
     EXPECT_FALSE(string_kind(f.hdf5(), path, name).variable) << path << " " << name;
+}
+
+// The ranges of docs/schema.md, "Ranges": a value of the right type in the right place
+// that no pile or run can hold is refused, naming the dataset, the element and the value.
+TEST(ReaderErrors, ValuesOutsideTheirRange) {
+  TempDir dir;
+  const auto p = dir / "a.h5";
+  auto set = [](const std::string& path, std::size_t at, double value) {
+    return [=](h5::File& f) {
+      std::vector<hsize_t> dims;
+      auto v = h5::read<double>(f, path, {}, &dims);
+      v[at] = value;
+      replace(f, path, v, dims);
+    };
+  };
+  auto set_int = [](const std::string& path, std::size_t at, std::int64_t value) {
+    return [=](h5::File& f) {
+      std::vector<hsize_t> dims;
+      auto v = h5::read<std::int64_t>(f, path, {}, &dims);
+      v[at] = value;
+      H5Ldelete(f.id(), path.c_str(), H5P_DEFAULT);
+      h5::write(f, path, v.data(), dims);
+    };
+  };
+  EXPECT_EQ(error_after(p, set("/contacts/tilt_angle", 1, 1e300)),
+            p + ": /contacts/tilt_angle: frame 1: 1e+300 deg is outside [-90, 90] deg");
+  EXPECT_EQ(error_after(p, set("/contacts/tilt_angle", 0, 90.00000000000001)),
+            p + ": /contacts/tilt_angle: frame 0: 90.00000000000001 deg is outside [-90, 90] deg");
+  EXPECT_EQ(error_after(p, set_int("/particles/grains/position/step", 0, -1)),
+            p + ": /particles/grains/position/step: frame 0: -1 is outside [0, 2^53]");
+  EXPECT_EQ(error_after(p, set_int("/particles/grains/position/step", 1, 1LL << 60)),
+            p + ": /particles/grains/position/step: frame 1: 1152921504606846976 is outside "
+                "[0, 2^53]");
+  EXPECT_EQ(error_after(p, set("/particles/grains/position/time", 1, -0.5)),
+            p + ": /particles/grains/position/time: frame 1: -0.5 s is outside [0, inf) s");
+  EXPECT_EQ(error_after(p, set("/particles/grains/box/edges", 1, -1)),
+            p + ": /particles/grains/box/edges: element 1 (height): -1 m is outside [0, inf) m");
+  const std::string tall = error_after(p, set("/particles/grains/box/edges", 1, 1e300));
+  EXPECT_EQ(tall.rfind(p + ": /particles/grains/box/edges: element 1 (height): 1e+300 m is "
+                           "outside [0, ",
+                       0),
+            0u)
+      << tall;
+  EXPECT_NE(tall.find("] m (1e8 of the largest diameter, "), std::string::npos) << tall;
+  const std::string heavy = error_after(p, set("/particles/grains/mass", 2, 1e300));
+  EXPECT_EQ(heavy.rfind(p + ": /particles/grains/mass: grain 2: 1e+300 kg/m is outside [", 0), 0u)
+      << heavy;
+  EXPECT_NE(heavy.find(" m, rho in [1e-12, 1e12] kg/m^3)"), std::string::npos) << heavy;
+  const std::string spin = error_after(p, set("/particles/grains/inertia", 0, 1.0));
+  EXPECT_EQ(spin.rfind(p + ": /particles/grains/inertia: grain 0: 1 kg m is outside (0, ", 0), 0u)
+      << spin;
+  EXPECT_NE(spin.find("] kg m (at most m r^2)"), std::string::npos) << spin;
+  const std::string normal = error_after(p, set("/contacts/normal", 2 * 3, 1e300));
+  std::string y;
+  {
+    io::Input in(p);
+    char b[32];
+    const double ny = h5::read<double>(in.hdf5(), "/contacts/normal", {})[7];
+    y.assign(b, std::to_chars(b, b + sizeof b, ny).ptr);
+  }
+  EXPECT_EQ(normal, p + ": /contacts/normal: row 3: (1e+300, " + y +
+                        ") is outside the unit vectors (its length is 1e+300, not 1 to within "
+                        "1e-6)");
+  const std::string gap = error_after(p, set("/contacts/gap", 4, -1e300));
+  EXPECT_EQ(gap.rfind(p + ": /contacts/gap: row 4: -1e+300 m is outside [-1.3085", 0), 0u) << gap;
+  EXPECT_NE(gap.find("] m (10 L + h times the speed bound)"), std::string::npos) << gap;
+  // the per-step series: a count and an energy
+  EXPECT_EQ(error_after(p, set_int("/observables/contacts/value", 1, INT64_MAX)),
+            p + ": /observables/contacts/value: row 1: 9223372036854775807 is outside the "
+                "integers of [0, 2^53]");
+  EXPECT_EQ(error_after(p, set("/observables/kinetic_energy/value", 2, -1e-300)),
+            p + ": /observables/kinetic_energy/value: row 2: -1e-300 is outside [0, inf)");
+  EXPECT_EQ(error_after(p, set("/observables/tilt_angle/value", 0, -1e300)),
+            p + ": /observables/tilt_angle/value: row 0: -1e+300 is outside [-90, 90]");
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <set>
@@ -70,7 +71,9 @@ const ColumnSpec<WindowRow> window_columns[] = {
 std::int64_t as_int(const Column& c, std::size_t r, const std::string& table,
                     const std::string& src) {
   auto v = c.get(r);
-  if (!v || *v != std::floor(*v))
+  // within 2^53, as the product readers hold integers (docs/schema.md, "Ranges"): a text
+  // product's columns are real, and 1e300 is an integer a cast cannot hold
+  if (!v || *v != std::floor(*v) || !(std::fabs(*v) <= 9007199254740992.0))
     throw Error(src, "",
                 "table " + table + ", row " + std::to_string(r + 1) + ": column " + c.name +
                     " must be an integer");
@@ -96,6 +99,14 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       f.run = as_int(run, r, "frames", src);
       f.frame = as_int(frame, r, "frames", src);
       f.theta = theta.get(r);
+      // a tilt (docs/schema.md, "Ranges"); its window index is an integer cast of it
+      if (f.theta && !(std::fabs(*f.theta) <= 90.0)) {
+        char what[160];
+        std::snprintf(what, sizeof what,
+                      "table frames, row %zu: theta %g deg is outside [-90, 90] deg", r + 1,
+                      *f.theta);
+        throw Error(src, "", what);
+      }
       f.nu = nu.get(r);
       if (!index.emplace(std::make_pair(f.run, f.frame), frames.size()).second)
         throw Error(src, "",

@@ -284,7 +284,7 @@ LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& i
       throw Error(file, "",
                   "is a '" + kind + "' product, expected a run (HDF5) or a contact table");
     require_table_options(o, file);
-    ContactTable t = read_contact_table(in.text(), file, {o.duplicates});
+    ContactTable t = read_contact_table(in.text(), file, {o.duplicates}, o.diameter);
     info.table = true;
     info.length_unit = t.length_unit;
     info.merged = t.merged;

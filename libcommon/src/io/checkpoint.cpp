@@ -91,10 +91,28 @@ Checkpoint read_checkpoint(const h5::File& f, const Grains& properties) {
   for (std::size_t k = 0; k < ii.size(); ++k) c.impulses.push_back({ii[k], jj[k], rn[k], rt[k]});
   c.step = h5::attr_int(f, g, "step");
   c.time = h5::attr_double(f, g, "time");
+  // As a frame's step and time (docs/schema.md, "Ranges"): the step an integer of [0, 2^53].
+  if (c.step < 0 || c.step > (std::int64_t{1} << 53))
+    throw Error(f.name(), g,
+                "attribute 'step': " + std::to_string(c.step) + " is outside [0, 2^53]");
+  if (!(c.time >= 0))
+    throw Error(f.name(), g, "attribute 'time': " + format_number(c.time) + " s is outside [0, inf) s");
   for (const std::string& name : h5::attr_names(f, g)) {
     if (!is_counter(name)) continue;
     switch (h5::attr_class(f, g, name)) {
-      case H5T_INTEGER: c.counters.emplace_back(name, h5::attr_int(f, g, name)); break;
+      case H5T_INTEGER: {
+        // Counters are steps, counts and flags, and the sub-step level a shift count
+        // (docs/schema.md, "Ranges"): within 2^53, the level within [0, 30].
+        const std::int64_t v = h5::attr_int(f, g, name);
+        const std::int64_t top = name == "substep_level" ? 30 : std::int64_t{1} << 53;
+        const std::int64_t bottom = name == "substep_level" ? 0 : -top;
+        if (v < bottom || v > top)
+          throw Error(f.name(), g,
+                      "attribute '" + name + "': " + std::to_string(v) + " is outside " +
+                          (top == 30 ? "[0, 30]" : "[-2^53, 2^53]"));
+        c.counters.emplace_back(name, v);
+        break;
+      }
       case H5T_FLOAT: c.counters.emplace_back(name, h5::attr_double(f, g, name)); break;
       default: c.counters.emplace_back(name, h5::attr_string(f, g, name)); break;
     }

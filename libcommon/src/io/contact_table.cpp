@@ -178,7 +178,7 @@ std::vector<TextTable> parse_text_tables(const std::string& text, const std::str
 // ---------------------------------------------------------------------------------
 
 ContactTable read_contact_table(const std::string& text, const std::string& file,
-                                const ContactTableOptions& opt) {
+                                const ContactTableOptions& opt, std::optional<double> diameter) {
   // Only the known columns are numbers; any other column is ignored whatever it holds.
   TextTableOptions topt;
   topt.numeric_columns = {"x", "y", "fn", "ft", "i", "j", "wall", "frame", "theta", "status"};
@@ -272,6 +272,12 @@ ContactTable read_contact_table(const std::string& text, const std::string& file
     // A contact given twice: the same bodies (in either order), or without ids the same
     // contact point, in one frame.
     const double x = t.values[cx][r], y = t.values[cy][r];
+    if (diameter)
+      for (auto [v, col] : {std::pair{x, cx}, std::pair{y, cy}})
+        if (!(std::abs(v) <= 1e9 * *diameter))
+          throw Error(file, where(t.line[r], t.columns[col]),
+                      format_cell(v) + " is outside [-1e9 D, 1e9 D] (D = " +
+                          format_cell(*diameter) + ")");
     Key key;
     std::string what;
     if (out.has_ids) {

@@ -258,9 +258,15 @@ ProductFile read_product_hdf5(const h5::File& f) {
           c.text.push_back(labels[k]);
         }
       } else {
-        c.num = h5::read<double>(f, path, {h5::any}, &dims);
-        for (double v : c.num)
-          if (!std::isfinite(v)) throw Error(f.name(), path, "value is not finite");
+        c.num = h5::read<double>(f, path, {h5::any}, &dims);  // finite, or refused
+        // An integer column is held as doubles, and read back as ids and counts: within
+        // 2^53, where a double holds every integer (docs/schema.md, "Ranges").
+        if (kind == ColumnKind::integer)
+          for (std::size_t r = 0; r < c.num.size(); ++r)
+            if (!(std::fabs(c.num[r]) <= 9007199254740992.0))
+              throw Error(f.name(), path,
+                          "row " + std::to_string(r) + ": " + format_number(c.num[r]) +
+                              " is outside [-2^53, 2^53]");
         if (h5::exists(f, path + "_defined")) {
           auto def = h5::read<std::uint8_t>(f, path + "_defined", {dims[0]});
           // {0} in a shape matches any extent: an empty column needs its own check (found
@@ -332,7 +338,10 @@ ProductFile read_product_tsv(const std::string& text, const std::string& name) {
           const auto eq = item.find('=');
           const auto rows =
               eq == std::string::npos ? std::nullopt : parse_number(item.substr(eq + 1));
-          if (!rows || *rows < 0) throw Error(name, "", "bad '# tables:' entry '" + item + "'");
+          // a count of rows: an integer, and one a double holds (found by the value
+          // mutations: 1e300 rows was converted to a size, docs/fuzzing.md)
+          if (!rows || !(*rows >= 0 && *rows <= 9007199254740992.0) || *rows != std::floor(*rows))
+            throw Error(name, "", "bad '# tables:' entry '" + item + "'");
           declared.emplace_back(item.substr(0, eq), static_cast<std::size_t>(*rows));
         }
       } else if (auto v2 = after("parameter ")) {

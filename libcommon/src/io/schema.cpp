@@ -8,10 +8,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <iterator>
+#include <limits>
 #include <optional>
 
 namespace cdpile::io {
@@ -39,6 +42,61 @@ std::string number_text(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
   return buf;
+}
+
+// The ranges of the schema's values (docs/schema.md, "Ranges"): each bound is stated there
+// once with its reason, and checked here, where the value is read.
+
+/// The largest integer a double holds exactly: steps (time = step h), counts and ids are
+/// computed with as doubles somewhere, so none may exceed it.
+constexpr double kExactInteger = 9007199254740992.0;  // 2^53
+
+/// deposit's largest pile, in its diameters: 1e7 wide (--width), 1e8 grains in a column
+/// (--grains). A box edge beyond 1e8 of its largest diameters is no pile's.
+constexpr double kBoxInDiameters = 1e8;
+
+/// deposit's --density range [1e-12, 1e12] kg/m^3: a grain's mass per unit thickness is
+/// rho pi r^2, rho within it (to 1e-9, the rounding of m / (pi r^2)).
+constexpr double kDensityMin = 1e-12, kDensityMax = 1e12;
+
+/// The tilt of a frame or a step: tilt-cd's --from, --to and --max-angle are in [-90, 90].
+constexpr double kTiltMaxDeg = 90.0;
+
+/// How far a unit normal's length may be from 1 (the writer divides by the norm).
+constexpr double kUnitTolerance = 1e-6;
+
+/// "WHERE: VALUE is outside RANGE", the one form of every range refusal.
+[[noreturn]] void out_of_range(const h5::File& f, const std::string& path, const std::string& where,
+                               const std::string& value, const std::string& range) {
+  bad(f, path, where + ": " + value + " is outside " + range);
+}
+
+std::string integer_text(std::int64_t x) { return std::to_string(x); }
+
+/// A value as read, every digit that tells it apart (the shortest text that reads back as it).
+std::string exact_text(double x) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  return ec == std::errc() ? std::string(buf, end) : number_text(x);
+}
+
+/// Steps: integers in [0, 2^53], in order (non-decreasing: a resume keeps the frames up to a
+/// step by their order); times: in [0, inf).
+void check_clock(const h5::File& f, const std::string& step_path,
+                 const std::vector<std::int64_t>& step, const std::string& time_path,
+                 const std::vector<double>& time, const char* row) {
+  for (std::size_t k = 0; k < step.size(); ++k) {
+    const std::string where = row + std::string(" ") + std::to_string(k);
+    if (step[k] < 0 || static_cast<double>(step[k]) > kExactInteger)
+      out_of_range(f, step_path, where, integer_text(step[k]), "[0, 2^53]");
+    if (k > 0 && step[k] < step[k - 1])
+      out_of_range(f, step_path, where, integer_text(step[k]),
+                   "[" + integer_text(step[k - 1]) + ", 2^53] (steps are in order)");
+  }
+  for (std::size_t k = 0; k < time.size(); ++k) {
+    const std::string where = row + std::string(" ") + std::to_string(k);
+    if (!(time[k] >= 0)) out_of_range(f, time_path, where, exact_text(time[k]) + " s", "[0, inf) s");
+  }
 }
 
 std::vector<Vec2> to_vec2(const std::vector<double>& xy) {
@@ -523,6 +581,9 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
   auto edges = h5::read<double>(f, box + "/edges", {2});
   header_.box = {edges[0], edges[1]};
   if (!(header_.box.width > 0)) bad(f, box + "/edges", "box width must be positive");
+  if (!(header_.box.height >= 0))
+    out_of_range(f, box + "/edges", "element 1 (height)", exact_text(header_.box.height) + " m",
+                 "[0, inf) m");
 
   std::vector<hsize_t> dims;
   grains_.radius = h5::read<double>(f, grain_path("radius"), {h5::any}, &dims);
@@ -542,9 +603,34 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
       bad(f, grain_path("mass"), "mass of grain " + std::to_string(k) + " is not positive");
     if (!(grains_.inertia[k] > 0))
       bad(f, grain_path("inertia"), "inertia of grain " + std::to_string(k) + " is not positive");
+    // rho pi r^2 with rho in deposit's --density range; at most m r^2 (a ring: no body
+    // within a radius r turns harder). Both to 1e-9, the rounding of the writer's products.
+    const double r = grains_.radius[k], disk = M_PI * r * r;
+    if (!(grains_.mass[k] >= kDensityMin * disk * (1 - 1e-9) &&
+          grains_.mass[k] <= kDensityMax * disk * (1 + 1e-9)))
+      out_of_range(f, grain_path("mass"), "grain " + std::to_string(k),
+                   exact_text(grains_.mass[k]) + " kg/m",
+                   "[" + number_text(kDensityMin * disk) + ", " + number_text(kDensityMax * disk) +
+                       "] kg/m (rho pi r^2, r = " + number_text(r) +
+                       " m, rho in [1e-12, 1e12] kg/m^3)");
+    if (!(grains_.inertia[k] <= grains_.mass[k] * r * r * (1 + 1e-9)))
+      out_of_range(f, grain_path("inertia"), "grain " + std::to_string(k),
+                   exact_text(grains_.inertia[k]) + " kg m",
+                   "(0, " + number_text(grains_.mass[k] * r * r) + "] kg m (at most m r^2)");
     if (species[k] > 1)
       bad(f, grain_path("species"),
           "unknown species " + std::to_string(species[k]) + " of grain " + std::to_string(k));
+  }
+  if (n_ > 0) {
+    const double d_max = 2 * *std::max_element(grains_.radius.begin(), grains_.radius.end());
+    const double edge_max = kBoxInDiameters * d_max;
+    for (std::size_t e = 0; e < 2; ++e)
+      if (!(edges[e] <= edge_max))
+        out_of_range(f, box + "/edges", std::string("element ") + std::to_string(e) +
+                                            (e ? " (height)" : " (width)"),
+                     exact_text(edges[e]) + " m",
+                     "[0, " + number_text(edge_max) + "] m (1e8 of the largest diameter, " +
+                         number_text(d_max) + " m)");
   }
   grains_.species.resize(n_);
   for (std::size_t k = 0; k < n_; ++k) grains_.species[k] = static_cast<Species>(species[k]);
@@ -571,7 +657,12 @@ RunReader::RunReader(const h5::File& f) : f_(&f) {
           "expected shape [" + std::to_string(frames) + " x " + std::to_string(n_) + "]");
   }
   const std::string cg = kContacts;
+  check_clock(f, pos + "/step", frame_steps_, pos + "/time", frame_time_, "frame");
   frame_tilt_ = h5::read<double>(f, cg + "/tilt_angle", {frames});
+  for (std::size_t q = 0; q < frames; ++q)
+    if (!(std::fabs(frame_tilt_[q]) <= kTiltMaxDeg))
+      out_of_range(f, cg + "/tilt_angle", "frame " + std::to_string(q),
+                   exact_text(frame_tilt_[q]) + " deg", "[-90, 90] deg");
   for (auto& t : frame_tilt_) t *= M_PI / 180.0;
   offset_ = h5::read<std::int64_t>(f, cg + "/offset", {frames});
   count_ = h5::read<std::int64_t>(f, cg + "/count", {frames});
@@ -618,6 +709,14 @@ double RunReader::speed_bound() const {
   return 1e3 * std::sqrt(g * length_scale());
 }
 
+double RunReader::contact_reach() const {
+  double h = 1e-4;
+  if (auto it = header_.parameters.find("time_step_s"); it != header_.parameters.end())
+    if (const double* v = std::get_if<double>(&it->second); v && *v > 0 && std::isfinite(*v))
+      h = *v;
+  return 10 * length_scale() + h * speed_bound();
+}
+
 double RunReader::force_bound() const {
   double h = 1e-4, mass = 0.0;
   if (auto it = header_.parameters.find("time_step_s"); it != header_.parameters.end())
@@ -644,7 +743,8 @@ Contacts RunReader::contacts(std::size_t k) const {
   auto st = h5::read_rows<std::int8_t>(f, cg + "/status", first, n);
   c.status.resize(n);
   const auto grains = static_cast<std::int64_t>(n_);
-  const double fmax = force_bound();
+  const double fmax = force_bound(), reach = contact_reach(), w = header_.box.width,
+               ht = header_.box.height;
   for (std::size_t q = 0; q < n; ++q) {
     const std::string row = "row " + std::to_string(first + q);
     for (auto [force, name] : {std::pair{c.fn[q], "fn"}, std::pair{c.ft[q], "ft"}})
@@ -659,6 +759,23 @@ Contacts RunReader::contacts(std::size_t k) const {
       bad(f, cg + "/j",
           row + ": id " + std::to_string(c.j[q]) + " is neither another grain nor a wall");
     if (c.fn[q] < 0) bad(f, cg + "/fn", row + ": negative normal force");
+    if (!(std::fabs(c.gap[q]) <= reach))
+      out_of_range(f, cg + "/gap", row, exact_text(c.gap[q]) + " m",
+                   "[-" + number_text(reach) + ", " + number_text(reach) +
+                       "] m (10 L + h times the speed bound)");
+    const Vec2& p = c.point[q];
+    if (!(p.x() >= -reach && p.x() <= w + reach && p.y() >= -reach && p.y() <= ht + reach))
+      out_of_range(f, cg + "/point", row,
+                   "(" + exact_text(p.x()) + ", " + exact_text(p.y()) + ") m",
+                   "the box [0, " + number_text(w) + "] x [0, " + number_text(ht) +
+                       "] m enlarged by " + number_text(reach) +
+                       " m (10 L + h times the speed bound)");
+    const double length = std::hypot(c.normal[q].x(), c.normal[q].y());  // no overflow
+    if (!(std::fabs(length - 1) <= kUnitTolerance))
+      out_of_range(f, cg + "/normal", row,
+                   "(" + exact_text(c.normal[q].x()) + ", " + exact_text(c.normal[q].y()) + ")",
+                   "the unit vectors (its length is " + number_text(length) +
+                       ", not 1 to within 1e-6)");
     if (st[q] < 0 || st[q] > 2)
       bad(f, cg + "/status", row + ": unknown status " + std::to_string(st[q]));
     c.status[q] = static_cast<ContactStatus>(st[q]);
@@ -733,6 +850,62 @@ void RunReader::check_observables() const {
     bad(*f_, kObservables, "no observable (a run records its per-step observables)");
 }
 
+namespace {
+/// The range of each standard observable (docs/schema.md, "Standard observables" and
+/// "Ranges"): counts are integers in [0, 2^53] (the readers turn them into doubles and
+/// back), converged is 0 or 1, energies, residuals and magnitudes are >= 0, the tilt is in
+/// [-90, 90] degrees. A column the table does not name is only finite.
+struct ObservableRange {
+  const char* name;
+  double min, max;
+  bool integer;
+};
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr ObservableRange kObservableRanges[] = {
+    {"tilt_angle", -kTiltMaxDeg, kTiltMaxDeg, false},
+    {"kinetic_energy", 0, kInf, false},
+    {"rotational_energy", 0, kInf, false},
+    {"contacts", 0, kExactInteger, true},
+    {"contacts_grain", 0, kExactInteger, true},
+    {"sliding", 0, kExactInteger, true},
+    {"sweeps", 0, kExactInteger, true},
+    {"substeps", 0, kExactInteger, true},
+    {"residual", 0, kInf, false},
+    {"residual_rms", 0, kInf, false},
+    {"law_residual", 0, kInf, false},
+    {"law_residual_rms", 0, kInf, false},
+    {"converged", 0, 1, true},
+    {"max_overlap", 0, kInf, false},
+    {"max_speed", 0, kInf, false},
+    {"grains_without_contact", 0, kExactInteger, true},
+    {"critical", 0, kExactInteger, true},
+    {"critical_grain", 0, kExactInteger, true},
+};
+
+std::string range_text(const ObservableRange& r) {
+  auto end = [](double x) { return x == kExactInteger ? std::string("2^53") : exact_text(x); };
+  return std::string(r.integer ? "the integers of " : "") + "[" + end(r.min) + ", " +
+         (r.max == kInf ? std::string("inf)") : end(r.max) + "]");
+}
+
+void check_observable(const h5::File& f, const std::string& name, const std::string& path,
+                      const Series& s) {
+  const auto* r = std::find_if(std::begin(kObservableRanges), std::end(kObservableRanges),
+                               [&](const ObservableRange& x) { return name == x.name; });
+  if (r == std::end(kObservableRanges)) return;
+  auto check = [&](std::size_t k, double v, const std::string& text) {
+    if (!(v >= r->min && v <= r->max) || (r->integer && v != std::floor(v)))
+      out_of_range(f, path, "row " + std::to_string(k), text, range_text(*r));
+  };
+  if (auto it = s.integer.find(name); it != s.integer.end())
+    for (std::size_t k = 0; k < it->second.size(); ++k)
+      check(k, static_cast<double>(it->second[k]), integer_text(it->second[k]));
+  if (auto it = s.real.find(name); it != s.real.end())
+    for (std::size_t k = 0; k < it->second.size(); ++k)
+      check(k, it->second[k], exact_text(it->second[k]));
+}
+}  // namespace
+
 Series RunReader::series() const {
   const h5::File& f = *f_;
   check_observables();
@@ -744,6 +917,7 @@ Series RunReader::series() const {
   std::vector<hsize_t> dims;
   s.step = h5::read<std::int64_t>(f, clock + "/step", {h5::any}, &dims);
   s.time = h5::read<double>(f, clock + "/time", {dims[0]});
+  check_clock(f, clock + "/step", s.step, clock + "/time", s.time, "row");
   for (const auto& n : names) {
     const std::string p = std::string(kObservables) + "/" + n + "/value";
     if (!h5::exists(f, p)) bad(f, std::string(kObservables) + "/" + n, "missing value dataset");
@@ -755,6 +929,7 @@ Series RunReader::series() const {
     else
       s.real[n] = h5::read<double>(f, p, {dims[0]});
     s.unit[n] = h5::has_attr(f, p, "unit") ? h5::attr_string(f, p, "unit") : "";
+    check_observable(f, n, p, s);
   }
   return s;
 }

@@ -3,11 +3,14 @@
 
 #include "cdpile/error.hpp"
 #include "cdpile/parameter_keys.hpp"
+#include "cdpile/analysis/critical.hpp"
 #include "cdpile/sim/recorder.hpp"
+#include "cdpile/sim/tilt_options.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace cdpile::sim {
 namespace h5 = io::h5;
@@ -17,25 +20,41 @@ constexpr double kDeg = M_PI / 180.0;
 
 /// The physical parameters a tilt takes from its pile unless options override them: a
 /// bad one is the file's error (exit 1, the file named), not a usage error.
-void check_pile_parameters(const io::Values& v, const std::string& file) {
-  auto check = [&](const char* key, bool positive) {
+/// Their ranges (docs/schema.md, "Ranges"): friction within --mu's [0, 1e3], gravity within
+/// deposit's --gravity up to 1e6 m/s^2, the nominal mean diameter D within deposit's --ratio
+/// (Dmax / Dmin <= 100) of every grain's: in [d_max / 100, 100 d_min].
+void check_pile_parameters(const io::Values& v, const Grains& g, const std::string& file) {
+  auto check = [&](const char* key, bool positive, double max) {
     if (!v.count(key)) return;
     const double x = io::as_real(v, key, file);
-    if (positive ? !(x > 0) : !(x >= 0)) {
-      char what[160];
+    char what[160] = "";
+    if (positive ? !(x > 0) : !(x >= 0))
       std::snprintf(what, sizeof what, "%s must be %s 0, got %g", key, positive ? ">" : ">=", x);
-      throw Error(file, "/parameters", what);
-    }
+    else if (!(x <= max))
+      std::snprintf(what, sizeof what, "%s must be <= %g, got %g", key, max, x);
+    if (*what) throw Error(file, "/parameters", what);
   };
-  check(keys::mu_grain, false);
-  check(keys::mu_wall, false);
-  check(keys::gravity_m_s2, false);
-  check("diameter_mean_m", true);
+  check(keys::mu_grain, false, 1e3);
+  check(keys::mu_wall, false, 1e3);
+  check(keys::gravity_m_s2, false, 1e6);
+  double d_min = std::numeric_limits<double>::infinity(), d_max = 0;
+  for (double r : g.radius) {
+    d_min = std::min(d_min, 2 * r);
+    d_max = std::max(d_max, 2 * r);
+  }
+  check("diameter_mean_m", true, g.size() ? 100 * d_min : 1e300);
+  if (v.count("diameter_mean_m") && g.size() &&
+      !(io::as_real(v, "diameter_mean_m", file) >= d_max / 100)) {
+    char what[160];
+    std::snprintf(what, sizeof what, "diameter_mean_m must be >= %g, got %g", d_max / 100,
+                  io::as_real(v, "diameter_mean_m", file));
+    throw Error(file, "/parameters", what);
+  }
 }
 
 /// Frame k of a pile or run as the start of a tilt.
 PileInput start_from_frame(const io::h5::File& f, const io::RunReader& r, std::size_t k) {
-  check_pile_parameters(r.header().parameters, f.name());
+  check_pile_parameters(r.header().parameters, r.grain_properties(), f.name());
   PileInput p;
   p.name = f.name();
   p.box = r.header().box;
@@ -101,6 +120,21 @@ PileInput read_branch(const io::h5::File& f, double at_deg) {
   PileInput p = start_from_frame(f, r, *pick);
   p.branch = PileInput::Branch{r.frame_steps()[*pick], r.frame_tilt_angle(*pick) / kDeg};
   return p;
+}
+
+cd::Settings pile_settings(const PileInput& pile, const OptionValues& values,
+                           std::optional<double> mu, std::optional<double> mu_wall) {
+  auto param = [&](const std::string& key, double fallback) {
+    return pile.parameters.count(key) ? io::as_real(pile.parameters, key, pile.name) : fallback;
+  };
+  const double diameter = param("diameter_mean_m", analysis::mean_diameter(pile.grains));
+  const double gravity = param(parameter_key("gravity"), cd::Settings{}.gravity);
+  cd::Settings s =
+      settings_from_options(values, {diameter, analysis::mean_mass(pile.grains), gravity});
+  s.gravity = gravity;
+  s.mu_grain = mu.value_or(param(parameter_key("mu_grain"), s.mu_grain));
+  s.mu_wall = mu_wall.value_or(param(parameter_key("mu_wall"), s.mu_wall));
+  return s;
 }
 
 PileInput read_partial(const std::string& output) {

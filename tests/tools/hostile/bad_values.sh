@@ -9,6 +9,17 @@ no_leftovers() { expect_eq "" "$(ls -A | grep -E '^out|tmp|partial' || true)" "(
 damage mu.h5 "f['parameters'].attrs['mu_grain'] = -0.5"
 expect_fail 1 "tilt-cd: mu.h5: /parameters: mu_grain must be >= 0, got -0.5" tilt-cd mu.h5 --to 0.01 -o out.h5
 no_leftovers
+# Above their ranges (docs/schema.md, "Ranges"): a gravity beyond deposit's --gravity, a friction
+# beyond --mu's, a mean diameter more than 100 times (deposit's largest --ratio) every grain's.
+damage g.h5 "f['parameters'].attrs['gravity_m_s2'] = 1e300"
+expect_fail 1 "tilt-cd: g.h5: /parameters: gravity_m_s2 must be <= 1e+06, got 1e+300" tilt-cd g.h5 --to 0.01 -o out.h5
+damage mu2.h5 "f['parameters'].attrs['mu_wall'] = 1e4"
+expect_fail 1 "tilt-cd: mu2.h5: /parameters: mu_wall must be <= 1000, got 10000" tilt-cd mu2.h5 --to 0.01 -o out.h5
+damage d.h5 "f['parameters'].attrs['diameter_mean_m'] = 1e-300"
+rc=0; tilt-cd d.h5 --to 0.01 -o out.h5 2> err.txt || rc=$?
+expect_eq 1 "$rc" "(exit code, a mean diameter of 1e-300 m)"
+grep -qx 'tilt-cd: d.h5: /parameters: diameter_mean_m must be >= [0-9.e-]*, got 1e-300' err.txt
+no_leftovers
 # A contact pair listed twice in a frame: refused by every reader (tilt-cd, critical), not counted twice.
 damage dup.h5 "c = f['contacts']; c['i'][1] = c['i'][0]; c['j'][1] = c['j'][0]"
 read i j <<< "$("$PY" -c "import h5py; c = h5py.File('dup.h5')['contacts']; print(c['i'][0], c['j'][0])")"

@@ -102,8 +102,11 @@ struct ContactTable {
 /// integer, a contact given twice (unless merged; then the two rows must agree: fn and
 /// |ft| within 1e-9 of the larger normal force of the two, points within 1e-9 of their
 /// distance scale). A table with a header and no rows has no frames (the tools then write
-/// their documented empty result).
+/// their documented empty result). With the grains' mean diameter D (in the table's length
+/// unit), x and y are held within 1e9 D of the origin (docs/schema.md, "Ranges": deposit's
+/// largest pile is 1e7 D wide and 1e8 D tall; a point beyond is no pile's).
 ContactTable read_contact_table(const std::string& text, const std::string& file,
-                                const ContactTableOptions& opt = {});
+                                const ContactTableOptions& opt = {},
+                                std::optional<double> diameter = std::nullopt);
 
 }  // namespace cdpile::io

@@ -141,7 +141,9 @@ class RunWriter {
 /// offsets) is an Error naming the file and the path inside it; so are magnitudes no
 /// pile can have (a radius over half the box width; in frame(), a grain outside the box
 /// by more than length_scale() or faster than speed_bound()) and a contact listed twice
-/// in a frame.
+/// in a frame, and every value outside the range docs/schema.md, "Ranges", states (box
+/// edges, masses, inertias, steps, times, tilts, contact gaps, points and normals, the
+/// standard observables): "WHERE: VALUE is outside RANGE".
 class RunReader {
  public:
   explicit RunReader(const h5::File& f);
@@ -176,6 +178,11 @@ class RunReader {
   /// not below 1e-9 s). contacts() refuses a force beyond it: the engine's warm start of
   /// such a force throws grains beyond every bound (a force of 1e300 crashed tilt-cd).
   double force_bound() const;
+  /// How far from the box a contact's point may lie and how large its gap may be [m]:
+  /// 10 L + h speed_bound() (two centres inside the box enlarged by L are less than 4.3 L
+  /// apart, a radius is at most L / 2, and the predicted configuration of a step moves a
+  /// centre by at most h speed_bound()); docs/schema.md, "Ranges".
+  double contact_reach() const;
   /// Error naming `path` (its grain positions) and `velocity_path` unless every grain of
   /// `g` lies within the box enlarged by length_scale() and moves slower than
   /// speed_bound(), rim included: the magnitudes a pile can have, for a frame and for the

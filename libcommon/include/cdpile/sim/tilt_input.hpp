@@ -7,6 +7,7 @@
 #include "cdpile/io/h5.hpp"
 #include "cdpile/io/schema.hpp"
 #include "cdpile/model.hpp"
+#include "cdpile/option.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -46,6 +47,14 @@ PileInput read_branch(const io::h5::File& f, double at_deg);
 /// (impulse = force x `time_step`), sorted by pair as cd::Engine::set_state wants: how a
 /// tilt starts from a pile's equilibrium or from a branch's frame.
 cd::EngineState warm_start_state(const Contacts& contacts, double time_step);
+
+/// The engine's settings of a tilt of `pile`: the values of declared_options()
+/// (cli::option_values) with those in D or m g / D scaled by the pile's diameter_mean_m
+/// (its grains' mean if absent), mean mass and gravity_m_s2, and the pile's gravity and
+/// friction unless `mu` or `mu_wall` is given. tilt-cd starts a run with them; so does the
+/// harness fuzz_tilt (docs/fuzzing.md).
+cd::Settings pile_settings(const PileInput& pile, const OptionValues& values,
+                           std::optional<double> mu, std::optional<double> mu_wall);
 
 /// The partial run of `output` as a pile input: box, grains in their checkpointed
 /// state, the run's parameters (the pile's and the tilt's) and provenance. Used to build
