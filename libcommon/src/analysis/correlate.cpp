@@ -81,40 +81,47 @@ std::int64_t as_int(const Column& c, std::size_t r, const std::string& table,
 }
 }  // namespace
 
-Product correlate(const Product& in, const CorrelateOptions& opt) {
-  if (!(opt.window > 0.0)) throw Error("window must be > 0 deg");
-  const Table& ft = in.table("frames");
-  const Table& st = in.table("states");
-  const std::string& src = in.source;
+namespace {
 
-  // Frames of the input.
-  std::vector<FrameInfo> frames;
+// The input's frames, and where each (run, frame) is among them.
+struct Frames {
+  std::vector<FrameInfo> info;
   std::map<std::pair<std::int64_t, std::int64_t>, std::size_t> index;
-  {
-    const Column &run = ft.column("run"), &frame = ft.column("frame"), &theta = ft.column("theta"),
-                 &nu = ft.column("nu");
-    const std::size_t n = ft.rows();
-    for (std::size_t r = 0; r < n; ++r) {
-      FrameInfo f;
-      f.run = as_int(run, r, "frames", src);
-      f.frame = as_int(frame, r, "frames", src);
-      f.theta = theta.get(r);
-      // a tilt (docs/schema.md, "Ranges"); its window index is an integer cast of it
-      if (f.theta && !(std::fabs(*f.theta) <= 90.0)) {
-        char what[160];
-        std::snprintf(what, sizeof what,
-                      "table frames, row %zu: theta %g deg is outside [-90, 90] deg", r + 1,
-                      *f.theta);
-        throw Error(src, "", what);
-      }
-      f.nu = nu.get(r);
-      if (!index.emplace(std::make_pair(f.run, f.frame), frames.size()).second)
-        throw Error(src, "",
-                    "table frames: run " + std::to_string(f.run) + " frame " +
-                        std::to_string(f.frame) + " appears twice");
-      frames.push_back(f);
+};
+
+// Stage 1: localnu's table frames, each (run, frame) once, each theta a tilt.
+Frames read_frames(const Table& ft, const std::string& src) {
+  Frames out;
+  const Column &run = ft.column("run"), &frame = ft.column("frame"), &theta = ft.column("theta"),
+               &nu = ft.column("nu");
+  const std::size_t n = ft.rows();
+  for (std::size_t r = 0; r < n; ++r) {
+    FrameInfo f;
+    f.run = as_int(run, r, "frames", src);
+    f.frame = as_int(frame, r, "frames", src);
+    f.theta = theta.get(r);
+    // a tilt (docs/schema.md, "Ranges"); its window index is an integer cast of it
+    if (f.theta && !(std::fabs(*f.theta) <= 90.0)) {
+      char what[160];
+      std::snprintf(what, sizeof what,
+                    "table frames, row %zu: theta %g deg is outside [-90, 90] deg", r + 1,
+                    *f.theta);
+      throw Error(src, "", what);
     }
+    f.nu = nu.get(r);
+    if (!out.index.emplace(std::make_pair(f.run, f.frame), out.info.size()).second)
+      throw Error(src, "",
+                  "table frames: run " + std::to_string(f.run) + " frame " +
+                      std::to_string(f.frame) + " appears twice");
+    out.info.push_back(f);
   }
+  return out;
+}
+
+// Stage 2: each frame's theta window [start + k w, start + (k+1) w), none outside
+// opt.theta or without a theta (all frames one window when no frame has one); the results
+// that count the frames used and left out.
+void assign_windows(std::vector<FrameInfo>& frames, const CorrelateOptions& opt, Product& p) {
   bool any_theta = false;
   for (const FrameInfo& f : frames) any_theta = any_theta || f.theta.has_value();
   std::int64_t skipped_no_theta = 0, skipped_range = 0;
@@ -132,6 +139,108 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
       ++skipped_no_theta;
     }
   }
+  p.results["frames_used"] = static_cast<std::int64_t>(std::count_if(
+      frames.begin(), frames.end(), [](const FrameInfo& f) { return f.window.has_value(); }));
+  if (skipped_no_theta) p.results["frames_without_theta"] = skipped_no_theta;
+  if (skipped_range) p.results["frames_outside_range"] = skipped_range;
+}
+
+// The sums of eq (3) of a (window, r) cell, by run and by frame.
+struct Groups {
+  std::map<std::int64_t, Sums> by_run;
+  std::map<std::size_t, Sums> by_frame;
+};
+using Cells = std::map<std::pair<std::int64_t, double>, Groups>;  // (window, r)
+
+// Stage 3: localnu's table states, each row's sums into its cell, and into the table
+// frames (fr_t, when asked) as a row of its own.
+Cells group_states(const Table& st, const Frames& frames, const std::string& src, Table* fr_t) {
+  Cells cells;
+  const Column &run = st.column("run"), &frame = st.column("frame"), &r = st.column("r"),
+               &n = st.column("n"), &sum = st.column("sum"), &sum2 = st.column("sum2");
+  const std::size_t rows = st.rows();
+  for (std::size_t q = 0; q < rows; ++q) {
+    const auto key = std::make_pair(as_int(run, q, "states", src), as_int(frame, q, "states", src));
+    auto it = frames.index.find(key);
+    if (it == frames.index.end())
+      throw Error(src, "",
+                  "table states, row " + std::to_string(q + 1) + ": run " +
+                      std::to_string(key.first) + " frame " + std::to_string(key.second) +
+                      " is not in table frames");
+    const FrameInfo& f = frames.info[it->second];
+    const auto rr = r.get(q);
+    if (!rr || !(*rr > 0))
+      throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": bad radius");
+    Sums s;
+    s.n = as_int(n, q, "states", src);
+    s.sum = sum.get(q).value_or(0.0);
+    s.sum2 = sum2.get(q).value_or(0.0);
+    if (s.n < 0)
+      throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
+    if (fr_t) add_row(*fr_t, frame_columns, FrameStateRow{f, *rr, s});
+    if (!f.window) continue;
+    Groups& c = cells[{*f.window, *rr}];
+    c.by_run[f.run].add(s);
+    c.by_frame[it->second].add(s);
+  }
+  return cells;
+}
+
+// Stage 4: a cell pooled: nu_bar with its cluster-robust error over runs (>= 2) or frames,
+// the window's mean theta and the pile's nu.
+WindowRow pool(std::int64_t win, double r, const Groups& c, const std::vector<FrameInfo>& frames,
+               const CorrelateOptions& opt) {
+  // frames and runs of the window (also frames whose critical count is 0)
+  std::vector<double> thetas, nus;
+  std::map<std::int64_t, std::vector<double>> run_nu;
+  for (const auto& [fi, s] : c.by_frame) {
+    const FrameInfo& f = frames[fi];
+    if (f.theta) thetas.push_back(*f.theta);
+    if (f.nu) {
+      nus.push_back(*f.nu);
+      run_nu[f.run].push_back(*f.nu);
+    }
+  }
+  std::vector<Sums> clusters;
+  SeOver kind;
+  if (c.by_run.size() >= 2) {
+    for (const auto& [rn, s] : c.by_run) clusters.push_back(s);
+    kind = SeOver::runs;
+  } else {
+    for (const auto& [fi, s] : c.by_frame) clusters.push_back(s);
+    kind = SeOver::frames;
+  }
+  const Pooled pm = pooled_mean(clusters, kind);
+  Summary pile;
+  if (run_nu.size() >= 2) {
+    std::vector<double> means;
+    for (const auto& [rn, v] : run_nu) means.push_back(summarize(v).mean.value_or(nan));
+    pile = summarize(means);
+    pile.mean = summarize(nus).mean;  // the mean over frames, se over runs
+  } else {
+    pile = summarize(nus);
+  }
+  const bool has_theta = !thetas.empty();
+  const double lo = opt.window_start + static_cast<double>(win) * opt.window,
+               hi = opt.window_start + static_cast<double>(win + 1) * opt.window;
+  return WindowRow{has_theta ? summarize(thetas).mean : std::nullopt,
+                   has_theta ? std::optional<double>(lo) : std::nullopt,
+                   has_theta ? std::optional<double>(hi) : std::nullopt,
+                   r,
+                   static_cast<std::int64_t>(c.by_run.size()),
+                   static_cast<std::int64_t>(c.by_frame.size()),
+                   pm,
+                   pile};
+}
+
+}  // namespace
+
+Product correlate(const Product& in, const CorrelateOptions& opt) {
+  if (!(opt.window > 0.0)) throw Error("window must be > 0 deg");
+  const Table& ft = in.table("frames");
+  const Table& st = in.table("states");
+  const std::string& src = in.source;
+  Frames frames = read_frames(ft, src);
 
   Product p;
   p.kind = "correlate";
@@ -149,101 +258,20 @@ Product correlate(const Product& in, const CorrelateOptions& opt) {
              "frames, se over runs (>= 2) or frames",
              "a window has no theta (NA) when the input frames have none: then all frames form one "
              "window"};
-  p.results["frames_used"] = static_cast<std::int64_t>(std::count_if(
-      frames.begin(), frames.end(), [](const FrameInfo& f) { return f.window.has_value(); }));
-  if (skipped_no_theta) p.results["frames_without_theta"] = skipped_no_theta;
-  if (skipped_range) p.results["frames_outside_range"] = skipped_range;
+  assign_windows(frames.info, opt, p);
 
-  Table* fr_t = nullptr;
-  if (opt.frame_table) {
-    fr_t = &p.add_table("frames", "nu_bar(r) of each frame");
-    declare_columns(*fr_t, frame_columns);
-  }
-  Table& w_t =
-      p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window");
-  declare_columns(w_t, window_columns);
-
-  // Group the states rows.
-  struct Groups {
-    std::map<std::int64_t, Sums> by_run;
-    std::map<std::size_t, Sums> by_frame;
-  };
-  std::map<std::pair<std::int64_t, double>, Groups> cells;  // (window, r)
-  {
-    const Column &run = st.column("run"), &frame = st.column("frame"), &r = st.column("r"),
-                 &n = st.column("n"), &sum = st.column("sum"), &sum2 = st.column("sum2");
-    const std::size_t rows = st.rows();
-    for (std::size_t q = 0; q < rows; ++q) {
-      const auto key =
-          std::make_pair(as_int(run, q, "states", src), as_int(frame, q, "states", src));
-      auto it = index.find(key);
-      if (it == index.end())
-        throw Error(src, "",
-                    "table states, row " + std::to_string(q + 1) + ": run " +
-                        std::to_string(key.first) + " frame " + std::to_string(key.second) +
-                        " is not in table frames");
-      const FrameInfo& f = frames[it->second];
-      const auto rr = r.get(q);
-      if (!rr || !(*rr > 0))
-        throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": bad radius");
-      Sums s;
-      s.n = as_int(n, q, "states", src);
-      s.sum = sum.get(q).value_or(0.0);
-      s.sum2 = sum2.get(q).value_or(0.0);
-      if (s.n < 0)
-        throw Error(src, "", "table states, row " + std::to_string(q + 1) + ": negative count");
-      if (fr_t) add_row(*fr_t, frame_columns, FrameStateRow{f, *rr, s});
-      if (!f.window) continue;
-      Groups& c = cells[{*f.window, *rr}];
-      c.by_run[f.run].add(s);
-      c.by_frame[it->second].add(s);
-    }
-  }
-
-  for (const auto& [key, c] : cells) {
-    const auto [win, r] = key;
-    // frames and runs of the window (also frames whose critical count is 0)
-    std::vector<double> thetas, nus;
-    std::map<std::int64_t, std::vector<double>> run_nu;
-    for (const auto& [fi, s] : c.by_frame) {
-      const FrameInfo& f = frames[fi];
-      if (f.theta) thetas.push_back(*f.theta);
-      if (f.nu) {
-        nus.push_back(*f.nu);
-        run_nu[f.run].push_back(*f.nu);
-      }
-    }
-    std::vector<Sums> clusters;
-    SeOver kind;
-    if (c.by_run.size() >= 2) {
-      for (const auto& [rn, s] : c.by_run) clusters.push_back(s);
-      kind = SeOver::runs;
-    } else {
-      for (const auto& [fi, s] : c.by_frame) clusters.push_back(s);
-      kind = SeOver::frames;
-    }
-    const Pooled pm = pooled_mean(clusters, kind);
-    Summary pile;
-    if (run_nu.size() >= 2) {
-      std::vector<double> means;
-      for (const auto& [rn, v] : run_nu) means.push_back(summarize(v).mean.value_or(nan));
-      pile = summarize(means);
-      pile.mean = summarize(nus).mean;  // the mean over frames, se over runs
-    } else {
-      pile = summarize(nus);
-    }
-    const bool has_theta = !thetas.empty();
-    const double lo = opt.window_start + static_cast<double>(win) * opt.window,
-                 hi = opt.window_start + static_cast<double>(win + 1) * opt.window;
-    add_row(w_t, window_columns,
-            WindowRow{has_theta ? summarize(thetas).mean : std::nullopt,
-                      has_theta ? std::optional<double>(lo) : std::nullopt,
-                      has_theta ? std::optional<double>(hi) : std::nullopt, r,
-                      static_cast<std::int64_t>(c.by_run.size()),
-                      static_cast<std::int64_t>(c.by_frame.size()), pm, pile});
-  }
+  Table* fr_t = opt.frame_table ? &declare_columns(p.add_table("frames", "nu_bar(r) of each frame"),
+                                                   frame_columns)
+                                : nullptr;
+  Table& w_t = declare_columns(
+      p.add_table("windows", "nu_bar(r) pooled over the frames and runs of a theta window"),
+      window_columns);
+  const Cells cells = group_states(st, frames, src, fr_t);
   std::set<std::int64_t> windows;
-  for (const auto& [k, c] : cells) windows.insert(k.first);
+  for (const auto& [key, c] : cells) {
+    add_row(w_t, window_columns, pool(key.first, key.second, c, frames.info, opt));
+    windows.insert(key.first);
+  }
   p.results["windows"] = static_cast<std::int64_t>(windows.size());
   return p;
 }
