@@ -66,39 +66,55 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
-                  const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
-                  const Options& opt) {
-  const std::string& file = run.name();
-  const h5::File& data = run.file();
-  const std::size_t F = run.frame_count(), N = run.grain_count();
-  if (F == 0) throw Error(file, "/particles/grains/position", "no frame to show");
-  const RunHeader& h = run.header();
-  const analysis::Friction mu = run_friction(h, opt.mu, file);
-  const analysis::CriticalRule rule =
-      analysis::view_rule(opt.eps, opt.walls, recorded_rule(h, file), mu);
-  const double diameter = analysis::mean_diameter(run.grain_properties());
-  const double nu_radius = opt.nu_radius * diameter;  // [m]
-  const std::string cg = "/contacts", gp = "/particles/grains";
-  // The run's rows of each frame, and its tilt in degrees as the file holds it.
-  const std::vector<std::int64_t> offsets = h5::read<std::int64_t>(data, cg + "/offset", {F});
-  const std::vector<double> tilt_deg = h5::read<double>(data, cg + "/tilt_angle", {F});
-  const std::vector<std::int64_t> steps = h5::read<std::int64_t>(data, cg + "/step", {F});
+namespace {
 
-  Summary sum{h.kind, F, N, 0, 0, 0};
-  sum.diameter = diameter;
-  sum.width = h.box.width;
-  sum.tilt_last_deg = tilt_deg[F - 1];
+// A pile's or run's frames as write_run reads them: the rows of each frame in the file, its
+// tilt and step.
+struct RunFrames {
+  std::vector<std::int64_t> offsets, steps;
+  std::vector<double> tilt_deg;
+  std::vector<std::size_t> count;  // contacts per frame
+};
+
+// How the XDMF text names the sidecar's arrays and the frames' times.
+struct Refs {
+  const RunReader& run;
+  const std::string &data_ref, &sidecar_ref;
+  std::string side(const std::string& path, const std::string& dims, const char* type,
+                   int precision) const {
+    return item(array(sidecar_ref, path, dims, type, precision));
+  }
+  std::string time_of(std::size_t k) const { return num(run.frame_time(k)); }
+};
+
+std::string literal(double v, const char* type, int precision) {
+  return std::string("<DataItem Dimensions=\"1\" NumberType=\"") + type + "\" Precision=\"" +
+         std::to_string(precision) + "\" Format=\"XML\">" + num(v) + "</DataItem>";
+}
+
+// Stage 1: every frame's arrays in the sidecar: virtual datasets mapped onto the run's rows
+// for what the run holds, real ones for what is derived (nu of every grain, each contact's
+// critical flag, mobilisation and fn_rel: analysis::frame_fields by `rule`), the network's
+// segments; the summary's counts, top and colour ranges.
+void write_sidecar(const h5::File& sidecar, const RunReader& run, const std::string& data_ref,
+                   const analysis::Friction& mu, const analysis::CriticalRule& rule,
+                   const Options& opt, RunFrames& rf, Summary& sum) {
   // Every frame's arrays are whole datasets of the file beside (ParaView's Xdmf3 reader
   // reads no hyperslab, and crashes on a hyperslab geometry): virtual datasets for what the
   // run holds, mapped onto its rows and never copied; real ones for what is derived.
-  std::vector<std::size_t> count(F);
+  const std::string& file = run.name();
+  const h5::File& data = run.file();
+  const std::size_t F = run.frame_count(), N = run.grain_count();
+  const std::string cg = "/contacts", gp = "/particles/grains";
+  const double nu_radius = opt.nu_radius * sum.diameter;  // [m]
+  std::vector<std::size_t>& count = rf.count;
+  count.assign(F, 0);
   analysis::ColourRanges ranges;
-  double top = h.box.height;
+  double top = run.header().box.height;
   for (std::size_t k = 0; k < F; ++k) {
     const Frame fr = run.frame(k);
     const Contacts& c = fr.contacts;
-    const auto o = static_cast<hsize_t>(offsets[k]);
+    const auto o = static_cast<hsize_t>(rf.offsets[k]);
     const hsize_t nc = c.size(), n = N;
     count[k] = c.size();
     sum.contacts += c.size();
@@ -165,93 +181,104 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
                    "the mean fn of the frame's active contacts; network/lines: the two points "
                    "of each contact's segment in network/points (the grains' centres, then the "
                    "contact points)");
+}
 
+// Stage 2: the grains' XDMF, a temporal collection of one grid per frame.
+void write_grains_xml(std::ostream& xml, const Refs& x, const RunFrames& rf, std::size_t N,
+                      std::size_t contacts) {
+  const std::string& file = x.run.name();
+  const std::string& data_ref = x.data_ref;
+  const std::string gp = "/particles/grains";
+  const std::size_t F = rf.tilt_deg.size();
   const std::string sN = std::to_string(N);
-  auto side = [&](const std::string& path, const std::string& dims, const char* type,
-                  int precision) { return item(array(sidecar_ref, path, dims, type, precision)); };
-  auto literal = [](double v, const char* type, int precision) {
-    return std::string("<DataItem Dimensions=\"1\" NumberType=\"") + type + "\" Precision=\"" +
-           std::to_string(precision) + "\" Format=\"XML\">" + num(v) + "</DataItem>";
-  };
-  auto time_of = [&](std::size_t k) { return num(run.frame_time(k)); };
-
   xml << header();
-  xml << "  <!-- " << xml_escape(file) << ": " << N << " grains, " << F << " frames, "
-      << sum.contacts
+  xml << "  <!-- " << xml_escape(file) << ": " << N << " grains, " << F << " frames, " << contacts
       << " contact rows; written by to-xdmf for ParaView's XDMF readers (Xdmf3 and the legacy "
          "XDMF 2) -->\n";
   xml << "  <Grid Name=\"grains\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k) {
     const std::string fk = "/frames/" + std::to_string(k);
     xml << "  <Grid Name=\"grains_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << time_of(k) << "\"/>\n"
+        << x.time_of(k) << "\"/>\n"
         << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
-        << "\" NodesPerElement=\"1\">" << side("/grains/vertices", sN, "Int", 4) << "</Topology>\n"
-        << "   <Geometry GeometryType=\"XY\">" << side(fk + "/position", sN + " 2", "Float", 8)
+        << "\" NodesPerElement=\"1\">" << x.side("/grains/vertices", sN, "Int", 4)
+        << "</Topology>\n"
+        << "   <Geometry GeometryType=\"XY\">" << x.side(fk + "/position", sN + " 2", "Float", 8)
         << "</Geometry>\n";
     xml << attribute("radius", "Scalar", "Node",
                      item(array(data_ref, gp + "/radius", sN, "Float", 8)));
     xml << attribute("species", "Scalar", "Node",
                      item(array(data_ref, gp + "/species", sN, "UChar", 1)));
     xml << attribute("mass", "Scalar", "Node", item(array(data_ref, gp + "/mass", sN, "Float", 8)));
-    xml << attribute("velocity", "Vector", "Node", side(fk + "/velocity", sN + " 3", "Float", 8));
+    xml << attribute("velocity", "Vector", "Node", x.side(fk + "/velocity", sN + " 3", "Float", 8));
     xml << attribute("angular_velocity", "Scalar", "Node",
-                     side(fk + "/angular_velocity", sN, "Float", 8));
-    xml << attribute("orientation", "Scalar", "Node", side(fk + "/orientation", sN, "Float", 8));
-    xml << attribute("nu", "Scalar", "Node", side(fk + "/nu", sN, "Float", 8));
-    xml << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
-    xml << attribute("step", "Scalar", "Grid", literal(static_cast<double>(steps[k]), "Int", 8));
+                     x.side(fk + "/angular_velocity", sN, "Float", 8));
+    xml << attribute("orientation", "Scalar", "Node", x.side(fk + "/orientation", sN, "Float", 8));
+    xml << attribute("nu", "Scalar", "Node", x.side(fk + "/nu", sN, "Float", 8));
+    xml << attribute("tilt_angle", "Scalar", "Grid", literal(rf.tilt_deg[k], "Float", 8));
+    xml << attribute("step", "Scalar", "Grid", literal(static_cast<double>(rf.steps[k]), "Int", 8));
     xml << "  </Grid>\n";
   }
   xml << "  </Grid>\n </Domain>\n</Xdmf>\n";
+}
 
+// Stage 3: the force network's XDMF, one grid of segments per frame.
+void write_network_xml(std::ostream& net, const Refs& x, const RunFrames& rf, std::size_t N) {
+  const std::string& file = x.run.name();
+  const std::size_t F = rf.tilt_deg.size();
+  const std::string sN = std::to_string(N);
   // The second file: what is drawn over the grains. Apart, so that the file a user opens
   // holds one point per grain; every grid temporal, so that the Xdmf3 reader keeps them all.
-  std::ostream& net = network_xml;
   net << header();
   net << "  <!-- " << xml_escape(file) << ": the force network of " << F
       << " frames, gravity and the walls; written by to-xdmf for ParaView's XDMF readers -->\n";
   net << "  <Grid Name=\"contacts\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k) {
     const std::string fk = "/frames/" + std::to_string(k);
-    const std::size_t c = count[k];
+    const std::size_t c = rf.count[k];
     const std::string sc = std::to_string(c), sP = std::to_string(N + c);
     net << "  <Grid Name=\"contacts_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << time_of(k) << "\"/>\n";
+        << x.time_of(k) << "\"/>\n";
     if (c == 0) {  // no segment: the grains' centres alone
       net << "   <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << N
           << "\" NodesPerElement=\"1\"/>\n"
-          << "   <Geometry GeometryType=\"XY\">" << side(fk + "/position", sN + " 2", "Float", 8)
+          << "   <Geometry GeometryType=\"XY\">" << x.side(fk + "/position", sN + " 2", "Float", 8)
           << "</Geometry>\n";
     } else {
       net << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << c
-          << "\" NodesPerElement=\"2\">" << side(fk + "/network/lines", sc + " 2", "Int", 4)
+          << "\" NodesPerElement=\"2\">" << x.side(fk + "/network/lines", sc + " 2", "Int", 4)
           << "</Topology>\n"
           << "   <Geometry GeometryType=\"XY\">"
-          << side(fk + "/network/points", sP + " 2", "Float", 8) << "</Geometry>\n";
+          << x.side(fk + "/network/points", sP + " 2", "Float", 8) << "</Geometry>\n";
       const std::string ck = fk + "/contacts/";
       for (const char* name : {"i", "j"})
-        net << attribute(name, "Scalar", "Cell", side(ck + name, sc, "Int", 4));
+        net << attribute(name, "Scalar", "Cell", x.side(ck + name, sc, "Int", 4));
       for (const char* name : {"fn", "ft", "gap"})
-        net << attribute(name, "Scalar", "Cell", side(ck + name, sc, "Float", 8));
-      net << attribute("status", "Scalar", "Cell", side(ck + "status", sc, "Char", 1));
-      net << attribute("critical", "Scalar", "Cell", side(ck + "critical", sc, "UChar", 1));
-      net << attribute("mobilisation", "Scalar", "Cell", side(ck + "mobilisation", sc, "Float", 8));
-      net << attribute("fn_rel", "Scalar", "Cell", side(ck + "fn_rel", sc, "Float", 8));
-      net << attribute("normal", "Vector", "Cell", side(ck + "normal", sc + " 3", "Float", 8));
-      net << attribute("point", "Vector", "Cell", side(ck + "point", sc + " 3", "Float", 8));
+        net << attribute(name, "Scalar", "Cell", x.side(ck + name, sc, "Float", 8));
+      net << attribute("status", "Scalar", "Cell", x.side(ck + "status", sc, "Char", 1));
+      net << attribute("critical", "Scalar", "Cell", x.side(ck + "critical", sc, "UChar", 1));
+      net << attribute("mobilisation", "Scalar", "Cell",
+                       x.side(ck + "mobilisation", sc, "Float", 8));
+      net << attribute("fn_rel", "Scalar", "Cell", x.side(ck + "fn_rel", sc, "Float", 8));
+      net << attribute("normal", "Vector", "Cell", x.side(ck + "normal", sc + " 3", "Float", 8));
+      net << attribute("point", "Vector", "Cell", x.side(ck + "point", sc + " 3", "Float", 8));
     }
-    net << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
+    net << attribute("tilt_angle", "Scalar", "Grid", literal(rf.tilt_deg[k], "Float", 8));
     net << "  </Grid>\n";
   }
   net << "  </Grid>\n";
+}
 
+// Stage 4: gravity as an arrow above the pile and the walls, after the network.
+void write_gravity_and_walls(std::ostream& net, const Refs& x, const RunFrames& rf, double w,
+                             double top) {
+  const std::size_t F = rf.tilt_deg.size();
   // Gravity, drawn as an arrow above the pile: the run turns gravity in the box's frame,
   // g = g (sin theta, -cos theta), so this is what shows the tilt as time runs.
-  const double w = h.box.width, L = 0.2 * w;
+  const double L = 0.2 * w;
   net << "  <Grid Name=\"gravity\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k) {
-    const double th = tilt_deg[k] * M_PI / 180.0;
+    const double th = rf.tilt_deg[k] * M_PI / 180.0;
     const Vec2 g{std::sin(th), -std::cos(th)};
     const Vec2 tail{0.5 * w - 0.5 * L * g.x(), top + 0.6 * L - 0.5 * L * g.y()};
     const Vec2 head = tail + L * g;
@@ -261,7 +288,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
     };
     const Vec2 b1 = barb(25 * M_PI / 180), b2 = barb(-25 * M_PI / 180);
     net << "  <Grid Name=\"gravity_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << time_of(k) << "\"/>\n"
+        << x.time_of(k) << "\"/>\n"
         << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"3\" NodesPerElement=\"2\">"
            "<DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">0 1 1 2 1 "
            "3</DataItem></Topology>\n"
@@ -270,7 +297,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
         << num(tail.x()) << " " << num(tail.y()) << " " << num(head.x()) << " " << num(head.y())
         << " " << num(b1.x()) << " " << num(b1.y()) << " " << num(b2.x()) << " " << num(b2.y())
         << "</DataItem></Geometry>\n";
-    net << attribute("tilt_angle", "Scalar", "Grid", literal(tilt_deg[k], "Float", 8));
+    net << attribute("tilt_angle", "Scalar", "Grid", literal(rf.tilt_deg[k], "Float", 8));
     net << "  </Grid>\n";
   }
   net << "  </Grid>\n";
@@ -279,7 +306,7 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
   net << "  <Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t k = 0; k < F; ++k)
     net << "  <Grid Name=\"walls_" << k << "\" GridType=\"Uniform\">\n   <Time Value=\""
-        << time_of(k) << "\"/>\n"
+        << x.time_of(k) << "\"/>\n"
         << "   <Topology TopologyType=\"Polyline\" NumberOfElements=\"1\" NodesPerElement=\"4\">"
            "<DataItem Dimensions=\"1 4\" NumberType=\"Int\" Format=\"XML\">0 1 2 "
            "3</DataItem></Topology>\n"
@@ -288,6 +315,38 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
         << num(top) << " 0 0 " << num(w) << " 0 " << num(w) << " " << num(top)
         << "</DataItem></Geometry>\n  </Grid>\n";
   net << "  </Grid>\n </Domain>\n</Xdmf>\n";
+}
+
+}  // namespace
+
+Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
+                  const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
+                  const Options& opt) {
+  const std::string& file = run.name();
+  const h5::File& data = run.file();
+  const std::size_t F = run.frame_count(), N = run.grain_count();
+  if (F == 0) throw Error(file, "/particles/grains/position", "no frame to show");
+  const RunHeader& h = run.header();
+  const analysis::Friction mu = run_friction(h, opt.mu, file);
+  const analysis::CriticalRule rule =
+      analysis::view_rule(opt.eps, opt.walls, recorded_rule(h, file), mu);
+  const double diameter = analysis::mean_diameter(run.grain_properties());
+  const std::string cg = "/contacts";
+  // The run's rows of each frame, and its tilt in degrees as the file holds it.
+  RunFrames rf;
+  rf.offsets = h5::read<std::int64_t>(data, cg + "/offset", {F});
+  rf.tilt_deg = h5::read<double>(data, cg + "/tilt_angle", {F});
+  rf.steps = h5::read<std::int64_t>(data, cg + "/step", {F});
+
+  Summary sum{h.kind, F, N, 0, 0, 0};
+  sum.diameter = diameter;
+  sum.width = h.box.width;
+  sum.tilt_last_deg = rf.tilt_deg[F - 1];
+  write_sidecar(sidecar, run, data_ref, mu, rule, opt, rf, sum);
+  const Refs x{run, data_ref, sidecar_ref};
+  write_grains_xml(xml, x, rf, N, sum.contacts);
+  write_network_xml(network_xml, x, rf, N);
+  write_gravity_and_walls(network_xml, x, rf, h.box.width, sum.top);
   return sum;
 }
 
