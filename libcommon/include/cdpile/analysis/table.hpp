@@ -202,7 +202,8 @@ void add_row(Table& t, std::span<const ColumnSpec<Row>> spec, const Row& row) {
     throw std::logic_error("table " + t.name + ": a row of another list of columns");
   for (std::size_t i = 0; i < spec.size(); ++i) {
     Column& c = t.columns[i];
-    if (c.name != spec[i].name)
+    // the list's order against the table's, once, at its first row (not per cell)
+    if (c.size() == 0 && c.name != spec[i].name)
       throw std::logic_error("table " + t.name + ": column " + c.name + " where the list has " +
                              spec[i].name);
     Cell v = spec[i].get(row);
