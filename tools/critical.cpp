@@ -5,9 +5,9 @@
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
-#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/reading/inputs.hpp"
 
 #include <cmath>
 
@@ -192,11 +192,11 @@ static void run(const cli::Args& a) {
   std::string inputs;
   cli::refuse_repeated_inputs(a.arguments("runs"));
   std::optional<analysis::Product> first_summary;  // the engine every summary must share
-  const io::CriticalReading reading{cli::friction_choice(a), opt, per_contact};
+  const reading::CriticalReading reading{cli::friction_choice(a), opt, per_contact};
   for (const std::string& path : a.arguments("runs")) {
     io::Input in(io::run_or_partial(path));  // a run tilt-cd is still computing: its partial
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    io::CriticalInput r = io::read_critical_input(in, reading, first_summary);
+    reading::CriticalInput r = reading::read_critical_input(in, reading, first_summary);
     if (!r.note.empty()) notes.push_back(std::move(r.note));
     histories.emplace_back(in.name(), std::move(r.history));
     cli::info(in.name() + ": " + (r.summary ? "a summary, " : "") +

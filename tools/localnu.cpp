@@ -6,8 +6,8 @@
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
-#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/reading/inputs.hpp"
 
 #include <algorithm>
 #include <optional>
@@ -138,7 +138,7 @@ static void run(const cli::Args& a) {
     throw UsageError("--map-frame and --map-theta exclude each other");
   if (a.given("nu") && a.given("nu-c")) throw UsageError("--nu and --nu-c exclude each other");
 
-  io::LocalNuReading rd;
+  reading::LocalNuReading rd;
   rd.mu = cli::friction_choice(a);
   rd.rule = cli::critical_rule(a);
   rd.diameter = a.real_opt("diameter");
@@ -174,13 +174,13 @@ static void run(const cli::Args& a) {
   std::vector<std::pair<std::string, std::vector<io::Provenance>>> histories;  // of every input
   std::string inputs;
   analysis::Values per_input;
-  std::optional<std::string> length_unit;  // common to every input, "" if unknown or mixed
+  std::optional<std::string> length_unit;          // common to every input, "" if unknown or mixed
   std::optional<analysis::Product> first_summary;  // the engine every summary must share
   for (std::size_t k = 0; k < paths.size(); ++k) {
     io::Input in(paths[k]);
     inputs += (inputs.empty() ? "" : " ") + in.name();
-    const io::LocalNuInputInfo info =
-        io::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
+    const reading::LocalNuInputInfo info =
+        reading::add_localnu_input(study, in, static_cast<std::int64_t>(k), rd);
     if (info.summary && !first_summary)
       first_summary = info.summary;
     else if (info.summary)

@@ -5,9 +5,9 @@
 #include "cdpile/cli/analysis_options.hpp"
 #include "cdpile/cli/avalanche_options.hpp"
 #include "cdpile/cli/command.hpp"
-#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/products.hpp"
+#include "cdpile/reading/inputs.hpp"
 
 using namespace cdpile;
 
@@ -58,7 +58,7 @@ static void usage(cli::Usage& u) {
 static void run(const cli::Args& a) {
   if (a.output().empty()) throw UsageError("give -o FILE: a summary is HDF5, not a table to read");
   io::Output check(a.output(), a.force(), true);  // refuse a bad target before the work
-  io::SummaryReading opt;
+  reading::SummaryReading opt;
   opt.rule = cli::critical_rule(a);
   opt.mu = cli::friction_choice(a);
   opt.rattlers = a.text("rattlers") == "exclude" ? analysis::RattlerRule::exclude
@@ -80,7 +80,7 @@ static void run(const cli::Args& a) {
   const io::RunReader rr(in.hdf5());
   if (!io::partial_run_note(rr).empty())
     throw Error(in.name(), "", "a run still being computed: summarise it once it has finished");
-  analysis::Product s = io::summarise_run(in, opt);
+  analysis::Product s = reading::summarise_run(in, opt);
   cli::info(in.name() + ": " + std::to_string(s.table("steps").rows()) + " steps, " +
             std::to_string(s.table("frames").rows()) + " frames, " +
             std::to_string(opt.map_thetas.size()) + " maps");

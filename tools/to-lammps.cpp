@@ -1,10 +1,10 @@
 // to-lammps: a pile or run as a LAMMPS dump, one snapshot per frame, for OVITO and VMD
 // (docs/analysis.md, "Seeing the grains"). The work is in libcommon (io/lammps.hpp).
 #include "cdpile/cli/command.hpp"
-#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/lammps.hpp"
+#include "cdpile/reading/views.hpp"
 
 #include <optional>
 
@@ -74,10 +74,8 @@ static void run(const cli::Args& a) {
                     " frames)");
   const std::size_t n = io::lammps::write_dump(out.text(), r, opt);
   if (contacts) {
-    const analysis::Friction mu = io::run_friction(r.header(), {}, in.name());
-    io::lammps::write_contacts_dump(
-        contacts->text(), r, opt, mu,
-        analysis::view_rule(std::nullopt, false, io::recorded_rule(r.header(), in.name()), mu));
+    const reading::RunView view = reading::run_view(r.header(), {}, in.name());
+    io::lammps::write_contacts_dump(contacts->text(), r, opt, reading::lammps_flags(view));
   }
   // said once the run has been read: a file that is refused gets its one line, not a note
   if (const std::string note = io::partial_run_note(r); !note.empty()) cli::warn(note);

@@ -6,6 +6,7 @@
 #include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/io/xdmf.hpp"
+#include "cdpile/reading/views.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -95,14 +96,15 @@ static void run(const cli::Args& a) {
   const std::string side_ref = fs::path(sidecar_path).filename().string();
   io::xdmf::Summary s;
   if (is_run) {
-    io::xdmf::Options opt;
+    reading::ViewOptions opt;
     opt.nu_radius = a.real("nu-radius");
     opt.eps = a.real_opt("eps");
     opt.mu = cli::friction_choice(a);
     opt.walls = a.flag("walls");
     const io::RunReader r(in.hdf5());
+    const reading::RunView view = reading::run_view(header, opt, in.name());
     s = io::xdmf::write_run(xml.text(), network->text(), side.create_hdf5(), r, data_ref, side_ref,
-                            opt);
+                            reading::xdmf_fields(r, view));
     // said once the run has been read: a file that is refused gets its one line, not a note
     if (const std::string note = io::partial_run_note(r); !note.empty())
       cli::warn(note + "; the views name the partial: run to-xdmf again on the finished run");

@@ -1162,7 +1162,7 @@ std::vector<std::size_t> export_frames(std::size_t frames, const ExportOptions& 
 }  // namespace
 
 std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt,
-                                const analysis::Friction& mu, const analysis::CriticalRule& rule) {
+                                const IsCritical& critical) {
   const Grains& g = run.grain_properties();
   const std::size_t n = g.size();
   double r_max = 0;
@@ -1188,7 +1188,7 @@ std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const Ex
     for (std::size_t q = 0; q < c.size(); ++q) {
       if (c.j[q] < 0) continue;
       os << c.i[q] + 1 << ' ' << c.j[q] + 1 << ' ' << fmt(c.fn[q]) << ' ' << fmt(c.ft[q]) << ' '
-         << (analysis::is_critical(c.fn[q], c.ft[q], mu.grain, rule.eps) ? 1 : 0) << '\n';
+         << (critical(c.fn[q], c.ft[q]) ? 1 : 0) << '\n';
     }
     ++written;
   }

@@ -1,8 +1,6 @@
 #include "cdpile/io/xdmf.hpp"
 
-#include "cdpile/analysis/frame_fields.hpp"
 #include "cdpile/error.hpp"
-#include "cdpile/io/analysis_input.hpp"
 #include "cdpile/io/products.hpp"
 #include "cdpile/parameter_keys.hpp"
 
@@ -94,11 +92,10 @@ std::string literal(double v, const char* type, int precision) {
 
 // Stage 1: every frame's arrays in the sidecar: virtual datasets mapped onto the run's rows
 // for what the run holds, real ones for what is derived (nu of every grain, each contact's
-// critical flag, mobilisation and fn_rel: analysis::frame_fields by `rule`), the network's
-// segments; the summary's counts, top and colour ranges.
+// critical flag, mobilisation and fn_rel: `derived`), the network's segments; the summary's
+// counts, top and colour ranges.
 void write_sidecar(const h5::File& sidecar, const RunReader& run, const std::string& data_ref,
-                   const analysis::Friction& mu, const analysis::CriticalRule& rule,
-                   const Options& opt, RunFrames& rf, Summary& sum) {
+                   const Derived& derived, RunFrames& rf, Summary& sum) {
   // Every frame's arrays are whole datasets of the file beside (ParaView's Xdmf3 reader
   // reads no hyperslab, and crashes on a hyperslab geometry): virtual datasets for what the
   // run holds, mapped onto its rows and never copied; real ones for what is derived.
@@ -106,7 +103,6 @@ void write_sidecar(const h5::File& sidecar, const RunReader& run, const std::str
   const h5::File& data = run.file();
   const std::size_t F = run.frame_count(), N = run.grain_count();
   const std::string cg = "/contacts", gp = "/particles/grains";
-  const double nu_radius = opt.nu_radius * sum.diameter;  // [m]
   std::vector<std::size_t>& count = rf.count;
   count.assign(F, 0);
   analysis::ColourRanges ranges;
@@ -136,7 +132,7 @@ void write_sidecar(const h5::File& sidecar, const RunReader& run, const std::str
     // nu of every grain, and each contact's critical flag, mobilisation and fn_rel
     analysis::FrameFields fields;
     try {
-      fields = analysis::frame_fields(c, fr.grains, mu, rule, nu_radius);
+      fields = derived.fields(fr);
     } catch (const Error& e) {
       throw Error(file, "/contacts", "frame " + std::to_string(k) + ": " + e.what());
     }
@@ -175,7 +171,7 @@ void write_sidecar(const h5::File& sidecar, const RunReader& run, const std::str
   h5::set_attr(sidecar, "/", "meaning",
                "/frames/K: frame K of the source; virtual datasets read the source's rows in "
                "place; nu: critical / contacts (by the run's rule) within " +
-                   num(opt.nu_radius) +
+                   num(derived.nu_radius) +
                    " mean diameters of the grain's centre, NaN where none; contacts/critical: 1 "
                    "if critical by the run's rule; mobilisation: |ft| / (mu fn); fn_rel: fn / "
                    "the mean fn of the frame's active contacts; network/lines: the two points "
@@ -321,16 +317,12 @@ void write_gravity_and_walls(std::ostream& net, const Refs& x, const RunFrames& 
 
 Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
                   const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
-                  const Options& opt) {
+                  const Derived& derived) {
   const std::string& file = run.name();
   const h5::File& data = run.file();
   const std::size_t F = run.frame_count(), N = run.grain_count();
   if (F == 0) throw Error(file, "/particles/grains/position", "no frame to show");
   const RunHeader& h = run.header();
-  const analysis::Friction mu = run_friction(h, opt.mu, file);
-  const analysis::CriticalRule rule =
-      analysis::view_rule(opt.eps, opt.walls, recorded_rule(h, file), mu);
-  const double diameter = analysis::mean_diameter(run.grain_properties());
   const std::string cg = "/contacts";
   // The run's rows of each frame, and its tilt in degrees as the file holds it.
   RunFrames rf;
@@ -339,10 +331,10 @@ Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& 
   rf.steps = h5::read<std::int64_t>(data, cg + "/step", {F});
 
   Summary sum{h.kind, F, N, 0, 0, 0};
-  sum.diameter = diameter;
+  sum.diameter = derived.diameter;
   sum.width = h.box.width;
   sum.tilt_last_deg = rf.tilt_deg[F - 1];
-  write_sidecar(sidecar, run, data_ref, mu, rule, opt, rf, sum);
+  write_sidecar(sidecar, run, data_ref, derived, rf, sum);
   const Refs x{run, data_ref, sidecar_ref};
   write_grains_xml(xml, x, rf, N, sum.contacts);
   write_network_xml(network_xml, x, rf, N);

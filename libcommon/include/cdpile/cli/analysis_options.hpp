@@ -6,7 +6,7 @@
 #include "cdpile/analysis/table.hpp"
 #include "cdpile/cli/command.hpp"
 #include "cdpile/cli/friction_options.hpp"
-#include "cdpile/io/analysis_input.hpp"
+#include "cdpile/io/products.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <string>

@@ -21,12 +21,12 @@
 /// Errors are cdpile::Error naming the file and the line or the step.
 #pragma once
 
-#include "cdpile/analysis/critical.hpp"
 #include "cdpile/io/contact_table.hpp"
 #include "cdpile/io/schema.hpp"
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -174,9 +174,11 @@ std::size_t write_dump(std::ostream& os, const RunReader& run, const ExportOptio
 /// (ITEM: NUMBER OF ENTRIES, ITEM: ENTRIES id1 id2 fn ft critical), the force network as
 /// bonds for OVITO's Load trajectory modifier: id1, id2 the atom ids of write_dump (grain
 /// index + 1), fn >= 0 and ft signed along the contact's tangent [N/m], critical 1 when
-/// |ft| >= (1 - eps) mu fn with fn > 0 (eps of `rule`: analysis::view_rule). Wall contacts are left
-/// out (no second atom). The box bounds are the atoms dump's. Returns the number of snapshots.
+/// where `critical(fn, ft)` says so (decided by the analysis layer: reading/views.hpp, the
+/// view's rule). Wall contacts are left out (no second atom). The box bounds are the atoms
+/// dump's. Returns the number of snapshots.
+using IsCritical = std::function<bool(double fn, double ft)>;
 std::size_t write_contacts_dump(std::ostream& os, const RunReader& run, const ExportOptions& opt,
-                                const analysis::Friction& mu, const analysis::CriticalRule& rule);
+                                const IsCritical& critical);
 
 }  // namespace cdpile::io::lammps

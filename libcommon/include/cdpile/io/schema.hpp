@@ -187,8 +187,8 @@ class RunReader {
   /// `g` lies within the box enlarged by length_scale() and moves slower than
   /// speed_bound(), rim included: the magnitudes a pile can have, for a frame and for the
   /// checkpoint of a partial run. `what` starts the message ("frame 3", "checkpoint").
-  void check_grain_state(const Grains& g, const std::string& path,
-                         const std::string& velocity_path, const std::string& what) const;
+  void check_grain_state(const Grains& g, const std::string& path, const std::string& velocity_path,
+                         const std::string& what) const;
 
  private:
   const h5::File* f_;

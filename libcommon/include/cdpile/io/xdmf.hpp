@@ -7,8 +7,8 @@
 /// reader copies the geometry without reading it). So every array an XDMF names here is a
 /// whole dataset: what the run holds, as virtual datasets (HDF5 1.10 VDS) in a small file
 /// beside the XDMF, mapped onto the run's rows and never copied; what is derived, as real
-/// datasets of that file (computed by analysis::frame_fields). Both the Xdmf3 reader and the
-/// legacy XDMF Reader load them.
+/// datasets of that file (analysis::frame_fields, handed in by reading/views.hpp). Both the Xdmf3
+/// reader and the legacy XDMF Reader load them.
 ///
 ///   pile or run, two XDMF files:
 ///     NAME.xdmf          grains, a temporal collection, one grid per frame (Time = the
@@ -31,21 +31,23 @@
 /// contact is within reach; for a product, nu and above with NaN where the map has no value.
 #pragma once
 
-#include "cdpile/analysis/critical.hpp"
-#include "cdpile/analysis/studies.hpp"
+#include "cdpile/analysis/frame_fields.hpp"
 #include "cdpile/io/schema.hpp"
 
-#include <optional>
+#include <functional>
 #include <ostream>
 #include <string>
 
 namespace cdpile::io::xdmf {
 
-struct Options {
-  double nu_radius = 6.0;     ///< [D] radius of the grains' local state nu
-  std::optional<double> eps;  ///< critical tolerance (default: the run's critical_eps, else 1e-3)
-  analysis::FrictionChoice mu;  ///< friction given (analysis::choose_friction on the run's)
-  bool walls = false;           ///< nu counts wall contacts too (critical's --walls)
+/// What a view derives from a run's frames, decided by the analysis layer and handed in
+/// (reading/views.hpp): io writes the fields, it does not choose which contact is critical.
+struct Derived {
+  /// One frame's fields: nu of every grain; each contact row's critical flag, mobilisation
+  /// and f_n / <f_n>. A cdpile::Error it throws is reported with the file and the frame.
+  std::function<analysis::FrameFields(const Frame&)> fields;
+  double diameter = 0;   ///< the grains' mean diameter [m]: the view's length scale
+  double nu_radius = 0;  ///< [D] the radius of nu, for the sidecar's description
 };
 
 struct Summary {
@@ -61,12 +63,13 @@ struct Summary {
 };
 
 /// Writes the XDMF text of a pile's or run's grains into `xml`, of its network, gravity and
-/// walls into `network_xml`, and every frame's arrays into `sidecar` (a new, empty HDF5 file).
+/// walls into `network_xml`, and every frame's arrays into `sidecar` (a new, empty HDF5 file):
+/// the run's own as virtual datasets, `derived`'s fields as real ones.
 /// `data_ref` and `sidecar_ref` are the two files' names as the XDMF refers to them (relative
 /// to the XDMF's folder; the virtual datasets name the run by `data_ref` too).
 Summary write_run(std::ostream& xml, std::ostream& network_xml, const h5::File& sidecar,
                   const RunReader& run, const std::string& data_ref, const std::string& sidecar_ref,
-                  const Options& opt = {});
+                  const Derived& derived);
 
 /// The same for a localnu product (HDF5) with a map. Error if it has no map.
 Summary write_localnu(std::ostream& xml, const h5::File& sidecar, const h5::File& product,

@@ -1,8 +1,9 @@
 /// From files to the inputs of the analysis studies (analysis/studies.hpp): a tilt run
-/// (the schema of docs/schema.md) read into a RunRecord for `critical`, and a run or a
-/// plain contact table (io/contact_table.hpp) fed frame by frame into a LocalNuStudy for
-/// `localnu`. The tools only parse options and call these; every error names the file,
-/// the place in it, and the frame.
+/// (the schema of docs/schema.md) read by io and classified by analysis into a RunRecord for
+/// `critical`, and a run or a plain contact table (io/contact_table.hpp) fed frame by frame
+/// into a LocalNuStudy for `localnu`. This layer joins the two (docs/architecture.md): io
+/// reads, analysis decides. The tools only parse options and call these; every error names
+/// the file, the place in it, and the frame.
 #pragma once
 
 #include "cdpile/analysis/studies.hpp"
@@ -15,26 +16,26 @@
 #include <optional>
 #include <string>
 
-namespace cdpile::io {
+namespace cdpile::reading {
 
 /// The rule a run recorded its per-step critical counts with: /parameters critical_eps,
 /// mu_grain, mu_wall (each empty when absent).
-analysis::RecordedRule recorded_rule(const RunHeader& header, const std::string& file);
+analysis::RecordedRule recorded_rule(const io::RunHeader& header, const std::string& file);
 
 /// mu of an analysis of a run: analysis::choose_friction on the run's recorded mu_grain and
 /// mu_wall.
-analysis::Friction run_friction(const RunHeader& header, const analysis::FrictionChoice& given,
+analysis::Friction run_friction(const io::RunHeader& header, const analysis::FrictionChoice& given,
                                 const std::string& file);
 
 /// The contacts that count in frame k of a run, classified by the rule (select_contacts).
 /// The frame's grain state is read and checked too.
-analysis::ContactSet frame_contact_set(const RunReader& rr, std::size_t k,
+analysis::ContactSet frame_contact_set(const io::RunReader& rr, std::size_t k,
                                        const analysis::Friction& mu,
                                        const analysis::CriticalRule& rule, const std::string& file);
 
 /// A run without its frames: per-step observables (steps_from_series; error if a run has
 /// none), the mean diameter, mean mass, gravity and the simulator's own avalanche angle.
-analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
+analysis::RunRecord read_run_steps(const io::RunReader& rr, const std::string& file,
                                    const analysis::CriticalRule& rule);
 
 /// A run as `critical` reads it: read_run_steps and every frame read and classified by
@@ -43,7 +44,7 @@ analysis::RunRecord read_run_steps(const RunReader& rr, const std::string& file,
 /// read whole, so a non-finite grain state is an error naming its dataset; an error of the
 /// analysis names the frame. With `per_contact`, each frame record keeps its contacts'
 /// states (analysis::FrameContacts, for critical --contacts).
-analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file,
+analysis::RunRecord read_run_record(const io::RunReader& rr, const std::string& file,
                                     const analysis::Friction& mu,
                                     const analysis::CriticalRule& rule,
                                     analysis::RattlerRule rattlers,
@@ -53,11 +54,11 @@ analysis::RunRecord read_run_record(const RunReader& rr, const std::string& file
 
 /// Whether an input is a run's summary (a product of kind "summary", HDF5 or TSV;
 /// analysis/run_summary.hpp).
-bool is_summary(const Input& in);
+bool is_summary(const io::Input& in);
 
 /// The summary an input holds, with its history; an error naming the file if it is
 /// another kind of file.
-ProductFile read_summary(const Input& in);
+io::ProductFile read_summary(const io::Input& in);
 
 /// The friction of an analysis of a summary: analysis::choose_friction on the run's
 /// recorded mu_grain and mu_wall, which the summary keeps.
@@ -68,11 +69,11 @@ analysis::Friction summary_run_friction(const analysis::Product& summary,
 /// the same rule, friction, rattler rule, slip and rest speeds (analysis::require_reading),
 /// else an error names the first that differs.
 analysis::RunRecord read_summary_record(const analysis::Product& summary,
-                                       const analysis::Friction& mu,
-                                       const analysis::CriticalRule& rule,
-                                       analysis::RattlerRule rattlers,
-                                       double slip_speed = analysis::default_slip_speed,
-                                       double rest_speed = analysis::RestRule{}.speed);
+                                        const analysis::Friction& mu,
+                                        const analysis::CriticalRule& rule,
+                                        analysis::RattlerRule rattlers,
+                                        double slip_speed = analysis::default_slip_speed,
+                                        double rest_speed = analysis::RestRule{}.speed);
 
 /// How `summarise` reads a run: critical's settings (the rule, friction, rattlers, slip and
 /// rest speeds) and localnu's (options and reading), and the angles of the maps to keep.
@@ -90,7 +91,7 @@ struct SummaryReading {
 /// A run's summary (analysis/run_summary.hpp): read_run_record of the run, the localnu
 /// product of the run alone (and one per map angle), and the run's parameters. The
 /// summary keeps the run's name as `in` gives it.
-analysis::Product summarise_run(const Input& in, const SummaryReading& opt);
+analysis::Product summarise_run(const io::Input& in, const SummaryReading& opt);
 
 /// How `critical` reads its inputs: its options that enter the RunRecord.
 struct CriticalReading {
@@ -102,9 +103,9 @@ struct CriticalReading {
 /// One input of `critical`, read.
 struct CriticalInput {
   analysis::RunRecord run;
-  std::vector<Provenance> history;
-  std::string note;          ///< a partial run's note (io::partial_run_note), else empty
-  bool summary = false;      ///< read from a run's summary
+  std::vector<io::Provenance> history;
+  std::string note;      ///< a partial run's note (io::partial_run_note), else empty
+  bool summary = false;  ///< read from a run's summary
 };
 
 /// Reads input `in` of `critical`: a run (or a partial one) by read_run_record, or a run's
@@ -112,7 +113,7 @@ struct CriticalInput {
 /// summary read: analysis::require_same_engine). --series steps with another rule than the
 /// run's is refused before the frames are read; `per_contact` with a summary is a
 /// UsageError (a summary keeps no contacts).
-CriticalInput read_critical_input(const Input& in, const CriticalReading& o,
+CriticalInput read_critical_input(const io::Input& in, const CriticalReading& o,
                                   std::optional<analysis::Product>& first_summary);
 
 /// How `localnu` reads its inputs.
@@ -134,7 +135,7 @@ struct LocalNuReading {
   std::optional<std::int64_t> map_frame;
   std::optional<double> map_theta;
   /// A contact given twice in a table: an error, or merged (counted once, with a note).
-  Duplicates duplicates = Duplicates::error;
+  io::Duplicates duplicates = io::Duplicates::error;
 };
 
 /// What one input contributed.
@@ -157,7 +158,7 @@ struct LocalNuInputInfo {
 /// require_reading) and holds the maps of the angles it was made with only.
 /// A contact table without `mu.grain` or `diameter` is a UsageError (they are required
 /// options for a table).
-LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const Input& in, std::int64_t run,
-                                   const LocalNuReading& opt);
+LocalNuInputInfo add_localnu_input(analysis::LocalNuStudy& study, const io::Input& in,
+                                   std::int64_t run, const LocalNuReading& opt);
 
-}  // namespace cdpile::io
+}  // namespace cdpile::reading

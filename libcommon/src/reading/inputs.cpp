@@ -1,4 +1,4 @@
-#include "cdpile/io/analysis_input.hpp"
+#include "cdpile/reading/inputs.hpp"
 
 #include "cdpile/analysis/run_summary.hpp"
 #include "cdpile/error.hpp"
@@ -11,7 +11,10 @@
 #include <cmath>
 #include <limits>
 
-namespace cdpile::io {
+namespace cdpile::reading {
+
+// The files this layer reads are io's (schema, products, contact tables, checkpoints).
+using namespace cdpile::io;
 
 namespace {
 std::optional<double> real_parameter(const Values& v, const char* key, const std::string& file) {
@@ -155,9 +158,9 @@ analysis::Friction summary_run_friction(const analysis::Product& s,
 }
 
 analysis::RunRecord read_summary_record(const analysis::Product& s, const analysis::Friction& mu,
-                                       const analysis::CriticalRule& rule,
-                                       analysis::RattlerRule rattlers, double slip_speed,
-                                       double rest_speed) {
+                                        const analysis::CriticalRule& rule,
+                                        analysis::RattlerRule rattlers, double slip_speed,
+                                        double rest_speed) {
   analysis::require_reading(s,
                             analysis::critical_reading(rule, mu, rattlers, slip_speed, rest_speed));
   return analysis::summary_run_record(s);
@@ -178,8 +181,8 @@ CriticalInput read_critical_input(const Input& in, const CriticalReading& o,
     else
       analysis::require_same_engine(*first_summary, s.product, in.name());
     const analysis::Friction mu = summary_run_friction(s.product, o.mu);
-    out.run = read_summary_record(s.product, mu, opt.rule, opt.rattlers, opt.slip_speed,
-                                  opt.rest.speed);
+    out.run =
+        read_summary_record(s.product, mu, opt.rule, opt.rattlers, opt.slip_speed, opt.rest.speed);
     if (steps) analysis::require_step_rule(in.name(), out.run.recorded_rule, opt.rule, mu);
     out.history = std::move(s.provenance);
     out.summary = true;
@@ -190,7 +193,8 @@ CriticalInput read_critical_input(const Input& in, const CriticalReading& o,
   out.history = rr.header().provenance;
   const analysis::Friction mu = run_friction(rr.header(), o.mu, in.name());
   // --series steps with another rule than the run's: refused before its frames are read
-  if (steps) analysis::require_step_rule(in.name(), recorded_rule(rr.header(), in.name()), opt.rule, mu);
+  if (steps)
+    analysis::require_step_rule(in.name(), recorded_rule(rr.header(), in.name()), opt.rule, mu);
   out.run = read_run_record(rr, in.name(), mu, opt.rule, opt.rattlers, opt.slip_speed,
                             opt.rest.speed, o.per_contact);
   return out;
@@ -244,16 +248,17 @@ LocalNuInputInfo add_localnu_summary(analysis::LocalNuStudy& study, const analys
   auto found = analysis::summary_map(s, o.map_theta);
   if (!found) {
     const auto it = s.parameters.find("reading_map_theta");
-    const std::string held = it != s.parameters.end() && std::holds_alternative<std::string>(it->second)
-                                 ? std::get<std::string>(it->second)
-                                 : std::string();
+    const std::string held =
+        it != s.parameters.end() && std::holds_alternative<std::string>(it->second)
+            ? std::get<std::string>(it->second)
+            : std::string();
     throw Error(s.source, "",
-                o.map_theta ? "the summary holds maps at " +
-                                  (held.empty() ? std::string("no angle") : held + " deg") +
-                                  ", not at " + format_number(*o.map_theta) + " (" +
-                                  field("map_theta") +
-                                  "): map it from the run file, or summarise the run with it"
-                            : std::string("the summary holds no default map (its run has no frame)"));
+                o.map_theta
+                    ? "the summary holds maps at " +
+                          (held.empty() ? std::string("no angle") : held + " deg") + ", not at " +
+                          format_number(*o.map_theta) + " (" + field("map_theta") +
+                          "): map it from the run file, or summarise the run with it"
+                    : std::string("the summary holds no default map (its run has no frame)"));
   }
   if (auto f = analysis::detail::number(found->second, "map_frame"))
     info.mapped_frame = static_cast<std::int64_t>(*f);
@@ -374,8 +379,8 @@ analysis::Product summarise_run(const Input& in, const SummaryReading& opt) {
   if (is_summary(in)) throw Error(file, "", "is a summary already, expected a run");
   const RunReader rr(in.hdf5());
   const analysis::Friction mu = run_friction(rr.header(), opt.mu, file);
-  const analysis::RunRecord run = read_run_record(rr, file, mu, opt.rule, opt.rattlers,
-                                                  opt.slip_speed, opt.rest_speed);
+  const analysis::RunRecord run =
+      read_run_record(rr, file, mu, opt.rule, opt.rattlers, opt.slip_speed, opt.rest_speed);
   LocalNuReading reading;
   reading.mu = opt.mu;
   reading.rule = opt.rule;
@@ -420,4 +425,4 @@ analysis::Product summarise_run(const Input& in, const SummaryReading& opt) {
   return s;
 }
 
-}  // namespace cdpile::io
+}  // namespace cdpile::reading
