@@ -313,16 +313,24 @@ bool write_random_attribute(hid_t obj, const std::string& name, Rng& rng) {
   return true;
 }
 
-/// Retypes, reshapes, deletes, or adds an attribute of a random object.
-bool mutate_attribute(hid_t file, Rng& rng) {
+/// A random object of the file (the root included), opened, and its number of attributes;
+/// an invalid handle where HDF5 cannot open or describe it.
+h5::Handle random_object(hid_t file, Rng& rng, hsize_t& attributes) {
   std::vector<std::string> objects = objects_of(file);
   objects.push_back("/");
   const std::string& path = objects[pick(rng, objects.size())];
   h5::Handle obj(H5Oopen(file, path.c_str(), H5P_DEFAULT));
-  if (!obj.valid()) return false;
   H5O_info_t info;
-  if (H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS) < 0) return false;
-  const hsize_t count = info.num_attrs;
+  if (!obj.valid() || H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS) < 0) return h5::Handle();
+  attributes = info.num_attrs;
+  return obj;
+}
+
+/// Retypes, reshapes, deletes, or adds an attribute of a random object.
+bool mutate_attribute(hid_t file, Rng& rng) {
+  hsize_t count = 0;
+  const h5::Handle obj = random_object(file, rng, count);
+  if (!obj.valid()) return false;
   std::string name = "fuzz";
   if (count > 0) {
     char buf[256] = {0};
@@ -472,14 +480,16 @@ bool mutate_dataset_value(hid_t file, const std::string& path, Rng& rng) {
     double old = 0;
     if (!all) H5Dread(d.id(), H5T_NATIVE_DOUBLE, memory.id(), file_space, H5P_DEFAULT, &old);
     const double v = special_float(rng, std::isfinite(old) ? old : 1.0);
-    if (!all) return H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
+    if (!all)
+      return H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
     const std::vector<double> w(static_cast<std::size_t>(n), v);
     return H5Dwrite(d.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.data()) >= 0;
   }
   std::int64_t old = 0;
   if (!all) H5Dread(d.id(), H5T_NATIVE_INT64, memory.id(), file_space, H5P_DEFAULT, &old);
   const std::int64_t v = special_integer(rng, old, grain_count(file));
-  if (!all) return H5Dwrite(d.id(), H5T_NATIVE_INT64, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
+  if (!all)
+    return H5Dwrite(d.id(), H5T_NATIVE_INT64, memory.id(), file_space, H5P_DEFAULT, &v) >= 0;
   const std::vector<std::int64_t> w(static_cast<std::size_t>(n), v);
   return H5Dwrite(d.id(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, w.data()) >= 0;
 }
@@ -487,15 +497,11 @@ bool mutate_dataset_value(hid_t file, const std::string& path, Rng& rng) {
 /// One value of a numeric attribute (a parameter, a result, a checkpoint's counter, the
 /// schema version) changed, its type and shape kept.
 bool mutate_attribute_value(hid_t file, Rng& rng) {
-  std::vector<std::string> objects = objects_of(file);
-  objects.push_back("/");
-  const std::string& path = objects[pick(rng, objects.size())];
-  h5::Handle obj(H5Oopen(file, path.c_str(), H5P_DEFAULT));
-  if (!obj.valid()) return false;
-  H5O_info_t info;
-  if (H5Oget_info2(obj.id(), &info, H5O_INFO_NUM_ATTRS) < 0 || info.num_attrs == 0) return false;
-  h5::Handle a(H5Aopen_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_NATIVE,
-                              pick(rng, info.num_attrs), H5P_DEFAULT, H5P_DEFAULT));
+  hsize_t count = 0;
+  const h5::Handle obj = random_object(file, rng, count);
+  if (!obj.valid() || count == 0) return false;
+  h5::Handle a(H5Aopen_by_idx(obj.id(), ".", H5_INDEX_NAME, H5_ITER_NATIVE, pick(rng, count),
+                              H5P_DEFAULT, H5P_DEFAULT));
   if (!a.valid()) return false;
   h5::Handle type(H5Aget_type(a.id())), space(H5Aget_space(a.id()));
   const H5T_class_t cls = H5Tget_class(type.id());
