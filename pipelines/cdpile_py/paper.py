@@ -46,26 +46,40 @@ def envelope_reason(notes, key, study_size):
 def spread_rows(study):
     """The rows of the study's solver-path ensemble (indeterminacy/spread.tsv), or None when
     it has not been made."""
-    here = os.path.abspath(study)
-    candidates = [os.path.join(here, "indeterminacy", "spread.tsv")]
-    if os.path.basename(here).startswith("eps"):  # an analysis at another eps: its study's paths
-        candidates.append(os.path.join(os.path.dirname(here), "indeterminacy", "spread.tsv"))
-    path = next((c for c in candidates if os.path.exists(c)), None)
+    path = next((c for c in indeterminacy_dirs(study) if os.path.exists(os.path.join(c, "spread.tsv"))), None)
     if path is None:
         return None
-    return read_tsv(path)[1]
+    return read_tsv(os.path.join(path, "spread.tsv"))[1]
+
+
+# the committed summaries (pipelines/summaries/<study>/, beside this package's folder), or
+# the pipelines' SUMMARY_ROOT (the Makefile exports it as CDPILE_SUMMARY_ROOT)
+SUMMARIES = os.environ.get("CDPILE_SUMMARY_ROOT") or os.path.join(
+    os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "summaries")
+
+
+def indeterminacy_dirs(study):
+    """Where a study's solver-path ensemble may be, in order: its folder's indeterminacy/
+    (made there by `make -C pipelines indeterminacy`), that of the study an analysis at
+    another eps belongs to, and the one committed beside the study's summaries
+    (pipelines/summaries/<study>/indeterminacy/: the ensemble's tables, which outlive the
+    run files it was branched from)."""
+    here = os.path.abspath(study)
+    dirs = [os.path.join(here, "indeterminacy")]
+    if os.path.basename(here).startswith("eps"):  # an analysis at another eps: its study's paths
+        dirs.append(os.path.join(os.path.dirname(here), "indeterminacy"))
+        here = os.path.dirname(here)
+    dirs.append(os.path.join(SUMMARIES, os.path.basename(here), "indeterminacy"))
+    return dirs
 
 
 def systematic_theta_c(study):
     """The systematic error of theta_c: the rms over runs of the standard deviation of
     theta_c across solver paths (indeterminacy/avalanche.tsv, the run itself included) and
     the runs it comes from, or None when that has not been made."""
-    here = os.path.abspath(study)
-    for d in (here, os.path.dirname(here) if os.path.basename(here).startswith("eps") else None):
-        path = d and os.path.join(d, "indeterminacy", "avalanche.tsv")
-        if path and os.path.exists(path):
-            break
-    else:
+    path = next((os.path.join(d, "avalanche.tsv") for d in indeterminacy_dirs(study)
+                 if os.path.exists(os.path.join(d, "avalanche.tsv"))), None)
+    if path is None:
         return None
     by_run = collections.defaultdict(list)
     for r in read_tsv(path)[1]:

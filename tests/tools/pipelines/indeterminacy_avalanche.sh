@@ -10,7 +10,7 @@ old=(--solver nsgs --max-substeps 1 --tolerance 1e-4)
 mkdir -p study
 "$B/tilt-cd" pile.h5 --rate 0.05 --stiffness 1e5 "${old[@]}" --frame-every-deg 1 --quiet -o study/run-1.h5
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" indeterminacy STUDY="$PWD/study" RATE=0.05 STIFFNESS=1e5 \
-  INDETERMINACY_SEEDS=1 INDETERMINACY_TARGETS=avalanche CDPILE_BIN="$B" \
+  INDETERMINACY_SEEDS=1 INDETERMINACY_TARGETS=avalanche CDPILE_BIN="$B" SUMMARY_ROOT="$PWD/summaries" \
   INDETERMINACY_OPTIONS='AVALANCHE_PATHS="1 2" AVALANCHE_LEAD=2' "$@"; }
 mk > make1.log 2>&1 || { cat make1.log >&2; exit 1; }
 out=study/indeterminacy

@@ -1,14 +1,15 @@
 # The solver-path ensemble at its smallest (80 disks, one run, one window of 3 steps,
 # two scrambled paths and a rigid branch): the branches start from the run's frames, path 0
 # redoes the run's own steps, the summary reports the window, one past the run's end is
-# skipped with its reason, and a second make redoes nothing.
+# skipped with its reason, a second make redoes nothing, and the ensemble's tables are kept
+# beside the study's summaries, where the reports find them once the branches are gone.
 # ctest: slow, timeout 120
 B=$CDPILE_BIN
 "$B/deposit" --grains 80 --width 10 --seed 3 --quiet -o pile.h5
 mkdir -p study
 "$B/tilt-cd" pile.h5 --rate 0.05 --to 8 --stiffness 1e5 --frame-every-deg 1 --quiet -o study/run-1.h5
 mk() { make --no-print-directory -C "$CDPILE_SOURCE/pipelines" indeterminacy STUDY="$PWD/study" RATE=0.05 STIFFNESS=1e5 \
-  INDETERMINACY_SEEDS=1 INDETERMINACY_ANGLES="2 9" CDPILE_BIN="$B" \
+  INDETERMINACY_SEEDS=1 INDETERMINACY_ANGLES="2 9" CDPILE_BIN="$B" SUMMARY_ROOT="$PWD/summaries" \
   INDETERMINACY_OPTIONS='WINDOW=0.15 FRAMES=3 PATHS="1 2" RULES=0' "$@"; }
 mk > make1.log 2>&1 || { cat make1.log >&2; exit 1; }
 out=study/indeterminacy
@@ -49,3 +50,13 @@ assert "alpha_sd" in spread[0] and "alpha_k0" in spread[0], spread[0].keys()
 PYEOF
 mk > make2.log 2>&1 || { cat make2.log >&2; exit 1; }
 if grep -q 'tilt-cd' make2.log; then echo "branches were made again" >&2; cat make2.log >&2; exit 1; fi
+# The tables kept for a commit, and read from there when the study's own are gone.
+for f in spread.tsv paths.tsv summary.md; do cmp $out/$f summaries/study/indeterminacy/$f; done
+mv $out moved
+CDPILE_SUMMARY_ROOT=$PWD/summaries "$PY" - "$CDPILE_SOURCE/pipelines" <<'PYEOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+from cdpile_py.paper import spread_rows
+rows = spread_rows("study")
+assert rows and rows[0]["seed"] == "1" and rows[0]["angle_deg"] == "2", rows
+PYEOF
