@@ -148,10 +148,10 @@ int main(int argc, char** argv) {
     for (long k = 1; k <= steps; ++k) {
       const double deg = pile.branch->tilt_deg + static_cast<double>(k) * rate_deg;
       const std::vector<cd::StoredImpulse> start = engine.state().impulses;
-      const cd::StepReport r = engine.step(deg * std::numbers::pi / 180.0);
       const std::clock_t cpu = std::clock();
-      const cd::DelassusProblem p = engine.delassus_problem();
+      const cd::StepReport r = engine.step(deg * std::numbers::pi / 180.0);
       const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+      const cd::DelassusProblem p = engine.delassus_problem();
       const Eigen::VectorXd impulses = engine.local_impulses();
       std::string file = "-";
       if (!none && (all || !r.converged)) {
