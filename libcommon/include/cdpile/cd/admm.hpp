@@ -8,22 +8,26 @@
 /// |R_t| <= mu R_n) with the De Saxce velocity u~ = u + (mu |u_t|, 0), u = G R + q, in
 /// the dual cone K* and orthogonal to R: Signorini and Coulomb's law, exact (not the
 /// associated flow). ADMM splits R into x (unconstrained) and z (in K) with a dual v, a
-/// velocity, and the metric D = diag(d_a), d_a the mean of the contact's rigid diagonal
-/// block (one scalar per contact, so the metric keeps each cone round):
+/// velocity, and the metric D = diag(d_a), d_a the mean of the contact's diagonal block
+/// (one scalar per contact, so the metric keeps each cone round):
 ///
-///     x   = (G + rho D)^-1 (rho D z - q - s + v)          one back-solve
-///     z'  = Proj_K(x - D^-1 v / rho)                       per contact
+///     s   = (mu |v_t|, 0)                                De Saxce's shift, every iteration
+///     x   = (G + rho D)^-1 (rho D z - q - s + v)        one back-solve
+///     x  <- alpha x + (1 - alpha) z                      over-relaxation (AdmmOptions)
+///     z'  = Proj_K(x - D^-1 v / rho)                     per contact
 ///     v'  = v + rho D (z' - x)
-///     s'  = (mu |u_t(z')|, 0),  u(z') = G z' + q           De Saxce's shift, every iteration
 ///
 /// At a fixed point x = z, v = G z + q + s = u~ and z = Proj_K(z - D^-1 u~ / rho), which is
-/// the law. One sparse Cholesky factor (Eigen's SimplicialLDLT) of G + rho D serves every
-/// iteration while rho is kept; rho is rebalanced by the ratio of the primal residual
-/// D |x - z| to the dual one rho D |z' - z| and the factor redone when it moves by more
-/// than a factor `refactor_ratio`. G + rho D is positive definite even where G is singular
-/// (rigid contacts in a hyperstatic network): the proximal term rho D |x - z|^2 picks,
-/// among the admissible impulses, those the iteration reaches from its start (the
-/// previous step's impulses, docs/method.md "The factorised solver").
+/// the law. The shift is taken at the dual velocity v, as Pinocchio's solver takes it; at
+/// the impulses' own velocity G z + q the iteration stalled (docs/performance.md, "A
+/// factorised solver"). One sparse Cholesky factor (Eigen's SimplicialLDLT) of G + rho D
+/// serves every iteration while rho is kept; rho is rebalanced by the ratio of the primal
+/// residual D |x - z'| to the dual one rho D |z' - z| and the factor redone when it moves
+/// by more than a factor `refactor_ratio`. G + rho D is positive definite even where G is
+/// singular (rigid contacts in a hyperstatic network), so every x step is well posed; the
+/// proximal term does not make a rigid step's answer unique: the iteration returns the
+/// admissible impulses its path from the start reaches (the previous step's impulses,
+/// docs/method.md "The factorised solver").
 #pragma once
 
 #include "cdpile/cd/delassus.hpp"
