@@ -16,7 +16,17 @@
 // measure, docs/method.md) and the natural-map residual of its impulses (Siconos'
 // measure, cd::natural_map_residual), and the file written (or '-').
 //
-// Usage: export_steps RUN DEG STEPS OUTDIR [--all]
+// With --stiffness K the branch runs at the contact stiffness K [m g / D] (0: rigid) instead
+// of the run's, as `tilt-cd --branch-at DEG --stiffness K` would: the same steps at another k;
+// with --solver NAME, by that solver (cd::solver_from_name) instead of the run's. The last
+// column is the CPU time of the step [ms], so that solvers compare on the same steps
+// (docs/performance.md, "A factorised solver"); --max-substeps and --max-sweeps replace
+// those settings (--max-substeps 1: every step's problem at the full h). With --none no file
+// is written.
+//
+// Usage: export_steps RUN DEG STEPS OUTDIR [--all | --none] [--stiffness K] [--solver NAME]
+//                     [--max-substeps N] [--max-sweeps N]
+#include "cdpile/analysis/critical.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/error.hpp"
@@ -27,6 +37,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -34,6 +45,7 @@
 #include <utility>
 #include <vector>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace cd = cdpile::cd;
@@ -43,7 +55,8 @@ namespace sim = cdpile::sim;
 namespace {
 
 int usage() {
-  std::cerr << "usage: export_steps RUN DEG STEPS OUTDIR [--all]\n";
+  std::cerr << "usage: export_steps RUN DEG STEPS OUTDIR [--all | --none] [--stiffness K] "
+               "[--solver NAME] [--max-substeps N] [--max-sweeps N]\n";
   return 2;
 }
 
@@ -80,9 +93,29 @@ Eigen::VectorXd matched_start(const std::vector<cd::StoredImpulse>& start, const
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5 && !(argc == 6 && std::string(argv[5]) == "--all")) return usage();
+  if (argc < 5) return usage();
   const std::string run = argv[1], dir = argv[4];
-  const bool all = argc == 6;
+  bool all = false, none = false;
+  std::optional<double> stiffness;  // [m g / D]
+  std::optional<std::string> solver;
+  std::optional<int> max_substeps, max_sweeps;
+  for (int a = 5; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--all")
+      all = true;
+    else if (arg == "--none")
+      none = true;
+    else if (arg == "--stiffness" && a + 1 < argc)
+      stiffness = std::stod(argv[++a]);
+    else if (arg == "--solver" && a + 1 < argc)
+      solver = argv[++a];
+    else if (arg == "--max-substeps" && a + 1 < argc)
+      max_substeps = std::stoi(argv[++a]);
+    else if (arg == "--max-sweeps" && a + 1 < argc)
+      max_sweeps = std::stoi(argv[++a]);
+    else
+      return usage();
+  }
   try {
     const double at_deg = std::stod(argv[2]);
     const long steps = std::stol(argv[3]);
@@ -94,21 +127,34 @@ int main(int argc, char** argv) {
       io::Input in(run);
       pile = sim::read_branch(in.hdf5(), at_deg);
     }
-    const cd::Settings settings = sim::settings_from_parameters(pile.parameters, run);
+    cd::Settings settings = sim::settings_from_parameters(pile.parameters, run);
+    if (stiffness) {  // m g / D in N/m^2, as tilt-cd converts its option (sim::pile_settings)
+      const double diameter = pile.parameters.count("diameter_mean_m")
+                                  ? io::as_real(pile.parameters, "diameter_mean_m", run)
+                                  : cdpile::analysis::mean_diameter(pile.grains);
+      settings.contact_stiffness =
+          *stiffness * cdpile::analysis::mean_mass(pile.grains) * settings.gravity / diameter;
+    }
+    if (solver) settings.solver = cd::solver_from_name(*solver);
+    if (max_substeps) settings.max_substeps = *max_substeps;
+    if (max_sweeps) settings.max_sweeps = *max_sweeps;
     const double rate_deg = io::as_real(pile.parameters, sim::parameter_key("rate_deg"), run);
     cd::Engine engine(pile.box, pile.grains, settings);
     engine.set_state(sim::warm_start_state(pile.contacts, settings.time_step));
     std::filesystem::create_directories(dir);
 
-    std::printf("step\ttilt_deg\tcandidates\tcontacts\tsweeps\tresidual\tnatural_map\tfile\n");
+    std::printf("step\ttilt_deg\tcandidates\tcontacts\tsweeps\tresidual\tnatural_map\tfile\t"
+                "substeps\tcpu_ms\n");
     for (long k = 1; k <= steps; ++k) {
       const double deg = pile.branch->tilt_deg + static_cast<double>(k) * rate_deg;
       const std::vector<cd::StoredImpulse> start = engine.state().impulses;
+      const std::clock_t cpu = std::clock();
       const cd::StepReport r = engine.step(deg * std::numbers::pi / 180.0);
+      const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
       const cd::DelassusProblem p = engine.delassus_problem();
       const Eigen::VectorXd impulses = engine.local_impulses();
       std::string file = "-";
-      if (all || !r.converged) {
+      if (!none && (all || !r.converged)) {
         char name[32];
         std::snprintf(name, sizeof name, "step-%06ld", k);
         file = std::string(name) + ".dat";
@@ -118,8 +164,9 @@ int main(int argc, char** argv) {
           write_row(o, matched_start(start, engine.contacts()));
         });
       }
-      std::printf("%ld\t%.3f\t%d\t%d\t%d\t%.3e\t%.3e\t%s\n", k, deg, r.candidates, r.contacts,
-                  r.sweeps, r.residual, cd::natural_map_residual(p, impulses), file.c_str());
+      std::printf("%ld\t%.3f\t%d\t%d\t%d\t%.3e\t%.3e\t%s\t%d\t%.1f\n", k, deg, r.candidates,
+                  r.contacts, r.sweeps, r.residual, cd::natural_map_residual(p, impulses),
+                  file.c_str(), r.substeps, cpu_ms);
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {

@@ -28,10 +28,12 @@ using cd_scenes::kG;
 using cd_scenes::kR;
 using cd_scenes::kRho;
 using cd_scenes::triangular_stack;
+using cd_scenes::Wedge;
 constexpr double kH = 1e-4;
 
 const cd::SolverKind kAllSolvers[] = {cd::SolverKind::nsgs, cd::SolverKind::nncg,
-                                      cd::SolverKind::pcg, cd::SolverKind::newton};
+                                      cd::SolverKind::pcg, cd::SolverKind::newton,
+                                      cd::SolverKind::admm};
 
 // pcg's gradient rounds and newton's Newton steps start after the first sweep and follow
 // every sweep, so that the small scenes here, which NSGS converges in a few sweeps, go
@@ -46,49 +48,8 @@ cd::Settings tight(cd::SolverKind solver) {
   return s;
 }
 
-/// A disk of radius kR wedged between the two side walls of a box 2 kR wide, far above
-/// the floor, at rest under gravity g = (0, -g): two contacts, no floor. Rows in pair
-/// order: the right wall (j = -1, n = (-1, 0)) then the left wall (j = -2, n = (1, 0)).
-/// Impulses start at (rn, rt) = start for both rows (rt signed so that both hold the
-/// disk up), anchored at `anchor` the same way.
-struct Wedge {
-  cd::ContactSystem system;
-  double m = 0.0;
-};
-
 Wedge wedged_disk(double start_n, double anchor_n, double anchor_t, double stiffness) {
-  Wedge w;
-  w.m = kRho * std::numbers::pi * kR * kR;
-  const double inv_m = 1.0 / w.m, inv_i = 2.0 / (w.m * kR * kR);
-  cd::ContactSystem& s = w.system;
-  s.bodies = {{0.0, -kG * kH, 0.0, inv_m, inv_i}, {0.0, 0.0, 0.0, 0.0, 0.0}};
-  if (stiffness > 0.0) s.compliance_n = s.compliance_t = 1.0 / (stiffness * kH * kH);
-  // Tangent t = (-n_y, n_x): (0, -1) on the right wall, (0, 1) on the left one, so a
-  // supporting friction impulse is -a on the right and +a on the left.
-  for (const double nx : {-1.0, 1.0}) {
-    cd::ContactRow r{};
-    r.i = 0;
-    r.j = nx < 0 ? cdpile::wall_right : cdpile::wall_left;
-    r.bi = 0;
-    r.bj = 1;
-    r.nx = nx;
-    r.ny = 0.0;
-    r.ri = kR;
-    r.rj = 0.0;
-    r.mu = 0.5;
-    r.gap = 0.0;
-    r.gap_velocity = 0.0;
-    r.w_nn = inv_m + s.compliance_n;
-    r.w_tt = inv_m + kR * kR * inv_i + s.compliance_t;
-    const double sign = nx < 0 ? -1.0 : 1.0;
-    r.rn0 = anchor_n;
-    r.rt0 = sign * anchor_t;
-    r.rn = start_n;
-    r.rt = sign * anchor_t;
-    s.rows.push_back(r);
-  }
-  for (const cd::ContactRow& r : s.rows) s.apply_impulse(r, r.rn, r.rt);
-  return w;
+  return cd_scenes::wedged_disk(start_n, anchor_n, anchor_t, stiffness, kH);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,69 @@ BlockColumns block_columns(const DelassusProblem& p) {
 }
 
 }  // namespace
+
+// The rows of H are those of the sweep: u_n = (v_i - v_j).n and
+// u_t = (v_i - v_j).t - w_i r_i - w_j r_j, with t = (-n_y, n_x); a body that does not move
+// (a glued grain, or the walls' static body) has a zero inverse mass and drops out of W.
+DelassusProblem delassus_problem(const ContactSystem& s) {
+  const auto m = static_cast<Eigen::Index>(s.rows.size());
+  const auto n = static_cast<Eigen::Index>(s.bodies.size());
+  std::vector<Eigen::Triplet<double>> h, hm;  // H and H M^-1
+  h.reserve(12 * s.rows.size());
+  hm.reserve(12 * s.rows.size());
+  auto add = [&](Eigen::Index row, std::int32_t body, double x, double y, double w, double sign) {
+    const Body& b = s.bodies[static_cast<std::size_t>(body)];
+    if (!moves(b)) return;  // the walls, a glued grain
+    const Eigen::Index c = 3 * static_cast<Eigen::Index>(body);
+    const double v[3] = {sign * x, sign * y, w};
+    const double inv[3] = {b.inv_m, b.inv_m, b.inv_i};
+    for (int k = 0; k < 3; ++k) {
+      if (v[k] == 0.0 || inv[k] == 0.0) continue;
+      h.emplace_back(row, c + k, v[k]);
+      hm.emplace_back(row, c + k, v[k] * inv[k]);
+    }
+  };
+  std::vector<double> mu(s.rows.size());
+  Eigen::VectorXd r(2 * m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const ContactRow& row = s.rows[static_cast<std::size_t>(a)];
+    add(2 * a, row.bi, row.nx, row.ny, 0.0, 1.0);
+    add(2 * a, row.bj, row.nx, row.ny, 0.0, -1.0);
+    add(2 * a + 1, row.bi, -row.ny, row.nx, -row.ri, 1.0);
+    add(2 * a + 1, row.bj, -row.ny, row.nx, -row.rj, -1.0);
+    mu[static_cast<std::size_t>(a)] = row.mu;
+    r[2 * a] = row.rn;
+    r[2 * a + 1] = row.rt;
+  }
+  DelassusProblem p;
+  p.mu = Eigen::Map<const Eigen::VectorXd>(mu.data(), m);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> H(2 * m, 3 * n), HM(2 * m, 3 * n);
+  H.setFromTriplets(h.begin(), h.end());
+  HM.setFromTriplets(hm.begin(), hm.end());
+  p.W = HM * Eigen::SparseMatrix<double, Eigen::RowMajor>(H.transpose());
+  // q = u - W r: the bodies hold v = v_free + M^-1 H^T R, so the local velocities less
+  // W r are the free ones (to rounding).
+  p.q = -(p.W * r);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const ContactRow& row = s.rows[static_cast<std::size_t>(a)];
+    const Body& bi = s.bodies[static_cast<std::size_t>(row.bi)];
+    const Body& bj = s.bodies[static_cast<std::size_t>(row.bj)];
+    const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
+    p.q[2 * a] += dvx * row.nx + dvy * row.ny + row.gap_velocity;
+    p.q[2 * a + 1] += -dvx * row.ny + dvy * row.nx - bi.w * row.ri - bj.w * row.rj;
+  }
+  // The compliance of the force-selection rule: C on the diagonal, -C R0 in q.
+  if (s.compliant()) {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const ContactRow& row = s.rows[static_cast<std::size_t>(a)];
+      p.q[2 * a] -= s.compliance_n * row.rn0;
+      p.q[2 * a + 1] -= s.compliance_t * row.rt0;
+      p.W.coeffRef(2 * a, 2 * a) += s.compliance_n;
+      p.W.coeffRef(2 * a + 1, 2 * a + 1) += s.compliance_t;
+    }
+  }
+  return p;
+}
 
 double natural_map_residual(const DelassusProblem& p, const Eigen::VectorXd& r) {
   const Eigen::VectorXd u = p.W * r + p.q;

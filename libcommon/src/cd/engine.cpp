@@ -504,65 +504,8 @@ Contacts Engine::contacts() const {
   return c;
 }
 
-// The rows of H are those of the sweep: u_n = (v_i - v_j).n and
-// u_t = (v_i - v_j).t - w_i r_i - w_j r_j, with t = (-n_y, n_x); a grain that does not move
-// (glued, or the walls' static body) has a zero inverse mass and drops out of W.
-DelassusProblem Engine::delassus_problem() const {
-  const auto m = static_cast<Eigen::Index>(system_.rows.size());
-  const auto n = static_cast<Eigen::Index>(grains_.size());
-  std::vector<Eigen::Triplet<double>> h, hm;  // H and H M^-1
-  h.reserve(12 * system_.rows.size());
-  hm.reserve(12 * system_.rows.size());
-  auto add = [&](Eigen::Index row, std::int32_t body, double x, double y, double w, double sign) {
-    if (body == static_cast<std::int32_t>(n)) return;  // the walls
-    const Body& b = system_.bodies[static_cast<std::size_t>(body)];
-    const Eigen::Index c = 3 * static_cast<Eigen::Index>(body);
-    const double v[3] = {sign * x, sign * y, w};
-    const double inv[3] = {b.inv_m, b.inv_m, b.inv_i};
-    for (int k = 0; k < 3; ++k) {
-      if (v[k] == 0.0 || inv[k] == 0.0) continue;
-      h.emplace_back(row, c + k, v[k]);
-      hm.emplace_back(row, c + k, v[k] * inv[k]);
-    }
-  };
-  std::vector<double> mu(system_.rows.size());
-  for (Eigen::Index a = 0; a < m; ++a) {
-    const ContactRow& r = system_.rows[static_cast<std::size_t>(a)];
-    add(2 * a, r.bi, r.nx, r.ny, 0.0, 1.0);
-    add(2 * a, r.bj, r.nx, r.ny, 0.0, -1.0);
-    add(2 * a + 1, r.bi, -r.ny, r.nx, -r.ri, 1.0);
-    add(2 * a + 1, r.bj, -r.ny, r.nx, -r.rj, -1.0);
-    mu[static_cast<std::size_t>(a)] = r.mu;
-  }
-  DelassusProblem p;
-  p.mu = Eigen::Map<const Eigen::VectorXd>(mu.data(), m);
-  Eigen::SparseMatrix<double, Eigen::RowMajor> H(2 * m, 3 * n), HM(2 * m, 3 * n);
-  H.setFromTriplets(h.begin(), h.end());
-  HM.setFromTriplets(hm.begin(), hm.end());
-  p.W = HM * Eigen::SparseMatrix<double, Eigen::RowMajor>(H.transpose());
-  // q = u - W r: the bodies hold v = v_free + M^-1 H^T R at the end of the step, so the
-  // local velocities of the solution less W r are the free ones (to rounding).
-  p.q = -(p.W * local_impulses());
-  for (Eigen::Index a = 0; a < m; ++a) {
-    const ContactRow& row = system_.rows[static_cast<std::size_t>(a)];
-    const Body& bi = system_.bodies[static_cast<std::size_t>(row.bi)];
-    const Body& bj = system_.bodies[static_cast<std::size_t>(row.bj)];
-    const double dvx = bi.vx - bj.vx, dvy = bi.vy - bj.vy;
-    p.q[2 * a] += dvx * row.nx + dvy * row.ny + row.gap_velocity;
-    p.q[2 * a + 1] += -dvx * row.ny + dvy * row.nx - bi.w * row.ri - bj.w * row.rj;
-  }
-  // The compliance of the force-selection rule: C on the diagonal, -C R0 in q.
-  if (system_.compliant()) {
-    for (Eigen::Index a = 0; a < m; ++a) {
-      const ContactRow& row = system_.rows[static_cast<std::size_t>(a)];
-      p.q[2 * a] -= system_.compliance_n * row.rn0;
-      p.q[2 * a + 1] -= system_.compliance_t * row.rt0;
-      p.W.coeffRef(2 * a, 2 * a) += system_.compliance_n;
-      p.W.coeffRef(2 * a + 1, 2 * a + 1) += system_.compliance_t;
-    }
-  }
-  return p;
-}
+// The step's problem in Delassus form, assembled from the contact system (delassus.hpp).
+DelassusProblem Engine::delassus_problem() const { return cd::delassus_problem(system_); }
 
 Eigen::VectorXd Engine::local_impulses() const {
   Eigen::VectorXd r(2 * static_cast<Eigen::Index>(system_.rows.size()));

@@ -2,6 +2,7 @@
 // residual of the contact law (solver.hpp, contact_system.hpp).
 #include "cdpile/cd/solver.hpp"
 
+#include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/pcg.hpp"
@@ -22,14 +23,16 @@ const char* solver_name(SolverKind k) {
     case SolverKind::nncg: return "nncg";
     case SolverKind::pcg: return "pcg";
     case SolverKind::newton: return "newton";
+    case SolverKind::admm: return "admm";
   }
   return "?";
 }
 
 SolverKind solver_from_name(const std::string& name) {
-  for (const SolverKind k : {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg, SolverKind::newton})
+  for (const SolverKind k :
+       {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg, SolverKind::newton, SolverKind::admm})
     if (name == solver_name(k)) return k;
-  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg, pcg or newton)");
+  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg, pcg, newton or admm)");
 }
 
 const char* criterion_name(Criterion c) {
@@ -97,6 +100,7 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
     case SolverKind::nncg: return std::make_shared<const NncgSolver>(s);
     case SolverKind::pcg: return std::make_shared<const PcgSolver>(s);
     case SolverKind::newton: return std::make_shared<const NewtonSolver>(s);
+    case SolverKind::admm: return std::make_shared<const AdmmSolver>(s);
   }
   throw UsageError("unknown contact solver");
 }

@@ -327,8 +327,10 @@ std::vector<RunParameter> make_table() {
                     "nonlinear conjugate-gradient step after each sweep; 'pcg', NSGS alternating "
                     "with conjugate gradients on the contacts' active set, for compliant "
                     "contacts; 'newton', NSGS alternating with exact Newton steps on the active "
-                    "set by a sparse LU, for compliant contacts (docs/method.md)",
-                    {"nsgs", "nncg", "pcg", "newton"}));
+                    "set by a sparse LU, for compliant contacts; 'admm', ADMM on the step's "
+                    "problem with one sparse Cholesky factor, for stiff and rigid contacts "
+                    "(docs/method.md)",
+                    {"nsgs", "nncg", "pcg", "newton", "admm"}));
   // The option is in m g / D, by default compliant contacts whose steps converge
   // (docs/method.md, "Defaults and their reasons"); the record in N/m^2.
   rows.push_back(

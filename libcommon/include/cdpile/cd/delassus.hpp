@@ -8,6 +8,8 @@
 /// contact a (components 2a normal, 2a+1 tangent), Signorini and Coulomb hold with mu_a.
 #pragma once
 
+#include "cdpile/cd/contact_system.hpp"
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -21,6 +23,14 @@ struct DelassusProblem {
   Eigen::VectorXd mu;                              ///< m friction coefficients
   Eigen::Index contacts() const { return mu.size(); }
 };
+
+/// The problem of a step's contact system (the engine's stage 6, docs/method.md "The
+/// scheme"): W = H M^-1 H^T over its rows, with the compliance C = 1/(k h^2) on the
+/// diagonal, and q the local velocities less W R of its bodies and impulses, with the gap
+/// term and -C R0 (the bodies must hold v = v_free + M^-1 H^T R). One contact per row,
+/// in the rows' order; the solvers that factorise the step (admm.hpp) and the export of
+/// steps (Engine::delassus_problem) share it.
+DelassusProblem delassus_problem(const ContactSystem& s);
 
 /// Siconos' natural-map residual (its fc2d_compute_error; docs/method.md, "Delassus
 /// problems from other codes"):

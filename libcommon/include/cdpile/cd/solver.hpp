@@ -18,6 +18,7 @@ enum class SolverKind {
   nncg,  ///< NSGS with a nonlinear conjugate-gradient step after each sweep (nsgs.hpp)
   pcg,   ///< NSGS alternating with preconditioned conjugate gradients on the active set (pcg.hpp)
   newton,  ///< NSGS alternating with exact Newton steps on the active face (pcg.hpp)
+  admm,  ///< ADMM on the step's factorised problem, then pcg from its impulses (admm.hpp)
 };
 const char* solver_name(SolverKind k);
 /// The solver of a name; throws cdpile::UsageError on another name.

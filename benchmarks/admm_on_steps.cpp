@@ -1,0 +1,279 @@
+// ADMM (cd::solve_admm, admm.hpp) on steps that export_steps wrote, from each step's warm
+// start (step-K.r0), to the engine's tolerance in the engine's maxm scale: iterations,
+// factorisations, CPU [ms] split into the setup (the power iteration, the ordering and
+// the first factorisation) and the iterations, and the natural-map residual reached
+// beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
+//
+// Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
+//                      [--relaxation A] [--ipm] STEP.dat...
+//   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
+//   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
+//   --trace K: a line every K iterations;
+//   --ipm: the interior-point prototype below instead of ADMM.
+#include "cdpile/cd/admm.hpp"
+#include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/delassus.hpp"
+#include "cdpile/io/siconos.hpp"
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <exception>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace cd = cdpile::cd;
+
+namespace {
+
+// --ipm: a prototype measured beside ADMM, not a solver of the library (docs/performance.md,
+// "A factorised solver": it converges at k = 1e6 m g / D and stalls from 1e7 on). Cold
+// start; `r` receives the impulses G^-1 y of the last iterate, strictly inside the cones.
+//
+// An interior point on the step's contact problem with De Saxce's shift inside the
+// iteration (the LCP form of the step, docs/performance.md).
+//
+// In 2D the Coulomb cone |R_t| <= mu R_n is a polyhedron: with y = G R per contact,
+// y1 = mu R_n - R_t and y2 = mu R_n + R_t, R is in the cone exactly when y >= 0, and with
+// w = G^-T u~ (u~ = u + (mu |u_t|, 0) the De Saxce velocity, u = W R + q) the dual cone is
+// w >= 0 and y.w = R.u~. Writing a = G^-T u, linear in y (a = M y + c, M = G^-T W G^-1),
+// the shift is (|a2 - a1| / 2)(1, 1) since a2 - a1 = u_t: the step is the nonlinear
+// complementarity problem
+//
+//     y >= 0,  w = F(y) = M y + c + (|a2 - a1| / 2)(1, 1) >= 0,  y.w = 0,
+//
+// whose solutions are Signorini and Coulomb's law exactly. Mehrotra's predictor-corrector
+// follows its central path y w = sigma mu with the generalised Jacobian of F (the sign of
+// u_t in the shift's term), one sparse LU of J + diag(w / y) per iteration.
+
+using Vector = Eigen::VectorXd;
+
+struct IpmOptions {
+  double tolerance = 1e-6;      ///< on the law's residual (admm_law_residual's measure)
+  double velocity_floor = 1.0;  ///< g h [m/s]
+  int max_iterations = 100;
+  std::function<bool()> cancel;
+  /// After every iteration (may be empty): the iteration, the law's residual, the mean
+  /// complementarity mu and the largest infeasibility |F(y) - w|.
+  std::function<void(int, double, double, double)> on_iteration;
+};
+
+struct IpmReport {
+  int iterations = 0;  ///< factorisations
+  double residual = 0.0;
+  bool converged = false;
+};
+
+using ColMatrix = Eigen::SparseMatrix<double>;
+
+/// G^-T per contact, the map from velocities to the LCP's w: w1 = u_n / (2 mu) - u_t / 2,
+/// w2 = u_n / (2 mu) + u_t / 2. Its transpose, G^-1, maps y to R.
+ColMatrix inverse_transpose_of_g(const Vector& mu) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index a = 0; a < mu.size(); ++a) {
+    const double h = 0.5 / mu[a];
+    t.emplace_back(2 * a, 2 * a, h);
+    t.emplace_back(2 * a, 2 * a + 1, -0.5);
+    t.emplace_back(2 * a + 1, 2 * a, h);
+    t.emplace_back(2 * a + 1, 2 * a + 1, 0.5);
+  }
+  ColMatrix g(2 * mu.size(), 2 * mu.size());
+  g.setFromTriplets(t.begin(), t.end());
+  return g;
+}
+
+/// F(y) from a = M y + c: a + (|a2 - a1| / 2)(1, 1) per contact.
+void shifted(const Vector& a, Vector& f) {
+  for (Eigen::Index k = 0; k < a.size(); k += 2) {
+    const double s = 0.5 * std::abs(a[k + 1] - a[k]);
+    f[k] = a[k] + s;
+    f[k + 1] = a[k + 1] + s;
+  }
+}
+
+/// J + diag(d): J = (I + N) M, N per contact (sigma / 2)[[-1, 1], [-1, 1]], sigma the
+/// sign of a2 - a1 (u_t), +1 at 0.
+ColMatrix newton_matrix(const ColMatrix& m, const Vector& a, const Vector& d) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index k = 0; k < a.size(); k += 2) {
+    const double s = a[k + 1] - a[k] >= 0.0 ? 0.5 : -0.5;
+    t.emplace_back(k, k, 1.0 - s);
+    t.emplace_back(k, k + 1, s);
+    t.emplace_back(k + 1, k, -s);
+    t.emplace_back(k + 1, k + 1, 1.0 + s);
+  }
+  ColMatrix p(a.size(), a.size());
+  p.setFromTriplets(t.begin(), t.end());
+  ColMatrix j = p * m;
+  for (Eigen::Index k = 0; k < a.size(); ++k) j.coeffRef(k, k) += d[k];
+  return j;
+}
+
+/// The largest step in [0, 1] that keeps v + alpha dv >= 0.
+double step_to_boundary(const Vector& v, const Vector& dv) {
+  double alpha = 1.0;
+  for (Eigen::Index k = 0; k < v.size(); ++k)
+    if (dv[k] < 0.0) alpha = std::min(alpha, -v[k] / dv[k]);
+  return alpha;
+}
+
+IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o) {
+  IpmReport report;
+  const Eigen::Index n = 2 * p.contacts();
+  if (n == 0) {
+    report.converged = true;
+    return report;
+  }
+  if (!(p.mu.minCoeff() > 0.0)) return report;
+  const ColMatrix git = inverse_transpose_of_g(p.mu);
+  const ColMatrix gi = git.transpose();
+  const ColMatrix w_matrix = p.W;
+  const ColMatrix m = git * w_matrix * gi;
+  const Vector c = git * p.q;
+  // Scales of y (an impulse) and w (a velocity): the start's central point.
+  const Vector d_w = w_matrix.diagonal();
+  const double w_scale = std::max(o.velocity_floor, 1e-300);
+  const double y_scale = w_scale / (d_w.mean() > 0.0 ? d_w.mean() : 1.0);
+  // The start: y at the impulse scale, w = F(y) where that is above the velocity scale
+  // (the open candidates' gap terms), so that only the loaded contacts start infeasible.
+  Vector y = Vector::Constant(n, y_scale);
+  Vector a(n), f(n), rd(n), rhs(n), dy(n), dw(n), dya(n), dwa(n), rc(n);
+  a = m * y + c;
+  shifted(a, f);
+  Vector w = f.cwiseMax(w_scale);
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  for (int k = 1; k <= o.max_iterations; ++k) {
+    if (o.cancel && o.cancel()) throw cd::StepCancelled();
+    const double mu = y.dot(w) / static_cast<double>(n);
+    a = m * y + c;
+    shifted(a, f);
+    rd = f - w;
+    lu.compute(newton_matrix(m, a, w.cwiseQuotient(y)));
+    if (lu.info() != Eigen::Success) break;
+    report.iterations = k;
+    // Predictor: the affine step to y w = 0.
+    rhs = -rd - w;
+    dya = lu.solve(rhs);
+    dwa = -w - w.cwiseQuotient(y).cwiseProduct(dya);
+    const double alpha_a = std::min(step_to_boundary(y, dya), step_to_boundary(w, dwa));
+    const double mu_affine = (y + alpha_a * dya).dot(w + alpha_a * dwa) / static_cast<double>(n);
+    const double sigma = std::pow(mu_affine / mu, 3.0);
+    // Corrector: centred, with the second-order term of the affine step.
+    rc = y.cwiseProduct(w) + dya.cwiseProduct(dwa) - Vector::Constant(n, sigma * mu);
+    rhs = -rd - rc.cwiseQuotient(y);
+    dy = lu.solve(rhs);
+    dw = -(rc + w.cwiseProduct(dy)).cwiseQuotient(y);
+    const double alpha =
+        std::min(1.0, 0.99 * std::min(step_to_boundary(y, dy), step_to_boundary(w, dw)));
+    y += alpha * dy;
+    w += alpha * dw;
+    const Vector impulses = gi * y;
+    report.residual = cd::admm_law_residual(p, impulses, o.velocity_floor);
+    if (o.on_iteration) o.on_iteration(k, report.residual, mu, rd.lpNorm<Eigen::Infinity>());
+    if (report.residual <= o.tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  r = gi * y;
+  return report;
+}
+
+Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
+  std::ifstream in(path);
+  std::vector<double> v;
+  double x;
+  while (in >> x) v.push_back(x);
+  if (static_cast<Eigen::Index>(v.size()) != n) return Eigen::VectorXd::Zero(n);
+  return Eigen::Map<Eigen::VectorXd>(v.data(), n);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cd::AdmmOptions o;
+  o.tolerance = 1e-6;
+  o.velocity_floor = 9.81 * 1e-4;  // g h of the paper's runs
+  o.max_iterations = 5000;
+  int trace = 0;
+  bool ipm = false;
+  std::vector<std::string> files;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    const bool has = a + 1 < argc;
+    if (arg == "--compliance" && has)
+      o.compliance = std::stod(argv[++a]);
+    else if (arg == "--rho" && has)
+      o.rho = std::stod(argv[++a]);
+    else if (arg == "--tolerance" && has)
+      o.tolerance = std::stod(argv[++a]);
+    else if (arg == "--max" && has)
+      o.max_iterations = std::stoi(argv[++a]);
+    else if (arg == "--trace" && has)
+      trace = std::stoi(argv[++a]);
+    else if (arg == "--relaxation" && has)
+      o.relaxation = std::stod(argv[++a]);
+    else if (arg == "--ipm")
+      ipm = true;
+    else
+      files.push_back(arg);
+  }
+  if (files.empty()) {
+    std::cerr << "usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] "
+                 "[--trace K] STEP.dat...\n";
+    return 2;
+  }
+  if (trace > 0)
+    o.on_iteration = [&](int k, double law, double primal, double dual, double rho) {
+      if (k % trace == 0)
+        std::printf("  %5d law %.3e primal %.3e dual %.3e rho %.3e\n", k, law, primal, dual, rho);
+    };
+  std::printf(
+      "file\tcontacts\titerations\tfactorisations\tlaw\tconverged\tcpu_ms\tnatural_map\t"
+      "engine_natural_map\tengine_law\n");
+  try {
+    for (const std::string& file : files) {
+      const cd::DelassusProblem p = cdpile::io::read_siconos_fc2d(file);
+      const std::string stem = file.substr(0, file.size() - 4);
+      Eigen::VectorXd r = read_row(stem + ".r0", 2 * p.contacts());
+      const Eigen::VectorXd engine = read_row(stem + ".r", 2 * p.contacts());
+      const std::clock_t cpu = std::clock();
+      cd::AdmmReport rep;
+      if (ipm) {
+        IpmOptions io;
+        io.tolerance = o.tolerance;
+        io.velocity_floor = o.velocity_floor;
+        io.max_iterations = o.max_iterations;
+        if (trace > 0)
+          io.on_iteration = [&](int k, double law, double mu, double infeasible) {
+            if (k % trace == 0)
+              std::printf("  %5d law %.3e mu %.3e infeasibility %.3e\n", k, law, mu, infeasible);
+          };
+        const IpmReport i = solve_ipm(p, r, io);
+        rep.iterations = rep.factorisations = i.iterations;
+        rep.residual = i.residual;
+        rep.converged = i.converged;
+      } else {
+        rep = cd::solve_admm(p, r, o);
+      }
+      const double ms = 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+      std::printf("%s\t%ld\t%d\t%d\t%.3e\t%d\t%.1f\t%.3e\t%.3e\t%.3e\n", file.c_str(),
+                  static_cast<long>(p.contacts()), rep.iterations, rep.factorisations, rep.residual,
+                  rep.converged ? 1 : 0, ms, cd::natural_map_residual(p, r),
+                  cd::natural_map_residual(p, engine),
+                  cd::admm_law_residual(p, engine, o.velocity_floor));
+      std::fflush(stdout);
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "admm_on_steps: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
