@@ -328,8 +328,8 @@ std::vector<RunParameter> make_table() {
                     "with conjugate gradients on the contacts' active set, for compliant "
                     "contacts; 'newton', NSGS alternating with exact Newton steps on the active "
                     "set by a sparse LU, for compliant contacts; 'admm', ADMM on the step's "
-                    "problem with one sparse Cholesky factor, for stiff and rigid contacts "
-                    "(docs/method.md)",
+                    "problem with one sparse Cholesky factor, then pcg (measured slower than "
+                    "pcg at every stiffness, rigid included: docs/method.md)",
                     {"nsgs", "nncg", "pcg", "newton", "admm"}));
   // The option is in m g / D, by default compliant contacts whose steps converge
   // (docs/method.md, "Defaults and their reasons"); the record in N/m^2.
