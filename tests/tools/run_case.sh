@@ -49,9 +49,26 @@ tsv_rows() {
 }
 # tsv_result FILE NAME: the value of a '# result NAME = VALUE' line.
 tsv_result() { sed -n "s/^# result $2 = //p" "$1"; }
+# kill_then_resume TIMES CENTISECONDS ARGS...: `tilt-cd ARGS --resume` killed by SIGKILL
+# TIMES times, each after a random 3 to 3 + CENTISECONDS hundredths of a second, then run
+# to its end (docs/method.md, "Checkpoints": the file must be the same as a run never
+# interrupted; the case compares them).
+kill_then_resume() {
+  local times=$1 spread=$2 attempt delay pid; shift 2
+  RANDOM=$$
+  for ((attempt = 1; attempt <= times; ++attempt)); do
+    delay=$(printf '0.%02d' $((RANDOM % spread + 3)))
+    echo "kill -9 after ${delay} s" >&2
+    tilt-cd "$@" --resume & pid=$!
+    sleep "$delay"
+    kill -9 "$pid" 2> /dev/null || true
+    wait "$pid" || true
+  done
+  tilt-cd "$@" --resume
+}
 # Debian's interpreter (it has python3-h5py and python3-matplotlib); another python3
 # earlier on PATH (pyenv, conda) may not see them.
 PY=/usr/bin/python3
-export -f expect_fail expect_eq expect_near tsv_value tsv_rows tsv_result
+export -f expect_fail expect_eq expect_near tsv_value tsv_rows tsv_result kill_then_resume
 export PY
 bash -euo pipefail "$case_file"

@@ -11,13 +11,5 @@ with h5py.File("ref.h5", "r") as f:
     law = f["observables/law_residual/value"][:]
     assert np.all(np.isfinite(law)) and law.max() < 1e-3, law.max()
 PY
-RANDOM=$$
-for attempt in 1 2; do
-  delay=$(printf '0.%02d' $(( RANDOM % 10 + 3 )))
-  tilt-cd pile.h5 "${opts[@]}" -o run.h5 --resume & pid=$!
-  sleep "$delay"
-  kill -9 "$pid" 2> /dev/null || true
-  wait "$pid" || true
-done
-tilt-cd pile.h5 "${opts[@]}" -o run.h5 --resume
+kill_then_resume 2 10 pile.h5 "${opts[@]}" -o run.h5
 h5diff --exclude-path /provenance ref.h5 run.h5

@@ -16,13 +16,5 @@ with h5py.File("ref.h5", "r") as p, h5py.File("nsgs.h5", "r") as n:
     assert sp.mean() < 0.6 * sn.mean(), (sp.mean(), sn.mean())
     assert np.all(np.isfinite(p["observables/law_residual/value"][:]))
 PY
-RANDOM=$$
-for attempt in 1 2; do
-  delay=$(printf '0.%02d' $(( RANDOM % 10 + 3 )))
-  tilt-cd pile.h5 "${opts[@]}" --solver pcg -o run.h5 --resume & pid=$!
-  sleep "$delay"
-  kill -9 "$pid" 2> /dev/null || true
-  wait "$pid" || true
-done
-tilt-cd pile.h5 "${opts[@]}" --solver pcg -o run.h5 --resume
+kill_then_resume 2 10 pile.h5 "${opts[@]}" --solver pcg -o run.h5
 h5diff --exclude-path /provenance ref.h5 run.h5

@@ -17,15 +17,7 @@ with h5py.File("ref.h5", "r") as f, h5py.File("unsplit.h5", "r") as u:
     assert u["observables/converged/value"][:].min() == 0, "the unsplit run converged: no test"
     assert np.all(u["observables/substeps/value"][:] == 1)
 PY
-RANDOM=$$
-for attempt in 1 2; do
-  delay=$(printf '0.%02d' $(( RANDOM % 20 + 5 )))
-  tilt-cd pile.h5 -o run.h5 --resume "${opts[@]}" & pid=$!
-  sleep "$delay"
-  kill -9 "$pid" 2> /dev/null || true
-  wait "$pid" || true
-done
-tilt-cd pile.h5 -o run.h5 --resume "${opts[@]}"
+kill_then_resume 2 20 pile.h5 -o run.h5 "${opts[@]}"
 h5diff --exclude-path /provenance ref.h5 run.h5
 expect_fail 2 "tilt-cd: --max-substeps: expected a power of two in [1, 1024], got '3' (see 'tilt-cd --help')" \
   tilt-cd pile.h5 --max-substeps 3 -o out.h5
