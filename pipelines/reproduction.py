@@ -16,7 +16,8 @@ error bars), is
 - "reproduced" when |v - p| <= 2 sqrt(s^2 + d^2),
 - "within the systematic error" when, failing that, |v - p| <= 2 sqrt(s^2 + y^2 + d^2),
 - "not reproduced" otherwise, and "not determined" when the study has no value (its cell
-  says why).
+  says why) or when its statistical error is larger than the paper's value itself (such an
+  error admits every value the paper could mean: beta 1.03 ± 4.9 against 0.5).
 
 A range (r_c "from about 2 to 4") is reproduced when the study's range overlaps it. A
 number without an error of its own (L, z) is judged on the paper's precision alone.
@@ -41,6 +42,8 @@ def verdict(row):
         return "reproduced" if lo <= row.ref[1] and hi >= row.ref[0] else "not reproduced"
     d = PRECISION.get(row.ref, 0.0)
     s = row.se if row.se is not None and math.isfinite(row.se) else 0.0
+    if s > abs(row.ref):
+        return "not determined: its error is larger than the paper's value"
     y = row.sys_abs if row.sys_abs is not None else 0.0
     gap = abs(row.value - row.ref)
     if gap <= 2 * math.sqrt(s * s + d * d):
