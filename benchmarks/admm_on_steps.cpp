@@ -5,11 +5,13 @@
 // beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
-//                      [--relaxation A] [--ipm] STEP.dat...
+//                      [--relaxation A] [--ipm | --warm] [--polish N] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
-//   --ipm: the interior-point prototype below instead of ADMM.
+//   --ipm: the interior-point prototype below instead of ADMM; --warm: neither (the
+//   warm start as it is);
+//   --polish N: then up to N active-set Newton iterations (below).
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
@@ -186,6 +188,101 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
   return report;
 }
 
+// --polish N: active-set Newton after the method (or from the warm start alone): the
+// semismooth Newton of Alart and Curnier's formulation with unit steps. Each contact's
+// status comes from the law's projection with rho = 1 / W_aa (open when R_n - rho u_n <= 0;
+// else stick when |R_t - rho u_t| <= mu (R_n - rho u_n), else sliding at the bound on the
+// side of R_t - rho u_t); on a fixed set of statuses the law is linear and De Saxce's
+// shift drops out (open: R = 0; stick: u = 0; sliding: u_n = 0, R_t = s mu R_n), so one
+// sparse LU gives that set's solution. Stops when the statuses repeat, or after N.
+enum class Status : unsigned char { open, stick, slip_plus, slip_minus };
+
+struct PolishReport {
+  int iterations = 0;  ///< factorisations
+  int changed = 0;     ///< statuses changed by the last iteration
+  double residual = 0.0;
+  bool converged = false;
+};
+
+std::vector<Status> statuses(const cd::DelassusProblem& p, const Vector& r, const Vector& u) {
+  std::vector<Status> st(static_cast<std::size_t>(p.contacts()));
+  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+    const double rho = 1.0 / p.W.coeff(2 * a, 2 * a);
+    const double tn = r[2 * a] - rho * u[2 * a];
+    const double tt = r[2 * a + 1] - rho * u[2 * a + 1];
+    Status s = Status::open;
+    if (tn > 0.0) s = std::abs(tt) <= p.mu[a] * tn ? Status::stick : tt > 0.0 ? Status::slip_plus : Status::slip_minus;
+    st[static_cast<std::size_t>(a)] = s;
+  }
+  return st;
+}
+
+PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations, double tolerance,
+                    double velocity_floor, int trace) {
+  PolishReport report;
+  const Eigen::Index n = 2 * p.contacts();
+  if (n == 0) return report;
+  std::vector<Status> previous;
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  for (int k = 1; k <= max_iterations; ++k) {
+    const Vector u = p.W * r + p.q;
+    const std::vector<Status> st = statuses(p, r, u);
+    report.changed = 0;
+    if (!previous.empty())
+      for (std::size_t a = 0; a < st.size(); ++a) report.changed += st[a] != previous[a] ? 1 : 0;
+    report.residual = cd::admm_law_residual(p, r, velocity_floor);
+    if (!previous.empty() && report.changed == 0) {
+      report.converged = report.residual <= tolerance;
+      break;
+    }
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<std::size_t>(p.W.nonZeros()));
+    Vector b = Vector::Zero(n);
+    auto copy_row = [&](Eigen::Index row) {
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, row); it; ++it)
+        t.emplace_back(row, it.col(), it.value());
+      b[row] = -p.q[row];
+    };
+    for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+      switch (st[static_cast<std::size_t>(a)]) {
+        case Status::open:
+          t.emplace_back(2 * a, 2 * a, 1.0);
+          t.emplace_back(2 * a + 1, 2 * a + 1, 1.0);
+          break;
+        case Status::stick:
+          copy_row(2 * a);
+          copy_row(2 * a + 1);
+          break;
+        case Status::slip_plus:
+        case Status::slip_minus:
+          copy_row(2 * a);
+          t.emplace_back(2 * a + 1, 2 * a + 1, 1.0);
+          t.emplace_back(2 * a + 1, 2 * a, st[static_cast<std::size_t>(a)] == Status::slip_plus ? -p.mu[a] : p.mu[a]);
+          break;
+      }
+    }
+    ColMatrix a_matrix(n, n);
+    a_matrix.setFromTriplets(t.begin(), t.end());
+    lu.compute(a_matrix);
+    if (lu.info() != Eigen::Success) {
+      std::printf("  polish %d: the LU failed\n", k);
+      break;
+    }
+    r = lu.solve(b);
+    report.iterations = k;
+    previous = st;
+    if (trace > 0) {
+      int counts[4] = {0, 0, 0, 0};
+      for (Status s : st) ++counts[static_cast<int>(s)];
+      std::printf("  polish %3d: changed %d, open %d stick %d slip %d, law before %.3e after %.3e\n", k,
+                  report.changed, counts[0], counts[1], counts[2] + counts[3], report.residual,
+                  cd::admm_law_residual(p, r, velocity_floor));
+    }
+  }
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  return report;
+}
+
 Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
   std::ifstream in(path);
   std::vector<double> v;
@@ -204,6 +301,9 @@ int main(int argc, char** argv) {
   o.max_iterations = 5000;
   int trace = 0;
   bool ipm = false;
+  bool skip = false;
+  bool from_engine = false;
+  int polish_iterations = 0;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -222,6 +322,12 @@ int main(int argc, char** argv) {
       o.relaxation = std::stod(argv[++a]);
     else if (arg == "--ipm")
       ipm = true;
+    else if (arg == "--warm")
+      skip = true;
+    else if (arg == "--from-engine")
+      from_engine = skip = true;
+    else if (arg == "--polish" && has)
+      polish_iterations = std::stoi(argv[++a]);
     else
       files.push_back(arg);
   }
@@ -244,6 +350,7 @@ int main(int argc, char** argv) {
       const std::string stem = file.substr(0, file.size() - 4);
       Eigen::VectorXd r = read_row(stem + ".r0", 2 * p.contacts());
       const Eigen::VectorXd engine = read_row(stem + ".r", 2 * p.contacts());
+      if (from_engine) r = engine;
       const std::clock_t cpu = std::clock();
       cd::AdmmReport rep;
       if (ipm) {
@@ -260,8 +367,15 @@ int main(int argc, char** argv) {
         rep.iterations = rep.factorisations = i.iterations;
         rep.residual = i.residual;
         rep.converged = i.converged;
-      } else {
+      } else if (!skip) {
         rep = cd::solve_admm(p, r, o);
+      }
+      if (polish_iterations > 0) {
+        const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0);
+        rep.iterations += pr.iterations;
+        rep.factorisations += pr.iterations;
+        rep.residual = pr.residual;
+        rep.converged = pr.converged;
       }
       const double ms = 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
       std::printf("%s\t%ld\t%d\t%d\t%.3e\t%d\t%.1f\t%.3e\t%.3e\t%.3e\n", file.c_str(),
