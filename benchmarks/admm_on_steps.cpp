@@ -61,6 +61,9 @@ struct IpmOptions {
   double tolerance = 1e-6;      ///< on the law's residual (admm_law_residual's measure)
   double velocity_floor = 1.0;  ///< g h [m/s]
   int max_iterations = 100;
+  /// Hold the shift at the start impulses' (|u_t| of W r + q) instead of moving it inside:
+  /// the step is then the monotone LCP of research note section 7.
+  bool fixed_shift = false;
   std::function<bool()> cancel;
   /// After every iteration (may be empty): the iteration, the law's residual, the mean
   /// complementarity mu and the largest infeasibility |F(y) - w|.
@@ -145,19 +148,38 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
   const double y_scale = w_scale / (d_w.mean() > 0.0 ? d_w.mean() : 1.0);
   // The start: y at the impulse scale, w = F(y) where that is above the velocity scale
   // (the open candidates' gap terms), so that only the loaded contacts start infeasible.
+  // The fixed shift, from the impulses given (the warm start): (|u_t| / 2)(1, 1).
+  Vector shift0 = Vector::Zero(n);
+  if (o.fixed_shift && r.size() == n) {
+    const Vector u0 = w_matrix * r + p.q;
+    for (Eigen::Index k = 0; k < n; k += 2) shift0[k] = shift0[k + 1] = 0.5 * std::abs(u0[k + 1]);
+  }
+  auto residual_of = [&](const Vector& av, Vector& fv) {
+    if (o.fixed_shift)
+      fv = av + shift0;
+    else
+      shifted(av, fv);
+  };
   Vector y = Vector::Constant(n, y_scale);
   Vector a(n), f(n), rd(n), rhs(n), dy(n), dw(n), dya(n), dwa(n), rc(n);
   a = m * y + c;
-  shifted(a, f);
+  residual_of(a, f);
   Vector w = f.cwiseMax(w_scale);
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
   for (int k = 1; k <= o.max_iterations; ++k) {
     if (o.cancel && o.cancel()) throw cd::StepCancelled();
     const double mu = y.dot(w) / static_cast<double>(n);
     a = m * y + c;
-    shifted(a, f);
+    residual_of(a, f);
     rd = f - w;
-    lu.compute(newton_matrix(m, a, w.cwiseQuotient(y)));
+    if (o.fixed_shift) {
+      ColMatrix j = m;
+      const Vector d = w.cwiseQuotient(y);
+      for (Eigen::Index i = 0; i < n; ++i) j.coeffRef(i, i) += d[i];
+      lu.compute(j);
+    } else {
+      lu.compute(newton_matrix(m, a, w.cwiseQuotient(y)));
+    }
     if (lu.info() != Eigen::Success) break;
     report.iterations = k;
     // Predictor: the affine step to y w = 0.
@@ -301,6 +323,7 @@ int main(int argc, char** argv) {
   o.max_iterations = 5000;
   int trace = 0;
   bool ipm = false;
+  bool fixed_shift = false;
   bool skip = false;
   bool from_engine = false;
   int polish_iterations = 0;
@@ -322,6 +345,8 @@ int main(int argc, char** argv) {
       o.relaxation = std::stod(argv[++a]);
     else if (arg == "--ipm")
       ipm = true;
+    else if (arg == "--fixed-shift")
+      ipm = fixed_shift = true;
     else if (arg == "--warm")
       skip = true;
     else if (arg == "--from-engine")
@@ -358,6 +383,7 @@ int main(int argc, char** argv) {
         io.tolerance = o.tolerance;
         io.velocity_floor = o.velocity_floor;
         io.max_iterations = o.max_iterations;
+        io.fixed_shift = fixed_shift;
         if (trace > 0)
           io.on_iteration = [&](int k, double law, double mu, double infeasible) {
             if (k % trace == 0)
