@@ -11,6 +11,7 @@
 //   --trace K: a line every K iterations;
 //   --ipm: the interior-point prototype below instead of ADMM; --warm: neither (the
 //   warm start as it is);
+//   --nsgs N: then up to N sweeps of NSGS (cd::solve_nsgs), stopped on the law's residual;
 //   --polish N: then up to N active-set Newton iterations (below).
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
@@ -327,6 +328,7 @@ int main(int argc, char** argv) {
   bool skip = false;
   bool from_engine = false;
   int polish_iterations = 0;
+  int nsgs_sweeps = 0;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -353,6 +355,8 @@ int main(int argc, char** argv) {
       from_engine = skip = true;
     else if (arg == "--polish" && has)
       polish_iterations = std::stoi(argv[++a]);
+    else if (arg == "--nsgs" && has)
+      nsgs_sweeps = std::stoi(argv[++a]);
     else
       files.push_back(arg);
   }
@@ -395,6 +399,23 @@ int main(int argc, char** argv) {
         rep.converged = i.converged;
       } else if (!skip) {
         rep = cd::solve_admm(p, r, o);
+      }
+      if (nsgs_sweeps > 0) {
+        // NSGS then, in chunks of 500 sweeps, to the law's residual (Siconos' measure stops
+        // each chunk only at 1e-300): how far a start brings Gauss-Seidel.
+        cd::NsgsOptions no;
+        no.tolerance = 1e-300;
+        no.max_sweeps = 500;
+        int done = 0;
+        while (done < nsgs_sweeps) {
+          cd::solve_nsgs(p, r, no);
+          done += no.max_sweeps;
+          rep.residual = cd::admm_law_residual(p, r, o.velocity_floor);
+          if (trace > 0) std::printf("  nsgs %6d: law %.3e\n", done, rep.residual);
+          if (rep.residual <= o.tolerance) break;
+        }
+        rep.iterations += done;
+        rep.converged = rep.residual <= o.tolerance;
       }
       if (polish_iterations > 0) {
         const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0);
