@@ -172,7 +172,7 @@ def main():
     print()
     print(crossing)
     if a.output:
-        from cdpile_py.style import plt, save_png
+        from cdpile_py.style import plt, save
         x, d, se = (np.array(v) for v in zip(*chart))
         fig, ax = plt.subplots(figsize=(5.5, 3.5))
         ax.axhline(0, color="0.6", lw=0.8)
@@ -180,8 +180,7 @@ def main():
         ax.set_xlabel("tilt (deg)")
         ax.set_ylabel(f"nu({labels[1]}) - nu({labels[0]})")
         ax.set_title(f"paired over {len(seeds)} piles, ± s.e.", fontsize=9)
-        save_png(fig, a.output)
-        fig.savefig(os.path.splitext(a.output)[0] + ".pdf")
+        save(fig, os.path.dirname(a.output) or ".", os.path.splitext(os.path.basename(a.output))[0])
 
 
 if __name__ == "__main__":
