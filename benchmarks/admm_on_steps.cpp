@@ -5,14 +5,18 @@
 // beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
-//                      [--relaxation A] [--ipm | --warm] [--polish N] STEP.dat...
+//                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
+//                      [--prox EPS N [--prox-inner M]] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
 //   --ipm: the interior-point prototype below instead of ADMM; --warm: neither (the
 //   warm start as it is);
 //   --nsgs N: then up to N sweeps of NSGS (cd::solve_nsgs), stopped on the law's residual;
-//   --polish N: then up to N active-set Newton iterations (below).
+//   --polish N: then up to N active-set Newton iterations (below);
+//   --newton N: the same with a line search on the natural map's residual;
+//   --prox EPS N [--prox-inner M]: then up to N proximal-point iterations around it, each
+//   with at most M (default 30) Newton iterations (below).
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
@@ -241,11 +245,12 @@ std::vector<Status> statuses(const cd::DelassusProblem& p, const Vector& r, cons
 }
 
 PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations, double tolerance,
-                    double velocity_floor, int trace) {
+                    double velocity_floor, int trace, bool damped = false) {
   PolishReport report;
   const Eigen::Index n = 2 * p.contacts();
   if (n == 0) return report;
   std::vector<Status> previous;
+  bool full_step = true;  // statuses that repeat after a shortened step do not end the Newton
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
   for (int k = 1; k <= max_iterations; ++k) {
     const Vector u = p.W * r + p.q;
@@ -254,7 +259,7 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
     if (!previous.empty())
       for (std::size_t a = 0; a < st.size(); ++a) report.changed += st[a] != previous[a] ? 1 : 0;
     report.residual = cd::admm_law_residual(p, r, velocity_floor);
-    if (!previous.empty() && report.changed == 0) {
+    if ((!previous.empty() && report.changed == 0 && full_step) || (damped && report.residual <= tolerance)) {
       report.converged = report.residual <= tolerance;
       break;
     }
@@ -291,7 +296,24 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
       std::printf("  polish %d: the LU failed\n", k);
       break;
     }
-    r = lu.solve(b);
+    if (damped) {
+      // --newton: the step to the set's solution shortened until the natural map's
+      // residual falls (Armijo on ||r - Proj(r - u_hat)||; a last 1/1024 step is taken as is).
+      const Vector full = lu.solve(b);
+      const Vector d = full - r;
+      const double m0 = cd::natural_map_residual(p, r);
+      double step = 1.0;
+      Vector trial = full;
+      while (step > 1.0 / 1024 && cd::natural_map_residual(p, trial) > (1.0 - 1e-4 * step) * m0) {
+        step *= 0.5;
+        trial = r + step * d;
+      }
+      r = trial;
+      if (trace > 0) std::printf("  newton %3d: step %.4f\n", k, step);
+      full_step = step == 1.0;
+    } else {
+      r = lu.solve(b);
+    }
     report.iterations = k;
     previous = st;
     if (trace > 0) {
@@ -303,6 +325,43 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
     }
   }
   report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  return report;
+}
+
+// --prox EPS N: the active-set Newton inside a proximal-point loop (Acary, Bremond and
+// Huber 2018's proximal point with a nonsmooth Newton inside; solvers.md section 7). Each
+// outer iteration solves the step with u replaced by u + eps D (R - R_k), D = diag(W),
+// R_k the previous outer iterate: the same law on W + eps D, strongly monotone and better
+// conditioned the larger eps, whose solution is R_k's proximal point. At a fixed point
+// R = R_k the term vanishes and R solves the step. The inner Newton starts from R_k, and
+// eps is halved after an outer iteration whose inner Newton settled, doubled after one
+// that did not (the inner iterate is then kept only if the law's residual fell).
+PolishReport proximal_newton(const cd::DelassusProblem& p, Vector& r, double eps, int max_outer,
+                             int max_inner, double tolerance, double velocity_floor, int trace) {
+  PolishReport report;
+  if (p.contacts() == 0) return report;
+  const Vector d = p.W.diagonal();
+  double law = cd::admm_law_residual(p, r, velocity_floor);
+  for (int k = 1; k <= max_outer && law > tolerance; ++k) {
+    cd::DelassusProblem sub = p;
+    for (Eigen::Index i = 0; i < sub.W.rows(); ++i) sub.W.coeffRef(i, i) += eps * d[i];
+    sub.q = p.q - eps * d.cwiseProduct(r);
+    Vector trial = r;
+    const PolishReport inner = polish(sub, trial, max_inner, 0.0, velocity_floor, 0);
+    report.iterations += inner.iterations;
+    const bool settled = inner.changed == 0 && inner.iterations < max_inner;
+    const double trial_law = cd::admm_law_residual(p, trial, velocity_floor);
+    if (trace > 0)
+      std::printf("  prox %3d: eps %.3e inner %d (changed %d) law %.3e -> %.3e\n", k, eps, inner.iterations,
+                  inner.changed, law, trial_law);
+    if (settled || trial_law < law) {
+      r = trial;
+      law = trial_law;
+    }
+    eps = settled ? eps * 0.5 : eps * 2.0;
+  }
+  report.residual = law;
+  report.converged = law <= tolerance;
   return report;
 }
 
@@ -329,6 +388,10 @@ int main(int argc, char** argv) {
   bool from_engine = false;
   int polish_iterations = 0;
   int nsgs_sweeps = 0;
+  double prox_eps = 0.0;
+  bool damped_newton = false;
+  int prox_inner = 30;
+  int prox_outer = 0;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -355,7 +418,16 @@ int main(int argc, char** argv) {
       from_engine = skip = true;
     else if (arg == "--polish" && has)
       polish_iterations = std::stoi(argv[++a]);
-    else if (arg == "--nsgs" && has)
+    else if (arg == "--newton" && has) {
+      polish_iterations = std::stoi(argv[++a]);
+      damped_newton = true;
+    }
+    else if (arg == "--prox" && a + 2 < argc) {
+      prox_eps = std::stod(argv[++a]);
+      prox_outer = std::stoi(argv[++a]);
+    } else if (arg == "--prox-inner" && has) {
+      prox_inner = std::stoi(argv[++a]);
+    } else if (arg == "--nsgs" && has)
       nsgs_sweeps = std::stoi(argv[++a]);
     else
       files.push_back(arg);
@@ -418,7 +490,14 @@ int main(int argc, char** argv) {
         rep.converged = rep.residual <= o.tolerance;
       }
       if (polish_iterations > 0) {
-        const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0);
+        const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0, damped_newton);
+        rep.iterations += pr.iterations;
+        rep.factorisations += pr.iterations;
+        rep.residual = pr.residual;
+        rep.converged = pr.converged;
+      }
+      if (prox_outer > 0) {
+        const PolishReport pr = proximal_newton(p, r, prox_eps, prox_outer, prox_inner, o.tolerance, o.velocity_floor, trace);
         rep.iterations += pr.iterations;
         rep.factorisations += pr.iterations;
         rep.residual = pr.residual;
