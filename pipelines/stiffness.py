@@ -20,6 +20,12 @@ degrees), and the test of a crossing: per pair, the difference over the first th
 range minus the difference over the last third, with its standard error. A degree a run
 has not reached (or has passed its avalanche in) is not in its pair. Writes the chart of
 the paired differences per degree when -o is given (PNG and PDF).
+
+From summaries, a second table of the same form follows for the mean mobilisation
+|f_t| / (mu f_n) of the counted contacts (the frames table's histogram, 20 bins of [0, 1],
+each contact at its bin's centre; docs/analysis.md, "Slipping and mobilisation"), per
+degree the mean over the frames in it: how far from the bound the contacts that are not
+critical are, the quantity docs/reproduction.md's reading of a crossing is about.
 """
 import argparse
 import glob
@@ -59,9 +65,25 @@ def per_degree(theta, contacts, critical, to):
     return out
 
 
+MOBILISATION_BINS = 20  # the frames table's histogram of |f_t| / (mu f_n) over [0, 1]
+
+
+def mobilisation_per_degree(frames, to):
+    """The mean mobilisation of the counted contacts over each degree (d, d+1] (the first
+    [0, 1]): per frame the histogram's mean at the bins' centres, then the mean over the
+    degree's frames; NaN where no frame with a counted contact falls."""
+    counts = np.array([frames[f"mobilisation_{i}"][()] for i in range(MOBILISATION_BINS)], float)
+    centres = (np.arange(MOBILISATION_BINS) + 0.5) / MOBILISATION_BINS
+    total = counts.sum(axis=0)
+    per_frame = (centres @ counts) / np.where(total > 0, total, 1.0)
+    # per_degree averages critical / contacts over the frames: give it the mean times the count
+    return per_degree(frames["theta"][()], total, per_frame * total, to)
+
+
 def from_summaries(folder, to):
-    """{seed: nu per degree} of the summaries in `folder`."""
-    runs = {}
+    """{seed: nu per degree} and {seed: mean mobilisation per degree} of the summaries in
+    `folder`."""
+    runs, mobilisation = {}, {}
     paths = glob.glob(os.path.join(folder, "run-*.summary.h5"))
     if not paths:
         fail(f"{folder}: no run-SEED.summary.h5")
@@ -73,9 +95,10 @@ def from_summaries(folder, to):
             with h5py.File(path, "r") as f:
                 s = f["tables/steps"]
                 runs[int(m.group(1))] = per_degree(s["theta"][()], s["contacts"][()], s["critical"][()], to)
+                mobilisation[int(m.group(1))] = mobilisation_per_degree(f["tables/frames"], to)
         except (OSError, KeyError) as e:
-            fail(f"{path}: not a summary with a steps table ({e})")
-    return runs
+            fail(f"{path}: not a summary with a steps table and a frames table ({e})")
+    return runs, mobilisation
 
 
 def from_nu_theta(paths, prep, k, to):
@@ -140,6 +163,18 @@ def compare(soft, stiff, to):
     return seeds, rows, chart, crossing
 
 
+def print_table(quantity, labels, what, seeds, rows, crossing, short=None):
+    short = short or quantity
+    print(f"{quantity} per degree, {labels[1]} against {labels[0]}, paired by seed ({what}; seeds "
+          f"{' '.join(map(str, seeds))}); difference = {labels[1]} - {labels[0]}, mean ± s.e. over the pairs")
+    print()
+    print(f"| degrees | pairs | {short}, {labels[0]} | {short}, {labels[1]} | difference | relative | in s.e. |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    print("\n".join(rows))
+    print()
+    print(crossing)
+
+
 def main():
     p = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
     p.add_argument("sources", nargs=2, help="LABEL=SUMMARIES twice, or SOFT_K STIFF_K with --nu-theta")
@@ -160,17 +195,15 @@ def main():
         if any(len(x) != 2 or not x[0] for x in pairs):
             fail(f"give LABEL=SUMMARIES, not '{next(s for s in a.sources if '=' not in s or s.startswith('='))}'")
         labels = [x[0] for x in pairs]
-        soft, stiff = (from_summaries(x[1], a.to) for x in pairs)
+        (soft, soft_mob), (stiff, stiff_mob) = (from_summaries(x[1], a.to) for x in pairs)
         what = ", ".join(os.path.basename(os.path.normpath(x[1])) for x in pairs)
     seeds, rows, chart, crossing = compare(soft, stiff, a.to)
-    print(f"nu per degree, {labels[1]} against {labels[0]}, paired by seed ({what}; seeds "
-          f"{' '.join(map(str, seeds))}); difference = {labels[1]} - {labels[0]}, mean ± s.e. over the pairs")
-    print()
-    print(f"| degrees | pairs | nu, {labels[0]} | nu, {labels[1]} | difference | relative | in s.e. |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
-    print("\n".join(rows))
-    print()
-    print(crossing)
+    print_table("nu", labels, what, seeds, rows, crossing)
+    if not a.nu_theta:
+        m_seeds, m_rows, _, m_crossing = compare(soft_mob, stiff_mob, a.to)
+        print()
+        print_table("mean |f_t| / (mu f_n) of the counted contacts", labels, what, m_seeds, m_rows, m_crossing,
+                    "mobilisation")
     if a.output:
         from cdpile_py.style import plt, save
         x, d, se = (np.array(v) for v in zip(*chart))

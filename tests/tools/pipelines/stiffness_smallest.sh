@@ -1,7 +1,8 @@
 # make -C pipelines stiffness at its smallest (60 disks to 3 degrees, two seeds, k = 1e4 to
 # 2 degrees, softer than the default so that nu moves on so small a pile): the other study
 # tilts the study's own piles, bit for bit; the table's nu per degree is each side's mean
-# over the steps of the runs' own observables, and the difference theirs; a second make, and
+# over the steps of the runs' own observables, and the difference theirs; the mean
+# mobilisation per degree is the frames' histograms' (summaries); a second make, and
 # a make after the run files are gone (a new machine with the committed summaries), tilt
 # nothing; two ensembles without a common seed are refused in one line.
 # ctest: slow, timeout 120
@@ -34,7 +35,8 @@ def nu(study, s):
     return out
 want = {side: np.mean([nu(study, s) for s in (1, 2)], axis=0) for side, study in (("soft", soft), ("stiff", stiff))}
 rows = [l.split("|")[1:-1] for l in open(table) if l.startswith("| 0-1 |") or l.startswith("| 1-2 |")]
-assert len(rows) == 2, rows
+assert len(rows) == 4, rows  # nu's table, then the mobilisation's
+rows, mobilisation_rows = rows[:2], rows[2:]
 for d, r in enumerate(rows):
     assert r[1].strip() == "2", r
     got_soft, got_stiff = float(r[2]), float(r[3])
@@ -42,6 +44,20 @@ for d, r in enumerate(rows):
     diff = float(r[4].split("±")[0])
     d_want = want["stiff"][d] - want["soft"][d]
     assert d_want != 0 and abs(diff - d_want) <= 5e-3 * abs(d_want), (d, r, want)  # printed to 3 digits
+# The mean mobilisation per degree: each frame's histogram of |f_t| / (mu f_n) (20 bins of
+# [0, 1]) at its bins' centres, averaged over the degree's frames, then over the seeds.
+def mobilisation(study, s):
+    name = study.split("/")[-1]
+    with h5py.File(f"summaries/{name}/run-{s}.summary.h5", "r") as f:
+        t = f["tables/frames"]
+        th = np.round(t["theta"][()], 9)
+        h = np.array([t[f"mobilisation_{i}"][()] for i in range(20)], float)
+    m = ((np.arange(20) + 0.5) / 20) @ h / h.sum(axis=0)
+    return [m[((th > d) & (th <= d + 1)) if d else (th <= 1)].mean() for d in range(2)]
+for side, study, col in (("soft", soft, 2), ("stiff", stiff, 3)):
+    want = np.mean([mobilisation(study, s) for s in (1, 2)], axis=0)
+    for d, r in enumerate(mobilisation_rows):
+        assert 0 < want[d] < 1 and abs(float(r[col]) - want[d]) < 5e-5, (side, d, r, want)
 PYEOF
 grep -q '^crossing: ' $table || { cat $table >&2; exit 1; }
 # Up to date: nothing is tilted again, with or without the run files.
