@@ -6,7 +6,8 @@
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
 //                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
-//                      [--prox EPS N [--prox-inner M]] STEP.dat...
+//                      [--prox EPS N [--prox-inner M] [--prox-fb]] [--fb N [--fb-smooth X]]
+//                      STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
@@ -16,7 +17,10 @@
 //   --polish N: then up to N active-set Newton iterations (below);
 //   --newton N: the same with a line search on the natural map's residual;
 //   --prox EPS N [--prox-inner M]: then up to N proximal-point iterations around it, each
-//   with at most M (default 30) Newton iterations (below).
+//   with at most M (default 30) Newton iterations (below); --prox-fb: those iterations
+//   are --fb's;
+//   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
+//   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed.
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
@@ -215,6 +219,132 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
   return report;
 }
 
+// --fb N: a semismooth Newton on Fischer and Burmeister's reformulation of the step's
+// nonlinear complementarity problem (the --ipm form above, De Saxce's shift inside):
+//
+//     Phi_i(y) = phi(s_i y_i, F_i(y)),  phi(a, b) = sqrt(a^2 + b^2) - a - b,
+//
+// zero exactly where y >= 0, F(y) >= 0, y.F(y) = 0; s_i = M_ii puts y in velocity units.
+// Unlike the natural map's, the merit Psi = |Phi|^2 / 2 is descended by the Newton step
+// wherever Phi is differentiable (Psi'(d) = -|Phi|^2), so an Armijo search on Psi
+// globalises it (Facchinei and Pang 2003, ch. 9); the shift's kink at u_t = 0 does not
+// change the Newton system at a sticking contact (u = 0 on either side). Warm-started
+// from the impulses given: y = G r. One sparse LU of diag(Da s) + diag(Db) J_F per
+// iteration; the gradient -H^T Phi where the Newton step is not a descent.
+IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, double tolerance,
+                   double velocity_floor, int trace, double smoothing) {
+  IpmReport report;
+  const Eigen::Index n = 2 * p.contacts();
+  if (n == 0 || !(p.mu.minCoeff() > 0.0)) return report;
+  const ColMatrix git = inverse_transpose_of_g(p.mu);
+  const ColMatrix gi = git.transpose();
+  const ColMatrix w_matrix = p.W;
+  const ColMatrix m = git * w_matrix * gi;
+  const Vector c = git * p.q;
+  const Vector s = m.diagonal();
+  // y = G r: G = (G^-1)^-1 per contact, y1 = mu R_n - R_t, y2 = mu R_n + R_t.
+  Vector y(n);
+  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+    y[2 * a] = p.mu[a] * r[2 * a] - r[2 * a + 1];
+    y[2 * a + 1] = p.mu[a] * r[2 * a] + r[2 * a + 1];
+  }
+  Vector f(n), phi(n), da(n), db(n);
+  // --fb-smooth X: |u_t| replaced by sqrt(u_t^2 + delta^2), delta = X times the largest
+  // |Phi| (velocity units), never growing: a smoothing Newton whose F is differentiable.
+  double delta = 0.0;
+  auto evaluate = [&](const Vector& yv, Vector& phiv) {
+    const Vector av = m * yv + c;
+    for (Eigen::Index k = 0; k < n; k += 2) {
+      const double sh = 0.5 * std::hypot(av[k + 1] - av[k], delta);
+      f[k] = av[k] + sh;
+      f[k + 1] = av[k + 1] + sh;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double x = s[i] * yv[i];
+      phiv[i] = std::hypot(x, f[i]) - x - f[i];
+    }
+    return av;
+  };
+  Vector a = evaluate(y, phi);
+  if (smoothing > 0.0) {
+    delta = smoothing * phi.lpNorm<Eigen::Infinity>();
+    a = evaluate(y, phi);
+  }
+  double psi = 0.5 * phi.squaredNorm();
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  int gradient_steps = 0;
+  for (int k = 1; k <= max_iterations; ++k) {
+    report.residual = cd::admm_law_residual(p, gi * y, velocity_floor);
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double x = s[i] * y[i];
+      const double norm = std::hypot(x, f[i]);
+      if (norm > 1e-300) {
+        da[i] = x / norm - 1.0;
+        db[i] = f[i] / norm - 1.0;
+      } else {
+        da[i] = db[i] = std::sqrt(0.5) - 1.0;
+      }
+    }
+    ColMatrix h;
+    if (delta > 0.0) {
+      std::vector<Eigen::Triplet<double>> t;
+      for (Eigen::Index k2 = 0; k2 < n; k2 += 2) {
+        const double du = a[k2 + 1] - a[k2];
+        const double sg = 0.5 * du / std::hypot(du, delta);
+        t.emplace_back(k2, k2, 1.0 - sg);
+        t.emplace_back(k2, k2 + 1, sg);
+        t.emplace_back(k2 + 1, k2, -sg);
+        t.emplace_back(k2 + 1, k2 + 1, 1.0 + sg);
+      }
+      ColMatrix pm(n, n);
+      pm.setFromTriplets(t.begin(), t.end());
+      h = db.asDiagonal() * (pm * m);
+    } else {
+      h = db.asDiagonal() * newton_matrix(m, a, Vector::Zero(n));
+    }
+    for (Eigen::Index i = 0; i < n; ++i) h.coeffRef(i, i) += da[i] * s[i];
+    lu.compute(h);
+    report.iterations = k;
+    Vector d;
+    if (lu.info() == Eigen::Success) d = lu.solve(-phi);
+    const Vector gradient = h.transpose() * phi;
+    bool newton = d.size() == n && d.allFinite() && gradient.dot(d) < -1e-12 * gradient.norm() * d.norm();
+    if (!newton) {
+      d = -gradient;
+      ++gradient_steps;
+    }
+    const double slope = gradient.dot(d);
+    double t = 1.0;
+    Vector trial = y + d, phi_trial(n);
+    Vector a_trial = evaluate(trial, phi_trial);
+    while (0.5 * phi_trial.squaredNorm() > psi + 1e-4 * t * slope && t > 1e-12) {
+      t *= 0.5;
+      trial = y + t * d;
+      a_trial = evaluate(trial, phi_trial);
+    }
+    y = trial;
+    phi = phi_trial;
+    a = a_trial;
+    if (smoothing > 0.0) {
+      delta = std::min(delta, smoothing * phi.lpNorm<Eigen::Infinity>());
+      a = evaluate(y, phi);
+    }
+    psi = 0.5 * phi.squaredNorm();
+    if (trace > 0 && k % trace == 0)
+      std::printf("  fb %4d: %s step %.3e psi %.3e law %.3e\n", k, newton ? "newton" : "gradient", t, psi,
+                  cd::admm_law_residual(p, gi * y, velocity_floor));
+  }
+  r = gi * y;
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  report.converged = report.residual <= tolerance;
+  if (trace > 0) std::printf("  fb: %d gradient steps\n", gradient_steps);
+  return report;
+}
+
 // --polish N: active-set Newton after the method (or from the warm start alone): the
 // semismooth Newton of Alart and Curnier's formulation with unit steps. Each contact's
 // status comes from the law's projection with rho = 1 / W_aa (open when R_n - rho u_n <= 0;
@@ -337,7 +467,8 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
 // eps is halved after an outer iteration whose inner Newton settled, doubled after one
 // that did not (the inner iterate is then kept only if the law's residual fell).
 PolishReport proximal_newton(const cd::DelassusProblem& p, Vector& r, double eps, int max_outer,
-                             int max_inner, double tolerance, double velocity_floor, int trace) {
+                             int max_inner, double tolerance, double velocity_floor, int trace,
+                             bool fb_inner = false) {
   PolishReport report;
   if (p.contacts() == 0) return report;
   const Vector d = p.W.diagonal();
@@ -347,7 +478,16 @@ PolishReport proximal_newton(const cd::DelassusProblem& p, Vector& r, double eps
     for (Eigen::Index i = 0; i < sub.W.rows(); ++i) sub.W.coeffRef(i, i) += eps * d[i];
     sub.q = p.q - eps * d.cwiseProduct(r);
     Vector trial = r;
-    const PolishReport inner = polish(sub, trial, max_inner, 0.0, velocity_floor, 0);
+    PolishReport inner;
+    if (fb_inner) {
+      // --prox-fb: the inner solve is the Fischer-Burmeister Newton (solve_fb), settled
+      // when it meets the tolerance on the proximal problem.
+      const IpmReport i = solve_fb(sub, trial, max_inner, tolerance, velocity_floor, 0, 0.0);
+      inner.iterations = i.iterations;
+      inner.changed = i.converged ? 0 : 1;
+    } else {
+      inner = polish(sub, trial, max_inner, 0.0, velocity_floor, 0);
+    }
     report.iterations += inner.iterations;
     const bool settled = inner.changed == 0 && inner.iterations < max_inner;
     const double trial_law = cd::admm_law_residual(p, trial, velocity_floor);
@@ -392,6 +532,9 @@ int main(int argc, char** argv) {
   bool damped_newton = false;
   int prox_inner = 30;
   int prox_outer = 0;
+  int fb_iterations = 0;
+  double fb_smoothing = 0.0;
+  bool prox_fb = false;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -427,6 +570,13 @@ int main(int argc, char** argv) {
       prox_outer = std::stoi(argv[++a]);
     } else if (arg == "--prox-inner" && has) {
       prox_inner = std::stoi(argv[++a]);
+    } else if (arg == "--fb" && has) {
+      fb_iterations = std::stoi(argv[++a]);
+      skip = true;
+    } else if (arg == "--prox-fb") {
+      prox_fb = true;
+    } else if (arg == "--fb-smooth" && has) {
+      fb_smoothing = std::stod(argv[++a]);
     } else if (arg == "--nsgs" && has)
       nsgs_sweeps = std::stoi(argv[++a]);
     else
@@ -489,6 +639,13 @@ int main(int argc, char** argv) {
         rep.iterations += done;
         rep.converged = rep.residual <= o.tolerance;
       }
+      if (fb_iterations > 0) {
+        const IpmReport i = solve_fb(p, r, fb_iterations, o.tolerance, o.velocity_floor, trace, fb_smoothing);
+        rep.iterations += i.iterations;
+        rep.factorisations += i.iterations;
+        rep.residual = i.residual;
+        rep.converged = i.converged;
+      }
       if (polish_iterations > 0) {
         const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0, damped_newton);
         rep.iterations += pr.iterations;
@@ -497,7 +654,7 @@ int main(int argc, char** argv) {
         rep.converged = pr.converged;
       }
       if (prox_outer > 0) {
-        const PolishReport pr = proximal_newton(p, r, prox_eps, prox_outer, prox_inner, o.tolerance, o.velocity_floor, trace);
+        const PolishReport pr = proximal_newton(p, r, prox_eps, prox_outer, prox_inner, o.tolerance, o.velocity_floor, trace, prox_fb);
         rep.iterations += pr.iterations;
         rep.factorisations += pr.iterations;
         rep.residual = pr.residual;

@@ -8,8 +8,11 @@
 #       degrees at k = 1e6, 1e8 and rigid with pcg's impulses to 1e-6 or 200 000 sweeps
 #       (export_steps: pcg's sweeps and CPU per step), and runs admm_on_steps on each from
 #       the step's warm start: the active-set Newton alone (--polish), with the Armijo line
-#       search (--newton) and inside the proximal loop (--prox 0.1 400 --prox-inner 5).
-#       Every output stays in OUTDIR; the tables are OUTDIR/*.tsv.
+#       search (--newton) and inside the proximal loop (--prox 0.1 400 --prox-inner 5);
+#       then the semismooth Newton on Fischer and Burmeister's merit (--fb 200), with |u_t|
+#       smoothed (--fb-smooth 0.1; "Fischer and Burmeister's merit" in performance.md).
+#       Every output stays in OUTDIR; the tables are OUTDIR/*.tsv. A table that exists
+#       is kept, so a second call makes only the missing ones.
 #
 # Tools from $CDPILE_BIN (default build/bin), benchmarks from $CDPILE_BENCH (default
 # build/benchmarks). About 15 minutes of CPU; run it niced.
@@ -30,9 +33,16 @@ export_set k1e6-14.5 14.5 1e6
 export_set k1e8-14.5 14.5 1e8
 export_set k1e8-26.5 26.5 1e8
 export_set rigid-14.5 14.5 0
+method() {  # method SET NAME OPTIONS...: admm_on_steps on SET's steps into SET.NAME.tsv
+  local set=$1 name=$2; shift 2
+  [ -e "$set.$name.tsv" ] || { "$bench/admm_on_steps" "$@" "$set"/*.dat > "$set.$name.tsv.tmp" &&
+    mv "$set.$name.tsv.tmp" "$set.$name.tsv"; }
+}
 for set in k1e6-14.5 k1e8-14.5 k1e8-26.5 rigid-14.5; do
-  "$bench/admm_on_steps" --warm --polish 30 "$set"/*.dat > "$set.polish.tsv"
-  "$bench/admm_on_steps" --warm --newton 30 "$set"/*.dat > "$set.newton.tsv"
-  "$bench/admm_on_steps" --warm --prox 0.1 400 --prox-inner 5 "$set"/*.dat > "$set.prox.tsv"
+  method "$set" polish --warm --polish 30
+  method "$set" newton --warm --newton 30
+  method "$set" prox --warm --prox 0.1 400 --prox-inner 5
+  method "$set" fb --fb 200
+  method "$set" fb-smooth --fb 200 --fb-smooth 0.1
 done
 head -n 100 ./*.tsv
