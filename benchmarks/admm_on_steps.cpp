@@ -6,7 +6,7 @@
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
 //                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
-//                      [--prox EPS N [--prox-inner M] [--prox-fb]] [--fb N [--fb-smooth X]]
+//                      [--prox EPS N [--prox-inner M] [--prox-fb]] [--fb N [--fb-smooth X] [--fb-lm THETA]]
 //                      STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
@@ -20,13 +20,15 @@
 //   with at most M (default 30) Newton iterations (below); --prox-fb: those iterations
 //   are --fb's;
 //   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
-//   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed.
+//   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed;
+//   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's.
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/io/siconos.hpp"
 
 #include <Eigen/SparseCore>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
 #include <algorithm>
@@ -232,7 +234,7 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
 // from the impulses given: y = G r. One sparse LU of diag(Da s) + diag(Db) J_F per
 // iteration; the gradient -H^T Phi where the Newton step is not a descent.
 IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, double tolerance,
-                   double velocity_floor, int trace, double smoothing) {
+                   double velocity_floor, int trace, double smoothing, double levenberg = 0.0) {
   IpmReport report;
   const Eigen::Index n = 2 * p.contacts();
   if (n == 0 || !(p.mu.minCoeff() > 0.0)) return report;
@@ -272,6 +274,8 @@ IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
   }
   double psi = 0.5 * phi.squaredNorm();
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  Eigen::SimplicialLDLT<ColMatrix> ldlt;
+  double phi0 = -1.0;
   int gradient_steps = 0;
   for (int k = 1; k <= max_iterations; ++k) {
     report.residual = cd::admm_law_residual(p, gi * y, velocity_floor);
@@ -307,11 +311,26 @@ IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
       h = db.asDiagonal() * newton_matrix(m, a, Vector::Zero(n));
     }
     for (Eigen::Index i = 0; i < n; ++i) h.coeffRef(i, i) += da[i] * s[i];
-    lu.compute(h);
     report.iterations = k;
     Vector d;
-    if (lu.info() == Eigen::Success) d = lu.solve(-phi);
     const Vector gradient = h.transpose() * phi;
+    if (levenberg > 0.0) {
+      // --fb-lm THETA: Levenberg and Marquardt's step (H^T H + lambda I) d = -H^T Phi,
+      // lambda = THETA mean(diag H^T H) (|Phi| / |Phi_0|)^2 (Yamashita and Fukushima's
+      // lambda ~ |Phi|^2: quadratic near a solution under an error bound, without a
+      // nonsingular Jacobian), a descent direction of the merit wherever Phi is
+      // differentiable.
+      ColMatrix normal = ColMatrix(h.transpose()) * h;
+      if (phi0 < 0.0) phi0 = phi.norm();
+      const double ratio = phi.norm() / phi0;
+      const double lambda = levenberg * normal.diagonal().mean() * std::min(1.0, ratio * ratio);
+      for (Eigen::Index i = 0; i < n; ++i) normal.coeffRef(i, i) += lambda;
+      ldlt.compute(normal);
+      if (ldlt.info() == Eigen::Success) d = ldlt.solve(-gradient);
+    } else {
+      lu.compute(h);
+      if (lu.info() == Eigen::Success) d = lu.solve(-phi);
+    }
     bool newton = d.size() == n && d.allFinite() && gradient.dot(d) < -1e-12 * gradient.norm() * d.norm();
     if (!newton) {
       d = -gradient;
@@ -534,6 +553,7 @@ int main(int argc, char** argv) {
   int prox_outer = 0;
   int fb_iterations = 0;
   double fb_smoothing = 0.0;
+  double fb_levenberg = 0.0;
   bool prox_fb = false;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
@@ -575,6 +595,8 @@ int main(int argc, char** argv) {
       skip = true;
     } else if (arg == "--prox-fb") {
       prox_fb = true;
+    } else if (arg == "--fb-lm" && has) {
+      fb_levenberg = std::stod(argv[++a]);
     } else if (arg == "--fb-smooth" && has) {
       fb_smoothing = std::stod(argv[++a]);
     } else if (arg == "--nsgs" && has)
@@ -640,7 +662,7 @@ int main(int argc, char** argv) {
         rep.converged = rep.residual <= o.tolerance;
       }
       if (fb_iterations > 0) {
-        const IpmReport i = solve_fb(p, r, fb_iterations, o.tolerance, o.velocity_floor, trace, fb_smoothing);
+        const IpmReport i = solve_fb(p, r, fb_iterations, o.tolerance, o.velocity_floor, trace, fb_smoothing, fb_levenberg);
         rep.iterations += i.iterations;
         rep.factorisations += i.iterations;
         rep.residual = i.residual;
