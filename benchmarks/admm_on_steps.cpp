@@ -6,7 +6,7 @@
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
 //                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
-//                      [--prox EPS N [--prox-inner M] [--prox-fb]] [--fb N [--fb-smooth X] [--fb-lm THETA]]
+//                      [--prox EPS N [--prox-inner M] [--prox-fb | --prox-anderson K [--prox-uniform]]] [--fb N [--fb-smooth X] [--fb-lm THETA]]
 //                      STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
@@ -18,7 +18,8 @@
 //   --newton N: the same with a line search on the natural map's residual;
 //   --prox EPS N [--prox-inner M]: then up to N proximal-point iterations around it, each
 //   with at most M (default 30) Newton iterations (below); --prox-fb: those iterations
-//   are --fb's;
+//   are --fb's; --prox-anderson K: the loop at a fixed eps with Anderson's mixing of
+//   depth K (below);
 //   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
 //   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed;
 //   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's.
@@ -27,6 +28,7 @@
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/io/siconos.hpp"
 
+#include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -39,6 +41,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -524,6 +527,77 @@ PolishReport proximal_newton(const cd::DelassusProblem& p, Vector& r, double eps
   return report;
 }
 
+// --prox-anderson M: the proximal loop above at a fixed eps, its outer iteration
+// x -> T(x) (T(x): the active-set Newton's solution of the proximal problem around x)
+// accelerated by Anderson's mixing of depth M (type II, Walker and Ni 2011). Near the
+// solution the statuses hold and T is affine; its slow part is the self-stress states
+// (null space of H^T), on which W = C I, so T contracts them by eps d / (C + eps d): a
+// tight cluster of rates that a short mixing removes. --prox-uniform: d = mean(diag W)
+// for every row, which makes that cluster one rate. eps doubles, and the history is
+// dropped, after an outer iteration whose Newton did not settle or whose residual grew
+// tenfold.
+PolishReport anderson_proximal(const cd::DelassusProblem& p, Vector& r, double eps, int max_outer,
+                               int max_inner, int depth, bool uniform, double tolerance,
+                               double velocity_floor, int trace) {
+  PolishReport report;
+  if (p.contacts() == 0) return report;
+  const Eigen::Index n = 2 * p.contacts();
+  Vector d = p.W.diagonal();
+  if (uniform) d = Vector::Constant(n, d.mean());
+  Vector x = r;
+  std::vector<Vector> xs, fs;
+  double best = cd::admm_law_residual(p, r, velocity_floor);
+  double smallest_f = std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= max_outer && best > tolerance; ++k) {
+    cd::DelassusProblem sub = p;
+    for (Eigen::Index i = 0; i < n; ++i) sub.W.coeffRef(i, i) += eps * d[i];
+    sub.q = p.q - eps * d.cwiseProduct(x);
+    Vector tx = x;
+    const PolishReport inner = polish(sub, tx, max_inner, 0.0, velocity_floor, 0);
+    report.iterations += inner.iterations;
+    const bool settled = inner.changed == 0 && inner.iterations < max_inner;
+    const double law = cd::admm_law_residual(p, tx, velocity_floor);
+    const Vector f = tx - x;
+    const double fn = f.norm();
+    if (trace > 0)
+      std::printf("  anderson %3d: eps %.3e inner %d (changed %d) history %zu law %.3e |f| %.3e\n", k, eps,
+                  inner.iterations, inner.changed, fs.size(), law, fn);
+    if (settled && law < best) {
+      best = law;
+      r = tx;
+    }
+    if (!settled || fn > 10.0 * smallest_f) {
+      if (!settled) eps *= 2.0;
+      xs.clear();
+      fs.clear();
+      smallest_f = std::numeric_limits<double>::infinity();
+      if (!settled) continue;
+    }
+    smallest_f = std::min(smallest_f, fn);
+    xs.push_back(x);
+    fs.push_back(f);
+    if (static_cast<int>(fs.size()) > depth + 1) {
+      xs.erase(xs.begin());
+      fs.erase(fs.begin());
+    }
+    if (fs.size() >= 2) {
+      const Eigen::Index m = static_cast<Eigen::Index>(fs.size()) - 1;
+      Eigen::MatrixXd df(n, m), dx(n, m);
+      for (Eigen::Index j = 0; j < m; ++j) {
+        df.col(j) = fs[static_cast<std::size_t>(j + 1)] - fs[static_cast<std::size_t>(j)];
+        dx.col(j) = xs[static_cast<std::size_t>(j + 1)] - xs[static_cast<std::size_t>(j)];
+      }
+      const Eigen::VectorXd gamma = df.colPivHouseholderQr().solve(f);
+      x = tx - (dx + df) * gamma;
+    } else {
+      x = tx;
+    }
+  }
+  report.residual = best;
+  report.converged = best <= tolerance;
+  return report;
+}
+
 Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
   std::ifstream in(path);
   std::vector<double> v;
@@ -555,6 +629,8 @@ int main(int argc, char** argv) {
   double fb_smoothing = 0.0;
   double fb_levenberg = 0.0;
   bool prox_fb = false;
+  int prox_anderson = 0;
+  bool prox_uniform = false;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -593,6 +669,10 @@ int main(int argc, char** argv) {
     } else if (arg == "--fb" && has) {
       fb_iterations = std::stoi(argv[++a]);
       skip = true;
+    } else if (arg == "--prox-anderson" && has) {
+      prox_anderson = std::stoi(argv[++a]);
+    } else if (arg == "--prox-uniform") {
+      prox_uniform = true;
     } else if (arg == "--prox-fb") {
       prox_fb = true;
     } else if (arg == "--fb-lm" && has) {
@@ -676,7 +756,11 @@ int main(int argc, char** argv) {
         rep.converged = pr.converged;
       }
       if (prox_outer > 0) {
-        const PolishReport pr = proximal_newton(p, r, prox_eps, prox_outer, prox_inner, o.tolerance, o.velocity_floor, trace, prox_fb);
+        const PolishReport pr =
+            prox_anderson > 0
+                ? anderson_proximal(p, r, prox_eps, prox_outer, prox_inner, prox_anderson, prox_uniform, o.tolerance,
+                                    o.velocity_floor, trace)
+                : proximal_newton(p, r, prox_eps, prox_outer, prox_inner, o.tolerance, o.velocity_floor, trace, prox_fb);
         rep.iterations += pr.iterations;
         rep.factorisations += pr.iterations;
         rep.residual = pr.residual;
