@@ -6,8 +6,9 @@
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
 //                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
-//                      [--prox EPS N [--prox-inner M] [--prox-fb | --prox-anderson K [--prox-uniform]]] [--fb N [--fb-smooth X] [--fb-lm THETA]]
-//                      STEP.dat...
+//                      [--prox EPS N [--prox-inner M]
+//                       [--prox-fb | --prox-anderson K [--prox-uniform]]]
+//                      [--fb N [--fb-smooth X] [--fb-lm THETA]] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
