@@ -109,6 +109,24 @@ ColMatrix inverse_transpose_of_g(const Vector& mu) {
   return g;
 }
 
+/// The step in the LCP's variables: y = G R, a = M y + c (M = G^-T W G^-1, c = G^-T q).
+struct LcpForm {
+  ColMatrix git;  ///< G^-T
+  ColMatrix gi;   ///< G^-1
+  ColMatrix m;
+  Vector c;
+};
+
+LcpForm lcp_form(const cd::DelassusProblem& p) {
+  LcpForm f;
+  f.git = inverse_transpose_of_g(p.mu);
+  f.gi = f.git.transpose();
+  const ColMatrix w_matrix = p.W;
+  f.m = f.git * w_matrix * f.gi;
+  f.c = f.git * p.q;
+  return f;
+}
+
 /// F(y) from a = M y + c: a + (|a2 - a1| / 2)(1, 1) per contact.
 void shifted(const Vector& a, Vector& f) {
   for (Eigen::Index k = 0; k < a.size(); k += 2) {
@@ -119,11 +137,13 @@ void shifted(const Vector& a, Vector& f) {
 }
 
 /// J + diag(d): J = (I + N) M, N per contact (sigma / 2)[[-1, 1], [-1, 1]], sigma the
-/// sign of a2 - a1 (u_t), +1 at 0.
-ColMatrix newton_matrix(const ColMatrix& m, const Vector& a, const Vector& d) {
+/// sign of a2 - a1 (u_t), +1 at 0; with delta > 0 the derivative of sqrt(u_t^2 + delta^2)
+/// instead (--fb-smooth).
+ColMatrix newton_matrix(const ColMatrix& m, const Vector& a, const Vector& d, double delta = 0.0) {
   std::vector<Eigen::Triplet<double>> t;
   for (Eigen::Index k = 0; k < a.size(); k += 2) {
-    const double s = a[k + 1] - a[k] >= 0.0 ? 0.5 : -0.5;
+    const double du = a[k + 1] - a[k];
+    const double s = delta > 0.0 ? 0.5 * du / std::hypot(du, delta) : du >= 0.0 ? 0.5 : -0.5;
     t.emplace_back(k, k, 1.0 - s);
     t.emplace_back(k, k + 1, s);
     t.emplace_back(k + 1, k, -s);
@@ -152,11 +172,11 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
     return report;
   }
   if (!(p.mu.minCoeff() > 0.0)) return report;
-  const ColMatrix git = inverse_transpose_of_g(p.mu);
-  const ColMatrix gi = git.transpose();
+  const LcpForm lcp = lcp_form(p);
+  const ColMatrix& gi = lcp.gi;
+  const ColMatrix& m = lcp.m;
+  const Vector& c = lcp.c;
   const ColMatrix w_matrix = p.W;
-  const ColMatrix m = git * w_matrix * gi;
-  const Vector c = git * p.q;
   // Scales of y (an impulse) and w (a velocity): the start's central point.
   const Vector d_w = w_matrix.diagonal();
   const double w_scale = std::max(o.velocity_floor, 1e-300);
@@ -242,11 +262,10 @@ IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
   IpmReport report;
   const Eigen::Index n = 2 * p.contacts();
   if (n == 0 || !(p.mu.minCoeff() > 0.0)) return report;
-  const ColMatrix git = inverse_transpose_of_g(p.mu);
-  const ColMatrix gi = git.transpose();
-  const ColMatrix w_matrix = p.W;
-  const ColMatrix m = git * w_matrix * gi;
-  const Vector c = git * p.q;
+  const LcpForm lcp = lcp_form(p);
+  const ColMatrix& gi = lcp.gi;
+  const ColMatrix& m = lcp.m;
+  const Vector& c = lcp.c;
   const Vector s = m.diagonal();
   // y = G r: G = (G^-1)^-1 per contact, y1 = mu R_n - R_t, y2 = mu R_n + R_t.
   Vector y(n);
@@ -297,23 +316,7 @@ IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
         da[i] = db[i] = std::sqrt(0.5) - 1.0;
       }
     }
-    ColMatrix h;
-    if (delta > 0.0) {
-      std::vector<Eigen::Triplet<double>> t;
-      for (Eigen::Index k2 = 0; k2 < n; k2 += 2) {
-        const double du = a[k2 + 1] - a[k2];
-        const double sg = 0.5 * du / std::hypot(du, delta);
-        t.emplace_back(k2, k2, 1.0 - sg);
-        t.emplace_back(k2, k2 + 1, sg);
-        t.emplace_back(k2 + 1, k2, -sg);
-        t.emplace_back(k2 + 1, k2 + 1, 1.0 + sg);
-      }
-      ColMatrix pm(n, n);
-      pm.setFromTriplets(t.begin(), t.end());
-      h = db.asDiagonal() * (pm * m);
-    } else {
-      h = db.asDiagonal() * newton_matrix(m, a, Vector::Zero(n));
-    }
+    ColMatrix h = db.asDiagonal() * newton_matrix(m, a, Vector::Zero(n), delta);
     for (Eigen::Index i = 0; i < n; ++i) h.coeffRef(i, i) += da[i] * s[i];
     report.iterations = k;
     Vector d;
