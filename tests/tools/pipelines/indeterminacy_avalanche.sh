@@ -1,7 +1,8 @@
 # theta_c along other solver paths at its smallest (80 disks tilted to their avalanche):
 # the branches start from the last frame at or below theta_c - lead, each stops when its
 # avalanche is confirmed, avalanche.tsv holds the run and every path, a second make redoes
-# nothing, and a run without an avalanche is skipped with its reason.
+# nothing, a run without an avalanche is skipped with its reason, and a call with other
+# seeds remakes the table for them.
 # ctest: slow, timeout 120
 B=$CDPILE_BIN
 # the engine of the studies made so far (pipelines/Makefile, STUDY_ENGINE)
@@ -41,6 +42,11 @@ if grep -q 'tilt-cd' make2.log; then echo "branches were made again" >&2; cat ma
 make --no-print-directory -C "$CDPILE_SOURCE/pipelines/indeterminacy" avalanche STUDY="$PWD/study" SEEDS="1 2" \
   AVALANCHE_PATHS="1 2" CDPILE_BIN="$B" > make3.log 2>&1 || { cat make3.log >&2; exit 1; }
 grep -q "^- run 2: skip: the run has no avalanche (it ends at 3 deg)" $out/avalanche.md || { cat $out/avalanche.md >&2; exit 1; }
+grep -q '^| 1 | 3 |' $out/avalanche.md || { cat $out/avalanche.md >&2; exit 1; }
+# A call with other seeds prints a table of its own seeds, not the last call's.
+make --no-print-directory -C "$CDPILE_SOURCE/pipelines/indeterminacy" avalanche STUDY="$PWD/study" SEEDS="1" \
+  AVALANCHE_PATHS="1 2" CDPILE_BIN="$B" > make4.log 2>&1 || { cat make4.log >&2; exit 1; }
+if grep -q 'run 2' $out/avalanche.md || grep -q 'tilt-cd' make4.log; then cat make4.log $out/avalanche.md >&2; exit 1; fi
 grep -q '^| 1 | 3 |' $out/avalanche.md || { cat $out/avalanche.md >&2; exit 1; }
 # report.py gives theta_c its systematic error from these paths (all equal here: 0).
 "$B/critical" study/run-1.h5 --quiet -o study/critical.h5
