@@ -2,6 +2,7 @@
 // at any step and resumed, or stopped by Ctrl-C and resumed, equals an uninterrupted run
 // in every dataset, bit for bit.
 #include "cdpile/error.hpp"
+#include "cdpile/io/checkpoint.hpp"
 #include "cdpile/io/files.hpp"
 #include "cdpile/sim/common.hpp"
 #include "cdpile/sim/deposit.hpp"
@@ -185,6 +186,39 @@ TEST(Tilt, InterruptLeavesAValidRunAndResumes) {
   }
   sim::resume_tilt(short_run(), s / "run.h5", false);
   expect_same_run(s / "ref.h5", s / "run.h5");
+}
+
+// The run's CPU is recorded in its provenance (the tilt's entry, last), and a resumed run
+// adds the CPU its interrupted processes spent (kept in the checkpoint) to its own.
+TEST(Tilt, CpuOfTheRunIsRecordedAndSummedOverResumes) {
+  Scratch s;
+  sim::run_tilt(pile(), short_run(), s / "ref.h5", false, io::provenance_now("test", "", ""));
+  {
+    io::h5::File f = io::h5::open_read(s / "ref.h5", "ref");
+    const auto h = io::read_header(f);
+    ASSERT_FALSE(h.provenance.empty());
+    EXPECT_GT(h.provenance.back().cpu_s, 0.0);
+    EXPECT_LE(h.provenance.back().cpu_s, io::process_cpu_s());
+  }
+  sim::TiltHooks hooks;
+  std::int64_t step = 0;
+  hooks.progress = [&](const sim::TiltProgress& p) { step = p.step; };
+  hooks.stop = [&] { return step == 63; };
+  sim::run_tilt(pile(), short_run(), s / "run.h5", false, io::provenance_now("test", "", ""),
+                hooks);
+  // As if the interrupted processes had spent 1000 s: the resumed run's record holds them.
+  {
+    io::h5::File f = io::h5::open_write(sim::partial_path(s / "run.h5"), "partial");
+    ASSERT_TRUE(io::h5::has_attr(f, io::kCheckpointGroup, "cpu_s"));
+    EXPECT_GT(io::h5::attr_double(f, io::kCheckpointGroup, "cpu_s"), 0.0);
+    io::h5::set_attr(f, io::kCheckpointGroup, "cpu_s", 1000.0);
+  }
+  sim::resume_tilt(short_run(), s / "run.h5", false);
+  io::h5::File f = io::h5::open_read(s / "run.h5", "run");
+  const double cpu = io::read_header(f).provenance.back().cpu_s;
+  EXPECT_GT(cpu, 1000.0);
+  EXPECT_LE(cpu, 1000.0 + io::process_cpu_s());
+  expect_same_run(s / "ref.h5", s / "run.h5");  // the record is provenance, not the run
 }
 
 // A signal while a step is being solved (a large pile at the sweep cap can take longer

@@ -5,6 +5,7 @@
 #include "cdpile_commit.h"  // generated: CDPILE_COMMIT (cmake/source_commit.cmake)
 
 #include <pwd.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -130,13 +131,20 @@ std::int64_t as_int(const Values& v, const std::string& key, const std::string& 
   throw Error(file, "/parameters", "parameter '" + key + "' is not an integer");
 }
 
+double process_cpu_s() {
+  rusage ru{};
+  if (::getrusage(RUSAGE_SELF, &ru) != 0) return -1.0;
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
 Provenance provenance_now(const std::string& tool, const std::string& command_line,
                           const std::string& inputs) {
   std::time_t t = std::time(nullptr);
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
   // the version and the commit that made the file: "0.1.0+8795282abcde" (docs/schema.md)
-  return {tool, CDPILE_VERSION "+" CDPILE_COMMIT, command_line, inputs, buf, ""};
+  return {tool, CDPILE_VERSION "+" CDPILE_COMMIT, command_line, inputs, buf, "", process_cpu_s()};
 }
 
 std::vector<Provenance> merge_histories(
@@ -241,6 +249,14 @@ void append_provenance(const h5::File& f, const Provenance& p) {
   h5::set_attr(f, g, "inputs", p.inputs);
   h5::set_attr(f, g, "date", p.date);
   if (!p.via.empty()) h5::set_attr(f, g, "via", p.via);  // only in files made from several inputs
+  if (p.cpu_s >= 0.0) h5::set_attr(f, g, "cpu_s", p.cpu_s);
+}
+
+void set_last_cpu(const h5::File& f, double cpu_s) {
+  if (cpu_s < 0.0 || !h5::exists(f, "/provenance")) return;
+  const auto entries = h5::members(f, "/provenance");
+  if (entries.empty()) return;
+  h5::set_attr(f, "/provenance/" + entries.back(), "cpu_s", cpu_s);
 }
 
 void write_header(const h5::File& f, const RunHeader& h) {
@@ -286,7 +302,8 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind) {
           {h5::attr_string(f, g, "tool"), h5::attr_string(f, g, "version"),
            h5::attr_string(f, g, "command_line"), h5::attr_string(f, g, "inputs"),
            h5::attr_string(f, g, "date"),
-           h5::has_attr(f, g, "via") ? h5::attr_string(f, g, "via") : std::string()});
+           h5::has_attr(f, g, "via") ? h5::attr_string(f, g, "via") : std::string(),
+           h5::has_attr(f, g, "cpu_s") ? h5::attr_double(f, g, "cpu_s") : -1.0});
     }
   }
   return h;
@@ -559,6 +576,8 @@ void RunWriter::set_result(const std::string& name, const Value& v) {
 }
 
 void RunWriter::add_provenance(const Provenance& p) { append_provenance(*f_, p); }
+
+void RunWriter::set_last_cpu(double cpu_s) { io::set_last_cpu(*f_, cpu_s); }
 
 void RunWriter::flush() {
   if (H5Fflush(f_->id(), H5F_SCOPE_GLOBAL) < 0)

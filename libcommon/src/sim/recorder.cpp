@@ -81,6 +81,7 @@ void write_checkpoint(const h5::File& f, const cd::Engine& e, const LoopState& s
                 {"unconverged_steps", s.unconverged},
                 {"max_overlap", s.max_overlap},
                 {"max_overlap_grown", s.max_overlap_grown},
+                {"cpu_s", s.cpu_s},
                 {"substep_level", std::int64_t{st.substep_level}}};
   c.description =
       "state to resume this partial run bit for bit: grain state, warm-start impulses [N s/m] "
@@ -113,6 +114,8 @@ Restored read_checkpoint(const h5::File& f, const Grains& properties) {
   r.loop.max_overlap_grown = c.has_counter("max_overlap_grown")
                                  ? c.counter_real("max_overlap_grown", file)
                                  : r.loop.max_overlap;
+  // Partials written before the CPU was kept: the resumed run records its own CPU only.
+  r.loop.cpu_s = c.has_counter("cpu_s") ? c.counter_real("cpu_s", file) : 0.0;
   return r;
 }
 
@@ -181,6 +184,7 @@ void FileRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s,
   h5::File src = h5::open_read(partial_, partial_);
   io::RunHeader h = io::read_header(src);
   h.results = results;
+  if (!h.provenance.empty()) h.provenance.back().cpu_s = s.cpu_s;  // the tilt's: last in a run
   io::Output out(output_, force_);
   h5::File& dst = out.create_hdf5();
   io::write_header(dst, h);
@@ -209,6 +213,7 @@ void StreamRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s,
                             const io::Values& results) {
   commit(p, e, s);
   for (const auto& [k, v] : results) writer_->set_result(k, v);
+  writer_->set_last_cpu(s.cpu_s);
   out_.commit();
 }
 

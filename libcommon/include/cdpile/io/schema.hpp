@@ -14,8 +14,9 @@
 ///   /parameters               attrs: every physical and numerical parameter, the
 ///                             unit in the name's suffix (time_step_s, mu_grain, ...)
 ///   /results                  attrs: results of the run (e.g. avalanche_angle_deg)
-///   /provenance/<k>           attrs: tool, version, command_line, inputs, date; via in
-///                             a file made from several inputs (merge_histories)
+///   /provenance/<k>           attrs: tool, version, command_line, inputs, date; cpu_s
+///                             where recorded; via in a file made from several inputs
+///                             (merge_histories)
 #pragma once
 
 #include "cdpile/io/files.hpp"
@@ -48,6 +49,10 @@ struct Provenance {
   /// "c.h5 > run2.h5" through two such files); empty for the file's own tool and for the
   /// entries of a single input's chain.
   std::string via = {};
+  /// CPU seconds (user + system, all threads) the tool spent making its part of the file,
+  /// summed over the processes of a resumed tilt; negative where not recorded (files
+  /// written before 2026-12-02).
+  double cpu_s = -1.0;
 };
 
 /// The history of a file made from `inputs` (name and history of each, in order): with one
@@ -56,7 +61,9 @@ struct Provenance {
 /// can be told apart. The caller appends its own entry.
 std::vector<Provenance> merge_histories(
     const std::vector<std::pair<std::string, std::vector<Provenance>>>& inputs);
-/// Provenance of the running tool (date now, version of this build).
+/// CPU seconds (user + system, all threads) this process has used so far.
+double process_cpu_s();
+/// Provenance of the running tool (date now, version of this build, its CPU so far).
 Provenance provenance_now(const std::string& tool, const std::string& command_line,
                           const std::string& inputs);
 
@@ -124,6 +131,8 @@ class RunWriter {
   void append_series(const Series& rows);
   void set_result(const std::string& name, const Value& v);
   void add_provenance(const Provenance& p);
+  /// Records the CPU of the tool that wrote the file last (its provenance's last entry).
+  void set_last_cpu(double cpu_s);
   void flush();
 
   std::size_t frames() const { return frames_; }
@@ -207,5 +216,8 @@ RunHeader read_header(const h5::File& f, const std::string& expected_kind = "");
 void write_values(const h5::File& f, const std::string& group, const Values& v);
 Values read_values(const h5::File& f, const std::string& group);
 void append_provenance(const h5::File& f, const Provenance& p);
+/// Sets `cpu_s` on the last /provenance entry: a tool whose file is written before its
+/// work ends (a tilt's header) records its CPU there when it ends.
+void set_last_cpu(const h5::File& f, double cpu_s);
 
 }  // namespace cdpile::io

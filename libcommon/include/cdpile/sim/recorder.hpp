@@ -40,6 +40,9 @@ struct LoopState {
   std::int64_t unconverged = 0;
   double max_overlap = 0.0;        ///< the largest overlap of any step [m]
   double max_overlap_grown = 0.0;  ///< the largest beyond the pile's own (sim/overlap.hpp) [m]
+  /// CPU of the tilt so far [s], summed over the processes of a resumed run; recorded in
+  /// the run's provenance when it ends (docs/schema.md, "Provenance").
+  double cpu_s = 0.0;
 };
 
 /// The state a checkpoint restores: the grains, the engine's warm start and clock, the loop.
