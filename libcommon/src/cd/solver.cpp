@@ -3,7 +3,6 @@
 #include "cdpile/cd/solver.hpp"
 
 #include "cdpile/cd/admm.hpp"
-#include "cdpile/cd/primal.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/pcg.hpp"
@@ -25,18 +24,15 @@ const char* solver_name(SolverKind k) {
     case SolverKind::pcg: return "pcg";
     case SolverKind::newton: return "newton";
     case SolverKind::admm: return "admm";
-    case SolverKind::primal: return "primal";
   }
   return "?";
 }
 
 SolverKind solver_from_name(const std::string& name) {
   for (const SolverKind k :
-       {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg, SolverKind::newton, SolverKind::admm,
-        SolverKind::primal})
+       {SolverKind::nsgs, SolverKind::nncg, SolverKind::pcg, SolverKind::newton, SolverKind::admm})
     if (name == solver_name(k)) return k;
-  throw UsageError("unknown contact solver '" + name +
-                   "' (nsgs, nncg, pcg, newton, admm or primal)");
+  throw UsageError("unknown contact solver '" + name + "' (nsgs, nncg, pcg, newton or admm)");
 }
 
 const char* criterion_name(Criterion c) {
@@ -105,7 +101,6 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
     case SolverKind::pcg: return std::make_shared<const PcgSolver>(s);
     case SolverKind::newton: return std::make_shared<const NewtonSolver>(s);
     case SolverKind::admm: return std::make_shared<const AdmmSolver>(s);
-    case SolverKind::primal: return std::make_shared<const PrimalSolver>(s);
   }
   throw UsageError("unknown contact solver");
 }

@@ -19,7 +19,6 @@ enum class SolverKind {
   pcg,   ///< NSGS alternating with preconditioned conjugate gradients on the active set (pcg.hpp)
   newton,  ///< NSGS alternating with exact Newton steps on the active face (pcg.hpp)
   admm,  ///< ADMM on the step's factorised problem, then pcg from its impulses (admm.hpp)
-  primal,  ///< Newton on the grains' velocities (convex), then pcg from its impulses (primal.hpp)
 };
 const char* solver_name(SolverKind k);
 /// The solver of a name; throws cdpile::UsageError on another name.
