@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Prints, as a Markdown table, the paper's numbers (Staron, Vilotte & Radjai 2002) beside
 a study's, read from its analysis products (critical.h5, correlate.h5, clusterfit.h5) and,
-when it has been made, its solver-path ensemble (indeterminacy/spread.tsv).
+when it has been made, its solver-path ensemble (indeterminacy/spread.tsv), and what its
+runs cost (the CPU their deposits and tilts recorded in the products' provenance).
 
     pipelines/report.py STUDY_DIR > STUDY_DIR/report.md
 
@@ -13,6 +14,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cdpile_py.paper import rows_of  # noqa: E402
+from cdpile_py.runfile import cost_line  # noqa: E402
 
 
 def main():
@@ -25,6 +27,9 @@ def main():
     print("|---|---|---|---|---|")
     for row in rows:
         print(f"| {row.quantity} | {row.paper} | {row.ours} | {row.systematic} | {row.how} |")
+    critical = os.path.join(study, "critical.h5")
+    if os.path.exists(critical):
+        print(f"\n{cost_line(critical)}")
 
 
 if __name__ == "__main__":

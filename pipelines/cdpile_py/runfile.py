@@ -27,6 +27,44 @@ def attributes(f, group):
     return {k: scalar(v) for k, v in f[group].attrs.items()} if group in f else {}
 
 
+def run_costs(path):
+    """The CPU [s] each run of a file's history cost, from its /provenance (docs/schema.md,
+    `cpu_s`): one dict per run ({"run", "deposit_s", "tilt_s"}, None where not recorded), in
+    the order of the inputs; a product of several runs names each by its `via`."""
+    runs = {}
+    with h5py.File(path, "r") as f:
+        if "provenance" not in f:
+            return []
+        for key in sorted(f["provenance"]):
+            a = attributes(f, f"provenance/{key}")
+            tool = a.get("tool")
+            if tool not in ("deposit", "tilt-cd"):
+                continue
+            run = a.get("via", "") or os.path.basename(path)
+            cost = runs.setdefault(run, {"run": run, "deposit_s": None, "tilt_s": None})
+            cost["deposit_s" if tool == "deposit" else "tilt_s"] = a.get("cpu_s")
+    return list(runs.values())
+
+
+def cost_line(path):
+    """One line saying what a study's runs cost, from a product of all its runs."""
+    costs = run_costs(path)
+    both = [c["deposit_s"] + c["tilt_s"] for c in costs
+            if c["deposit_s"] is not None and c["tilt_s"] is not None]
+    if not costs:
+        return "Cost: no run in the product's history."
+    if not both:
+        return (f"Cost: not recorded by its {len(costs)} run(s) (files written before "
+                "2026-12-02 do not record their CPU).")
+    both.sort()
+    n = len(both)
+    med = both[n // 2] if n % 2 else 0.5 * (both[n // 2 - 1] + both[n // 2])
+    total = sum(both)
+    total_text = f"{total:.3g} s of CPU" if total < 3600 else f"{total / 3600:.3g} CPU-hours"
+    return (f"Cost: {total_text} for the {n} of {len(costs)} runs that record it (deposit and "
+            f"tilt; a run {med:.3g} s, median, {both[0]:.3g} to {both[-1]:.3g} s).")
+
+
 def _dataset(name, doc=None):
     """A Run property: the dataset `name`, read whole when first asked for."""
     return property(lambda run: run._read(name), doc=doc)

@@ -40,6 +40,8 @@ grep -q '^| theta_c (deg) | about 20 (19.96) | ' "$study/report.md"
 # Every row has a number or a reason: no bare n/a, and every "none" says why.
 if grep -q 'n/a' "$study/report.md"; then cat "$study/report.md" >&2; exit 1; fi
 if grep -E '\| none \|' "$study/report.md"; then echo "a none without its reason" >&2; exit 1; fi
+# and what the runs cost, from the CPU their deposits and tilts recorded (cpu_s)
+grep -Eq '^Cost: [0-9.e+-]+ s of CPU for the 2 of 2 runs that record it' "$study/report.md" || { cat "$study/report.md" >&2; exit 1; }
 "$PY" - "$study" <<'PY'
 import h5py, sys
 s = sys.argv[1]
