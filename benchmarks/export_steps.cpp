@@ -20,12 +20,13 @@
 // of the run's, as `tilt-cd --branch-at DEG --stiffness K` would: the same steps at another k;
 // with --solver NAME, by that solver (cd::solver_from_name) instead of the run's. The last
 // column is the CPU time of the step [ms], so that solvers compare on the same steps
-// (docs/performance.md, "A factorised solver"); --max-substeps and --max-sweeps replace
-// those settings (--max-substeps 1: every step's problem at the full h). With --none no file
+// (docs/performance.md, "A factorised solver"); --max-substeps, --max-sweeps and
+// --substep-after replace those settings (--max-substeps 1: every step's problem at the full
+// h). With --none no file
 // is written.
 //
 // Usage: export_steps RUN DEG STEPS OUTDIR [--all | --none] [--stiffness K] [--solver NAME]
-//                     [--max-substeps N] [--max-sweeps N]
+//                     [--max-substeps N] [--max-sweeps N] [--substep-after S]
 #include "cdpile/analysis/critical.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
@@ -56,7 +57,7 @@ namespace {
 
 int usage() {
   std::cerr << "usage: export_steps RUN DEG STEPS OUTDIR [--all | --none] [--stiffness K] "
-               "[--solver NAME] [--max-substeps N] [--max-sweeps N]\n";
+               "[--solver NAME] [--max-substeps N] [--max-sweeps N] [--substep-after S]\n";
   return 2;
 }
 
@@ -98,7 +99,7 @@ int main(int argc, char** argv) {
   bool all = false, none = false;
   std::optional<double> stiffness;  // [m g / D]
   std::optional<std::string> solver;
-  std::optional<int> max_substeps, max_sweeps;
+  std::optional<int> max_substeps, max_sweeps, substep_after;
   for (int a = 5; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--all")
@@ -113,6 +114,8 @@ int main(int argc, char** argv) {
       max_substeps = std::stoi(argv[++a]);
     else if (arg == "--max-sweeps" && a + 1 < argc)
       max_sweeps = std::stoi(argv[++a]);
+    else if (arg == "--substep-after" && a + 1 < argc)
+      substep_after = std::stoi(argv[++a]);
     else
       return usage();
   }
@@ -138,6 +141,7 @@ int main(int argc, char** argv) {
     if (solver) settings.solver = cd::solver_from_name(*solver);
     if (max_substeps) settings.max_substeps = *max_substeps;
     if (max_sweeps) settings.max_sweeps = *max_sweeps;
+    if (substep_after) settings.substep_after = *substep_after;
     const double rate_deg = io::as_real(pile.parameters, sim::parameter_key("rate_deg"), run);
     cd::Engine engine(pile.box, pile.grains, settings);
     engine.set_state(sim::warm_start_state(pile.contacts, settings.time_step));
