@@ -76,7 +76,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   // The run's CPU: the earlier processes' (from the checkpoint) and this one's, kept in
   // every checkpoint and recorded in the run's provenance at its end.
   const double cpu_before = st.cpu_s;
-  auto clock = [&] { st.cpu_s = cpu_before + io::process_cpu_s(); };
+  auto note_cpu = [&] { st.cpu_s = cpu_before + io::process_cpu_s(); };
   std::int64_t step = engine.state().step;
   out.first_step = step;
   auto stop = [&] { return hooks.stop && hooks.stop(); };
@@ -87,7 +87,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
   // a checkpoint in OUTPUT.partial or the run so far on standard output.
   auto interrupted = [&] {
     if (!rec.checkpoints()) deferring(false);  // a blocked standard output must not hold the tool
-    clock();
+    note_cpu();
     rec.interrupt(pending, engine, st);
     out.steps = step;
     out.final_angle_deg = angle_deg(o, step);
@@ -141,14 +141,14 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
     if (step >= last) break;
     if (stop()) return interrupted();
     if (step % o.checkpoint_every == 0) {
-      clock();
+      note_cpu();
       rec.commit(pending, engine, st);
     }
   }
   // The last step made durable: from here on a kill loses nothing but the final copy
   // (resumed, the run only writes its output), so a signal may end the tool at once.
   if (rec.checkpoints()) {
-    clock();
+    note_cpu();
     rec.commit(pending, engine, st);
     deferring(false);
     if (stop()) return interrupted();
@@ -188,7 +188,7 @@ TiltOutcome drive(cd::Engine& engine, Recorder& rec, const TiltOptions& o, LoopS
     results["avalanche_confirmed_step"] = st.detector.confirmed_step;
   }
   deferring(false);
-  clock();
+  note_cpu();
   rec.finish(pending, engine, st, results);
   return out;
 }
