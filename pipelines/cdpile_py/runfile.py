@@ -2,6 +2,7 @@
 of tilt-cd or deposit (Run), and an analysis product of critical, localnu, correlate or
 clusterfit (Product)."""
 import os
+import statistics
 import sys
 
 import h5py
@@ -58,7 +59,7 @@ def cost_line(path):
                 "2026-12-02 do not record their CPU).")
     both.sort()
     n = len(both)
-    med = both[n // 2] if n % 2 else 0.5 * (both[n // 2 - 1] + both[n // 2])
+    med = statistics.median(both)
     total = sum(both)
     total_text = f"{total:.3g} s of CPU" if total < 3600 else f"{total / 3600:.3g} CPU-hours"
     return (f"Cost: {total_text} for the {n} of {len(costs)} runs that record it (deposit and "

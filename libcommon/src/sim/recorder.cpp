@@ -184,10 +184,10 @@ void FileRecorder::finish(Pending& p, const cd::Engine& e, const LoopState& s,
   h5::File src = h5::open_read(partial_, partial_);
   io::RunHeader h = io::read_header(src);
   h.results = results;
-  if (!h.provenance.empty()) h.provenance.back().cpu_s = s.cpu_s;  // the tilt's: last in a run
   io::Output out(output_, force_);
   h5::File& dst = out.create_hdf5();
   io::write_header(dst, h);
+  io::set_last_cpu(dst, s.cpu_s);  // the tilt's entry, last in a run's history
   // The units module as the partial declared it (a partial written before it was
   // declared keeps its old unit texts, so it is not declared for them either).
   if (h5::exists(src, "/h5md/modules/units")) io::declare_units_module(dst);
