@@ -1,0 +1,169 @@
+#!/usr/bin/python3
+"""nu over a range of tilt against the contact stiffness k and the time step, each study
+paired by seed with a reference study: where the number stops moving
+(docs/reproduction.md, "The time step moves nu as much as k").
+
+    pipelines/limit.py REFERENCE STUDY [STUDY ...] [--to 10] [-o CHART.png]
+
+Each argument is a folder of run summaries (`make -C pipelines summaries`), run-SEED.summary.h5,
+made on the same piles (the same seeds of one preparation) tilted at different settings.
+What a study was made with is read from its summaries' /parameters, not from its name: the
+stiffness k (run_contact_stiffness_mgD, in m g/D; 0 for rigid contacts), the step h
+(run_time_step_s) and the sub-steps (run_max_substeps N, run_substep_after S). With S = 1
+every step is split to h/N from the first on (docs/method.md, "Sub-steps"), so the step is
+h_s = h/N; otherwise a step is split only where it has not converged after S sweeps, and
+the study's step is h (its few split steps are what the defaults do). The folders' runs
+must agree on these; a folder that mixes them is refused.
+
+Prints a markdown table, a row per study: k, the step, k h_s^2 / m (the contact's
+stiffness against the step: m g / D units make it k g h_s^2 / D; at order 1 and below the
+step resolves the contact's time scale sqrt(m / k)), the pairs with the reference, the
+reference's and the study's nu over 0-TO degrees (each run's mean of its per-degree nu,
+pipelines/stiffness.py), their paired difference with its standard error over the pairs,
+in percent of the reference and in standard errors; the reference first, then by k (rigid
+last) and by step from coarse to fine. The chart (-o, PNG and PDF beside it)
+shows each study's nu as the reference's mean over all its seeds plus the paired
+difference (± its s.e.) against k h_s^2 / m, one line per k through its forced steps and
+its adaptive study that splits least; an adaptive study with a lower S beside it, open.
+"""
+import argparse
+import math
+import os
+import sys
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdpile_py.stats import mean_sd_se  # noqa: E402
+from stiffness import from_summaries, pm  # noqa: E402
+
+PROG = "limit.py"
+SETTINGS = ("run_contact_stiffness_mgD", "run_time_step_s", "run_max_substeps", "run_substep_after",
+            "run_gravity_m_s2", "run_diameter_mean_m")
+
+
+def fail(msg):
+    print(f"{PROG}: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+def settings(folder):
+    """The settings every summary in `folder` was made with (one dict); refused when they
+    differ from run to run or are missing."""
+    found = {}
+    for name in sorted(os.listdir(folder)):
+        if not (name.startswith("run-") and name.endswith(".summary.h5")):
+            continue
+        path = os.path.join(folder, name)
+        try:
+            with h5py.File(path, "r") as f:
+                attrs = f["parameters"].attrs
+                s = tuple(float(attrs[k]) for k in SETTINGS)
+        except (OSError, KeyError) as e:
+            fail(f"{path}: not a summary with the run's parameters ({e})")
+        found.setdefault(s, name)
+    if not found:
+        fail(f"{folder}: no run-SEED.summary.h5")
+    if len(found) > 1:
+        a, b = list(found.values())[:2]
+        fail(f"{folder}: {a} and {b} were made with different settings (k, h or sub-steps)")
+    k, h, n, after, g, d = next(iter(found))
+    forced = after == 1 and n > 1
+    h_s = h / n if forced else h
+    # rigid contacts (k = 0) are the limit k h_s^2 / m -> infinity
+    return {"k": k, "h": h, "n": int(n), "after": int(after), "forced": forced, "h_s": h_s,
+            "khm": k * g * h_s ** 2 / d if k > 0 else math.inf}
+
+
+def step_label(s):
+    if s["forced"]:
+        return f"h/{s['n']} (every step)"
+    if s["n"] > 1:
+        return f"h (split after {s['after']} sweeps, to h/{s['n']})"
+    return "h"
+
+
+def k_label(k):
+    return "rigid" if k == 0 else f"{k:.0e}".replace("e+0", "e")
+
+
+def nu_over_range(folder, to):
+    """{seed: nu over 0-to} of the summaries in `folder`: each run's mean of its degrees."""
+    runs, _ = from_summaries(folder, to)
+    with np.errstate(invalid="ignore"):
+        return {s: float(np.nanmean(v)) if np.isfinite(v).any() else math.nan for s, v in runs.items()}
+
+
+def main():
+    p = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
+    p.add_argument("reference", help="the reference study's summaries folder")
+    p.add_argument("studies", nargs="+", help="the other studies' summaries folders")
+    p.add_argument("--to", type=int, default=10, help="the last degree [deg] (default 10)")
+    p.add_argument("-o", "--output", help="the chart (PNG; a PDF beside it)")
+    a = p.parse_args()
+    if a.to < 1:
+        fail(f"--to {a.to}: give at least 1 degree")
+    folders = [a.reference] + a.studies
+    for f in folders:
+        if not os.path.isdir(f):
+            fail(f"{f}: not a folder of summaries")
+    sets = [settings(f) for f in folders]
+    nus = [nu_over_range(f, a.to) for f in folders]
+    ref = nus[0]
+    ref_s = sets[0]
+    ref_all = mean_sd_se(np.array([x for x in ref.values() if math.isfinite(x)]))[0]
+    points, rows = [], []
+    # the reference first, then by k (rigid last), by step from coarse to fine, by S
+    order = [0] + sorted(range(1, len(folders)), key=lambda i: (sets[i]["khm"] == math.inf, sets[i]["k"],
+                                                               -sets[i]["h_s"], -sets[i]["after"]))
+    for i in order:
+        folder, s, nu, same = folders[i], sets[i], nus[i], i == 0
+        seeds = sorted(x for x in set(ref) & set(nu) if math.isfinite(ref[x]) and math.isfinite(nu[x]))
+        name = os.path.basename(os.path.normpath(folder))
+        if not seeds:
+            fail(f"{folder}: no seed in common with the reference")
+        r = np.array([ref[x] for x in seeds])
+        v = np.array([nu[x] for x in seeds])
+        mr, _, _ = mean_sd_se(r)
+        mv, _, _ = mean_sd_se(v)
+        d, _, se = mean_sd_se(v - r)
+        rel = f"{100 * d / mr:+.1f} %" if not same and mr else ""
+        nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
+        diff = "" if same else pm(d, se)
+        rows.append(f"| {name} | {k_label(s['k'])} | {step_label(s)} | {s['khm']:.3g} | {len(seeds)} | {mr:.4f} | "
+              f"{mv:.4f} | {diff} | {rel} | {nse} |")
+        points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
+    print(f"nu over 0-{a.to} deg against the stiffness and the step, each study paired by seed with "
+          f"{os.path.basename(os.path.normpath(a.reference))} (k = {k_label(ref_s['k'])} m g/D, "
+          f"{step_label(ref_s)}, h = {ref_s['h']:g} s); difference = study - reference, mean ± s.e. over the pairs")
+    print()
+    print("| study | k (m g/D) | step | k h_s^2 / m | pairs | nu, reference | nu, study | difference | relative | in s.e. |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("\n".join(rows))
+    if a.output:
+        from cdpile_py.style import plt, save
+        fig, ax = plt.subplots(figsize=(5.5, 3.6))
+        for k in sorted({s["k"] for s, _, _ in points if s["k"] > 0}):  # rigid: in the table only
+            mine = [(s, y, e) for s, y, e in points if s["k"] == k]
+            # the line: the forced steps and the adaptive study that splits least (the largest
+            # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
+            least = max((s["after"] for s, _, _ in mine if not s["forced"]), default=None)
+            line = sorted((s["khm"], y, e) for s, y, e in mine if s["forced"] or s["after"] == least)
+            x, y, e = (np.array(t) for t in zip(*line))
+            drawn = ax.errorbar(x, y, yerr=e, fmt="o-", ms=4, capsize=2, label=f"k = {k_label(k)} m g/D")
+            for s, y, e in mine:
+                if not s["forced"] and s["after"] != least:
+                    ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
+                                color=drawn[0].get_color(),
+                                label=f"k = {k_label(k)} m g/D, split after {s['after']} sweeps")
+        ax.set_xscale("log")
+        ax.set_xlabel("k h_s^2 / m  (h_s: the step; every step split to h/N where forced)")
+        ax.set_ylabel(f"nu over 0-{a.to} deg")
+        ax.set_title(f"the reference's mean ({len(ref)} piles) plus the paired difference, ± s.e.", fontsize=9)
+        ax.legend(fontsize=8)
+        save(fig, os.path.dirname(a.output) or ".", os.path.splitext(os.path.basename(a.output))[0])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,84 @@
+# pipelines/limit.py at its smallest (60 disks, two seeds, to 2 degrees at k = 1e4): three
+# studies of the same piles, at h, every step at h/4, and k = 1e5 at h; each row's nu over
+# 0-2 degrees is each run's mean of its per-degree nu from the run files' own per-step
+# counts, its difference the paired one; the step and k h_s^2 / m are read from the
+# summaries' parameters, not from the folders' names; the chart is written; a folder whose
+# runs were made with different settings, one without a seed in common and one that is
+# not there are refused in one line with nothing on stdout.
+# ctest: slow, timeout 120
+B=$CDPILE_BIN
+for s in 1 2; do
+  "$B/deposit" --grains 60 --width 10 --seed $s --quiet -o pile-$s.h5
+done
+tilt() {  # folder seed options...
+  local dir=$1 s=$2; shift 2
+  mkdir -p runs/$dir sum/$dir
+  "$B/tilt-cd" pile-$s.h5 --rate 0.05 --to 2 --frame-every-deg 1 --quiet "$@" -o runs/$dir/run-$s.h5
+  (cd runs/$dir && "$B/summarise" run-$s.h5 --radii 1:1:3 --map-theta 1 --quiet -o ../../sum/$dir/run-$s.summary.h5)
+}
+for s in 1 2; do
+  tilt soft $s --stiffness 1e4
+  tilt fine $s --stiffness 1e4 --substep-after 1 --max-substeps 4
+  tilt stiff $s --stiffness 1e5
+done
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/stiff --to 2 -o chart.png > table.md 2> err.log \
+  || { cat err.log >&2; exit 1; }
+[[ -s chart.png && -s chart.pdf ]]
+"$PY" - table.md <<'PYEOF'
+import sys, h5py, numpy as np
+table = sys.argv[1]
+def nu(dir, s):
+    """each run's mean over its degrees of the per-step critical / contacts (grain-grain)"""
+    with h5py.File(f"runs/{dir}/run-{s}.h5", "r") as r:
+        th = np.round(r["observables/tilt_angle/value"][()], 9)
+        c = r["observables/critical_grain/value"][()].astype(float)
+        n = r["observables/contacts_grain/value"][()].astype(float)
+    per = []
+    for d in range(2):
+        m = ((th > d) & (th <= d + 1) if d else (th <= 1)) & (n > 0)
+        per.append((c[m] / n[m]).mean())
+    return np.mean(per)
+rows = {l.split("|")[1].strip(): [x.strip() for x in l.split("|")[1:-1]] for l in open(table) if l.startswith("| ")}
+assert set(rows) >= {"soft", "fine", "stiff"}, rows
+# k g h_s^2 / D: h = 1e-4 s, D = 1e-3 m (deposit's defaults), h_s = h/4 where every step split
+want_step = {"soft": ("1e4", "h (split after 1000 sweeps, to h/64)", 1e4 * 9.81 * 1e-8 / 1e-3), "fine": ("1e4", "h/4 (every step)", 1e4 * 9.81 * 1e-8 / 16 / 1e-3),
+             "stiff": ("1e5", "h (split after 1000 sweeps, to h/64)", 1e5 * 9.81 * 1e-8 / 1e-3)}
+ref = np.array([nu("soft", s) for s in (1, 2)])
+for name, (k, step, khm) in want_step.items():
+    r = rows[name]
+    assert r[1] == k and r[2] == step, r
+    assert abs(float(r[3]) - khm) <= 1e-3 * khm, (r, khm)
+    assert r[4] == "2", r
+    got = np.array([nu(name, s) for s in (1, 2)])
+    assert abs(float(r[5]) - ref.mean()) < 5e-5 and abs(float(r[6]) - got.mean()) < 5e-5, (r, ref, got)
+    if name == "soft":
+        assert r[7] == "", r
+        continue
+    d = (got - ref).mean()
+    assert d != 0 and abs(float(r[7].split("±")[0]) - d) <= 5e-3 * abs(d), (r, d)  # printed to 3 digits
+PYEOF
+# Refused in one line, nothing on stdout: mixed settings, no common seed, no folder.
+mkdir -p mixed one
+cp sum/soft/run-1.summary.h5 mixed/ && cp sum/stiff/run-2.summary.h5 mixed/
+cp sum/fine/run-1.summary.h5 one/run-3.summary.h5
+expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h or sub-steps)" \
+  "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft mixed
+expect_fail 1 "limit.py: one: no seed in common with the reference" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft one
+expect_fail 1 "limit.py: nothing: not a folder of summaries" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft nothing
+# make limit: the studies of the study's piles found by their names under SUMMARY_ROOT (a
+# study without a summary yet, and one of another preparation, left out), the same rows.
+base=N60-R1.5-mu0.5-rate0.05-pcg
+mkdir -p root/t-$base-k1e4 root/t-to2-h4-$base-k1e4 root/t-to2-$base-k1e5 root/t-to2-$base-k1e9 root/t-to2-$base-mudep0.1-k1e5
+cp sum/soft/* root/t-$base-k1e4/ && cp sum/fine/* root/t-to2-h4-$base-k1e4/ && cp sum/stiff/* root/t-to2-$base-k1e5/
+cp sum/fine/* root/t-to2-$base-mudep0.1-k1e5/
+make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
+  LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" CDPILE_BIN="$B" > make.md 2> make.err || { cat make.err >&2; exit 1; }
+cmp make.md docs/limit-t-$base-k1e4.md
+[[ -s docs/limit-t-$base-k1e4.png && -s docs/limit-t-$base-k1e4.pdf ]]
+diff <(grep '^| ' table.md | cut -d'|' -f3-) <(grep '^| ' make.md | cut -d'|' -f3-) || { cat make.md >&2; exit 1; }
+grep -q "^| t-to2-h4-$base-k1e4 | 1e4 | h/4 (every step) |" make.md || { cat make.md >&2; exit 1; }
+# no such study: make's one line (then make's own), nothing on stdout
+if make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=u GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
+  LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" > none.md 2> none.err; then echo "limit made a table of nothing" >&2; exit 1; fi
+grep -qx "pipelines: limit: no study of u-$base-k1e4's piles tilted to 2 degrees in $PWD/root" none.err || { cat none.err >&2; exit 1; }
+[[ ! -s none.md ]]
