@@ -21,10 +21,13 @@ step resolves the contact's time scale sqrt(m / k)), the pairs with the referenc
 reference's and the study's nu over 0-TO degrees (each run's mean of its per-degree nu,
 pipelines/stiffness.py), their paired difference with its standard error over the pairs,
 in percent of the reference and in standard errors; the reference first, then by k (rigid
-last) and by step from coarse to fine. The chart (-o, PNG and PDF beside it)
-shows each study's nu as the reference's mean over all its seeds plus the paired
-difference (± its s.e.) against k h_s^2 / m, one line per k through its forced steps and
-its adaptive study that splits least; an adaptive study with a lower S beside it, open.
+last) and by step from coarse to fine. A second table of the same form gives the share of
+the counted contacts with |f_t| / (mu f_n) >= 0.95 (the frames' mobilisation histogram's
+top bin): whether what moves is the count exactly at the bound (nu's test, within 1e-3) or
+the contacts near it as well. The chart (-o, PNG and PDF beside it) shows both, each
+study's value as the reference's mean over all its seeds plus the paired difference (± its
+s.e.) against k h_s^2 / m, one line per k through its forced steps and its adaptive study
+that splits least; an adaptive study with a lower S beside it, open.
 """
 import argparse
 import math
@@ -36,7 +39,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cdpile_py.stats import mean_sd_se  # noqa: E402
-from stiffness import from_summaries, pm  # noqa: E402
+from stiffness import MOBILISATION_BINS, from_summaries, per_degree, pm  # noqa: E402
 
 PROG = "limit.py"
 SETTINGS = ("run_contact_stiffness_mgD", "run_time_step_s", "run_max_substeps", "run_substep_after",
@@ -88,11 +91,71 @@ def k_label(k):
     return "rigid" if k == 0 else f"{k:.0e}".replace("e+0", "e")
 
 
-def nu_over_range(folder, to):
-    """{seed: nu over 0-to} of the summaries in `folder`: each run's mean of its degrees."""
-    runs, _ = from_summaries(folder, to)
-    with np.errstate(invalid="ignore"):
-        return {s: float(np.nanmean(v)) if np.isfinite(v).any() else math.nan for s, v in runs.items()}
+def over_range(folder, to):
+    """{seed: (nu, near)} of the summaries in `folder`, each over 0-to as the run's mean of its
+    degrees: nu from the steps table (critical / contacts, pipelines/stiffness.py), near the
+    share of the counted contacts with |f_t| / (mu f_n) >= 0.95 (the top bin of the frames
+    table's mobilisation histogram, docs/analysis.md, "Slipping and mobilisation")."""
+    nu, _ = from_summaries(folder, to)
+    out = {}
+    for seed in nu:
+        with h5py.File(os.path.join(folder, f"run-{seed}.summary.h5"), "r") as f:
+            frames = f["tables/frames"]
+            counts = np.array([frames[f"mobilisation_{i}"][()] for i in range(MOBILISATION_BINS)], float)
+            near = per_degree(frames["theta"][()], counts.sum(axis=0), counts[-1], to)
+        with np.errstate(invalid="ignore"):
+            out[seed] = tuple(float(np.nanmean(v)) if np.isfinite(v).any() else math.nan for v in (nu[seed], near))
+    return out
+
+
+def table(folders, sets, values, order):
+    """The rows of one quantity's table, and the chart's points (settings, value, s.e.):
+    each study against the reference (folders[0]), paired by seed."""
+    ref = values[0]
+    ref_all = mean_sd_se(np.array([x for x in ref.values() if math.isfinite(x)]))[0]
+    rows, points = [], []
+    for i in order:
+        folder, s, v_i = folders[i], sets[i], values[i]
+        seeds = sorted(x for x in set(ref) & set(v_i) if math.isfinite(ref[x]) and math.isfinite(v_i[x]))
+        if not seeds:
+            fail(f"{folder}: no seed in common with the reference")
+        r = np.array([ref[x] for x in seeds])
+        v = np.array([v_i[x] for x in seeds])
+        mr, mv = mean_sd_se(r)[0], mean_sd_se(v)[0]
+        d, _, se = mean_sd_se(v - r)
+        same = i == 0
+        rel = f"{100 * d / mr:+.1f} %" if not same and mr else ""
+        nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
+        rows.append(f"| {os.path.basename(os.path.normpath(folder))} | {k_label(s['k'])} | {step_label(s)} | "
+                    f"{s['khm']:.3g} | {len(seeds)} | {mr:.4f} | {mv:.4f} | {'' if same else pm(d, se)} | {rel} | {nse} |")
+        points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
+    return rows, points
+
+
+def print_table(title, quantity, rows):
+    print(title)
+    print()
+    print(f"| study | k (m g/D) | step | k h_s^2 / m | pairs | {quantity}, reference | {quantity}, study | difference | relative | in s.e. |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("\n".join(rows))
+
+
+def chart(ax, points, ylabel):
+    for k in sorted({s["k"] for s, _, _ in points if s["k"] > 0}):  # rigid: in the table only
+        mine = [(s, y, e) for s, y, e in points if s["k"] == k]
+        # the line: the forced steps and the adaptive study that splits least (the largest
+        # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
+        least = max((s["after"] for s, _, _ in mine if not s["forced"]), default=None)
+        line = sorted((s["khm"], y, e) for s, y, e in mine if s["forced"] or s["after"] == least)
+        x, y, e = (np.array(t) for t in zip(*line))
+        drawn = ax.errorbar(x, y, yerr=e, fmt="o-", ms=4, capsize=2, label=f"k = {k_label(k)} m g/D")
+        for s, y, e in mine:
+            if not s["forced"] and s["after"] != least:
+                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
+                            color=drawn[0].get_color(), label=f"k = {k_label(k)} m g/D, split after {s['after']} sweeps")
+    ax.set_xscale("log")
+    ax.set_xlabel("k h_s^2 / m")
+    ax.set_ylabel(ylabel)
 
 
 def main():
@@ -109,61 +172,32 @@ def main():
         if not os.path.isdir(f):
             fail(f"{f}: not a folder of summaries")
     sets = [settings(f) for f in folders]
-    nus = [nu_over_range(f, a.to) for f in folders]
-    ref = nus[0]
-    ref_s = sets[0]
-    ref_all = mean_sd_se(np.array([x for x in ref.values() if math.isfinite(x)]))[0]
-    points, rows = [], []
+    both = [over_range(f, a.to) for f in folders]
+    nus = [{seed: v[0] for seed, v in b.items()} for b in both]
+    nears = [{seed: v[1] for seed, v in b.items()} for b in both]
     # the reference first, then by k (rigid last), by step from coarse to fine, by S
     order = [0] + sorted(range(1, len(folders)), key=lambda i: (sets[i]["khm"] == math.inf, sets[i]["k"],
                                                                -sets[i]["h_s"], -sets[i]["after"]))
-    for i in order:
-        folder, s, nu, same = folders[i], sets[i], nus[i], i == 0
-        seeds = sorted(x for x in set(ref) & set(nu) if math.isfinite(ref[x]) and math.isfinite(nu[x]))
-        name = os.path.basename(os.path.normpath(folder))
-        if not seeds:
-            fail(f"{folder}: no seed in common with the reference")
-        r = np.array([ref[x] for x in seeds])
-        v = np.array([nu[x] for x in seeds])
-        mr, _, _ = mean_sd_se(r)
-        mv, _, _ = mean_sd_se(v)
-        d, _, se = mean_sd_se(v - r)
-        rel = f"{100 * d / mr:+.1f} %" if not same and mr else ""
-        nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
-        diff = "" if same else pm(d, se)
-        rows.append(f"| {name} | {k_label(s['k'])} | {step_label(s)} | {s['khm']:.3g} | {len(seeds)} | {mr:.4f} | "
-              f"{mv:.4f} | {diff} | {rel} | {nse} |")
-        points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
-    print(f"nu over 0-{a.to} deg against the stiffness and the step, each study paired by seed with "
-          f"{os.path.basename(os.path.normpath(a.reference))} (k = {k_label(ref_s['k'])} m g/D, "
-          f"{step_label(ref_s)}, h = {ref_s['h']:g} s); difference = study - reference, mean ± s.e. over the pairs")
+    nu_rows, nu_points = table(folders, sets, nus, order)
+    near_rows, near_points = table(folders, sets, nears, order)
+    ref = sets[0]
+    against = (f"each study paired by seed with {os.path.basename(os.path.normpath(a.reference))} (k = "
+               f"{k_label(ref['k'])} m g/D, {step_label(ref)}, h = {ref['h']:g} s); difference = study - "
+               f"reference, mean ± s.e. over the pairs")
+    print_table(f"nu over 0-{a.to} deg against the stiffness and the step, {against}", "nu", nu_rows)
     print()
-    print("| study | k (m g/D) | step | k h_s^2 / m | pairs | nu, reference | nu, study | difference | relative | in s.e. |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
-    print("\n".join(rows))
+    print_table(f"The share of the counted contacts with |f_t| / (mu f_n) >= 0.95 over 0-{a.to} deg (the "
+                f"mobilisation histogram's top bin: a critical test 50 times wider than nu's), {against}",
+                ">= 0.95", near_rows)
     if a.output:
         from cdpile_py.style import plt, save
-        fig, ax = plt.subplots(figsize=(5.5, 3.6))
-        for k in sorted({s["k"] for s, _, _ in points if s["k"] > 0}):  # rigid: in the table only
-            mine = [(s, y, e) for s, y, e in points if s["k"] == k]
-            # the line: the forced steps and the adaptive study that splits least (the largest
-            # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
-            least = max((s["after"] for s, _, _ in mine if not s["forced"]), default=None)
-            line = sorted((s["khm"], y, e) for s, y, e in mine if s["forced"] or s["after"] == least)
-            x, y, e = (np.array(t) for t in zip(*line))
-            drawn = ax.errorbar(x, y, yerr=e, fmt="o-", ms=4, capsize=2, label=f"k = {k_label(k)} m g/D")
-            for s, y, e in mine:
-                if not s["forced"] and s["after"] != least:
-                    ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
-                                color=drawn[0].get_color(),
-                                label=f"k = {k_label(k)} m g/D, split after {s['after']} sweeps")
-        ax.set_xscale("log")
-        ax.set_xlabel("k h_s^2 / m  (h_s: the step; every step split to h/N where forced)")
-        ax.set_ylabel(f"nu over 0-{a.to} deg")
-        ax.set_title(f"the reference's mean ({len(ref)} piles) plus the paired difference, ± s.e.", fontsize=9)
-        ax.legend(fontsize=8)
+        fig, axes = plt.subplots(1, 2, figsize=(9.5, 3.8))
+        chart(axes[0], nu_points, f"nu over 0-{a.to} deg")
+        chart(axes[1], near_points, f"share at |f_t| / (mu f_n) >= 0.95, 0-{a.to} deg")
+        axes[0].legend(fontsize=7)
+        fig.suptitle(f"the reference's mean ({len(nus[0])} piles) plus the paired difference, ± s.e.; "
+                     f"h_s: the step (h/N where every step is split)", fontsize=9)
         save(fig, os.path.dirname(a.output) or ".", os.path.splitext(os.path.basename(a.output))[0])
-
 
 if __name__ == "__main__":
     main()
