@@ -24,7 +24,8 @@ in percent of the reference and in standard errors; the reference first, then by
 last) and by step from coarse to fine. A second table of the same form gives the share of
 the counted contacts with |f_t| / (mu f_n) >= 0.95 (the frames' mobilisation histogram's
 top bin): whether what moves is the count exactly at the bound (nu's test, within 1e-3) or
-the contacts near it as well. The chart (-o, PNG and PDF beside it) shows both, each
+the contacts near it as well; a third, the median over the steps of the pile's kinetic
+energy: how agitated the pile stays between its rearrangements. The chart (-o, PNG and PDF beside it) shows both, each
 study's value as the reference's mean over all its seeds plus the paired difference (± its
 s.e.) against k h_s^2 / m, one line per k through its forced steps and its adaptive study
 that splits least; an adaptive study with a lower S beside it, open.
@@ -92,10 +93,12 @@ def k_label(k):
 
 
 def over_range(folder, to):
-    """{seed: (nu, near)} of the summaries in `folder`, each over 0-to as the run's mean of its
-    degrees: nu from the steps table (critical / contacts, pipelines/stiffness.py), near the
-    share of the counted contacts with |f_t| / (mu f_n) >= 0.95 (the top bin of the frames
-    table's mobilisation histogram, docs/analysis.md, "Slipping and mobilisation")."""
+    """{seed: (nu, near, quiet)} of the summaries in `folder` over 0-to: nu from the steps
+    table (critical / contacts, pipelines/stiffness.py) and near, the share of the counted
+    contacts with |f_t| / (mu f_n) >= 0.95 (the top bin of the frames table's mobilisation
+    histogram, docs/analysis.md, "Slipping and mobilisation"), each as the run's mean of its
+    degrees; quiet, the median over the steps of the pile's kinetic energy (J/m): its
+    agitation between rearrangements, which a step that damps less leaves higher."""
     nu, _ = from_summaries(folder, to)
     out = {}
     for seed in nu:
@@ -103,12 +106,15 @@ def over_range(folder, to):
             frames = f["tables/frames"]
             counts = np.array([frames[f"mobilisation_{i}"][()] for i in range(MOBILISATION_BINS)], float)
             near = per_degree(frames["theta"][()], counts.sum(axis=0), counts[-1], to)
+            steps = f["tables/steps"]
+            energy = steps["kinetic_energy"][()][np.round(steps["theta"][()], 9) <= to]
         with np.errstate(invalid="ignore"):
             out[seed] = tuple(float(np.nanmean(v)) if np.isfinite(v).any() else math.nan for v in (nu[seed], near))
+        out[seed] += (float(np.median(energy)) if energy.size else math.nan,)
     return out
 
 
-def table(folders, sets, values, order):
+def table(folders, sets, values, order, fmt=".4f"):
     """The rows of one quantity's table, and the chart's points (settings, value, s.e.):
     each study against the reference (folders[0]), paired by seed."""
     ref = values[0]
@@ -127,7 +133,7 @@ def table(folders, sets, values, order):
         rel = f"{100 * d / mr:+.1f} %" if not same and mr else ""
         nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
         rows.append(f"| {os.path.basename(os.path.normpath(folder))} | {k_label(s['k'])} | {step_label(s)} | "
-                    f"{s['khm']:.3g} | {len(seeds)} | {mr:.4f} | {mv:.4f} | {'' if same else pm(d, se)} | {rel} | {nse} |")
+                    f"{s['khm']:.3g} | {len(seeds)} | {mr:{fmt}} | {mv:{fmt}} | {'' if same else pm(d, se)} | {rel} | {nse} |")
         points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
     return rows, points
 
@@ -175,11 +181,13 @@ def main():
     both = [over_range(f, a.to) for f in folders]
     nus = [{seed: v[0] for seed, v in b.items()} for b in both]
     nears = [{seed: v[1] for seed, v in b.items()} for b in both]
+    quiets = [{seed: v[2] for seed, v in b.items()} for b in both]
     # the reference first, then by k (rigid last), by step from coarse to fine, by S
     order = [0] + sorted(range(1, len(folders)), key=lambda i: (sets[i]["khm"] == math.inf, sets[i]["k"],
                                                                -sets[i]["h_s"], -sets[i]["after"]))
     nu_rows, nu_points = table(folders, sets, nus, order)
     near_rows, near_points = table(folders, sets, nears, order)
+    quiet_rows, _ = table(folders, sets, quiets, order, ".3g")
     ref = sets[0]
     against = (f"each study paired by seed with {os.path.basename(os.path.normpath(a.reference))} (k = "
                f"{k_label(ref['k'])} m g/D, {step_label(ref)}, h = {ref['h']:g} s); difference = study - "
@@ -189,6 +197,9 @@ def main():
     print_table(f"The share of the counted contacts with |f_t| / (mu f_n) >= 0.95 over 0-{a.to} deg (the "
                 f"mobilisation histogram's top bin: a critical test 50 times wider than nu's), {against}",
                 ">= 0.95", near_rows)
+    print()
+    print_table(f"The pile's kinetic energy (J/m), the median over the steps of 0-{a.to} deg (its agitation "
+                f"between rearrangements), {against}", "kinetic energy", quiet_rows)
     if a.output:
         from cdpile_py.style import plt, save
         fig, axes = plt.subplots(1, 2, figsize=(9.5, 3.8))
