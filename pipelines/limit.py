@@ -210,5 +210,6 @@ def main():
                      f"h_s: the step (h/N where every step is split)", fontsize=9)
         save(fig, os.path.dirname(a.output) or ".", os.path.splitext(os.path.basename(a.output))[0])
 
+
 if __name__ == "__main__":
     main()
