@@ -644,3 +644,117 @@ TEST(Checks, AStateThatIsNotFiniteStopsTheStepNamed) {
     }
   }
 }
+
+// --- the contact dashpot (docs/method.md, "The contact dashpot") -------------------
+
+namespace {
+
+/// One disk set on the floor with no force at t = 0, at rest, under gravity, with the
+/// spring k [N/m^2] and the dashpot of ratio zeta: step h, fully converged.
+cd::Engine disk_set_on_the_floor(double k, double zeta, double h) {
+  cd::Settings s = settings();
+  s.time_step = h;
+  s.contact_stiffness = k;
+  s.contact_damping_ratio = zeta;
+  return cd::Engine(Box{0.1, 0.1}, one_disk(), s);
+}
+
+/// The floor's force on a disk of mass m set on it at rest with no force at t = 0: with
+/// the overlap d, m d'' = m g - k d - eta d', d(0) = d'(0) = 0, the force k d + eta d'
+/// (underdamped: eta < 2 sqrt(k m)).
+double damped_oscillator_force(double k, double eta, double m, double t) {
+  const double w0 = std::sqrt(k / m), a = eta / (2 * m), wd = std::sqrt(w0 * w0 - a * a);
+  const double g = 9.81, e = std::exp(-a * t);
+  const double d = g / (w0 * w0) * (1 - e * (std::cos(wd * t) + a / wd * std::sin(wd * t)));
+  const double v = g / wd * e * std::sin(wd * t);
+  return k * d + eta * v;
+}
+
+}  // namespace
+
+// A disk set on the floor rings as a mass on a spring and dashpot. The dashpot's eta is
+// 2 zeta sqrt(k m / 2) (zeta the ratio of a contact between two grains of the mean mass;
+// the floor's contact has the reduced mass m, so its own ratio is zeta / sqrt 2). With
+// 10 000 steps a period (the backward spring's own damping, (omega h)^2 / 2 a step, then
+// 0.4 % over the test), the floor's force follows the damped oscillator to 1 % of m g over
+// two periods for zeta = 0 (the spring alone: it rings up to 2 m g), 0.5 and 1; the
+// same scene with k h^2 / m = 100, the tools' default at k = 1e6 m g / D, rings not at all
+// without the dashpot: the backward spring damps it within the first steps.
+TEST(Dashpot, ADiskSetOnTheFloorRingsAsASpringAndDashpot) {
+  const Grains g = one_disk();
+  const double m = g.mass[0], mg = m * 9.81, h = 1e-6;
+  const double w0 = 2 * std::numbers::pi / (10000 * h), k = m * w0 * w0;
+  for (const double zeta : {0.0, 0.5, 1.0}) {
+    cd::Engine e = disk_set_on_the_floor(k, zeta, h);
+    const double eta = 2 * zeta * std::sqrt(k * m / 2);
+    double largest = 0.0, worst = 0.0;
+    for (int n = 1; n <= 20000; ++n) {
+      const cd::StepReport r = e.step(0.0);
+      ASSERT_TRUE(r.converged) << zeta << " step " << n;
+      const auto c = e.contacts();
+      ASSERT_EQ(c.size(), 1u);
+      largest = std::max(largest, c.fn[0]);
+      worst = std::max(worst, std::abs(c.fn[0] - damped_oscillator_force(k, eta, m, n * h)));
+    }
+    EXPECT_LT(worst, 0.01 * mg) << "zeta " << zeta;
+    const double ratio = zeta / std::sqrt(2.0);
+    const double overshoot = std::exp(-ratio * std::numbers::pi / std::sqrt(1 - ratio * ratio));
+    if (zeta == 0.0) EXPECT_NEAR(largest, 2 * mg, 0.01 * mg);
+    else EXPECT_GT(largest, mg * (1 + 0.5 * overshoot)) << "zeta " << zeta;
+  }
+  // The same disk at the default's k h^2 / m = 100 (omega h = 10): the force is m g within
+  // 1 % from the second step on, with or without the dashpot.
+  const double coarse = 10 / w0;
+  for (const double zeta : {0.0, 1.0}) {
+    cd::Engine e = disk_set_on_the_floor(k, zeta, coarse);
+    e.step(0.0);
+    for (int n = 2; n <= 50; ++n) {
+      e.step(0.0);
+      EXPECT_NEAR(e.contacts().fn[0], mg, 0.01 * mg) << "zeta " << zeta << " step " << n;
+    }
+  }
+}
+
+// A column at rest carries its weight with the dashpot as without (the dashpot's force
+// vanishes at rest), and what the next step anchors at, the spring's part, is then the
+// force itself; an engine rebuilt from its grains and state continues bit for bit.
+TEST(Dashpot, AColumnAtRestCarriesItsWeightAndResumesBitForBit) {
+  Grains g;
+  const int n = 10;
+  for (int q = 0; q < n; ++q) g.add_disk(kR, kRho, Vec2(0.01, kR + 2 * kR * q));
+  cd::Settings s = settings();
+  s.contact_stiffness = 1e6 * g.mass[0] * 9.81 / (2 * kR);
+  s.contact_damping_ratio = 1.0;
+  cd::Engine a(Box{0.02, 0.02}, g, s);
+  for (int step = 0; step < 300; ++step) ASSERT_TRUE(a.step(0.0).converged);
+  const double mg = g.mass[0] * 9.81;
+  const auto c = a.contacts();
+  const cd::EngineState state = a.state();
+  ASSERT_EQ(c.size(), static_cast<std::size_t>(n));
+  ASSERT_EQ(state.impulses.size(), static_cast<std::size_t>(n));
+  for (std::size_t q = 0; q < c.size(); ++q) {
+    const int carried = c.j[q] < 0 ? n : n - 1 - c.i[q];
+    EXPECT_NEAR(c.fn[q], carried * mg, 1e-6 * n * mg) << "contact " << q;
+    EXPECT_NEAR(state.impulses[q].rn / s.time_step, c.fn[q], 1e-6 * n * mg) << "contact " << q;
+  }
+  cd::Engine b(a.box(), a.grains(), s);
+  b.set_state(state);
+  for (int step = 0; step < 50; ++step) {
+    a.step(5 * kDeg);
+    b.step(5 * kDeg);
+  }
+  EXPECT_EQ(a.grains().position, b.grains().position);
+  EXPECT_EQ(a.grains().velocity, b.grains().velocity);
+}
+
+TEST(Dashpot, SettingsAreChecked) {
+  cd::Settings s = settings();
+  s.contact_damping_ratio = 1.0;  // rigid contacts: no spring to stand beside
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.contact_stiffness = 1e3;
+  EXPECT_NO_THROW(cd::validate(s));
+  s.contact_damping_ratio = -0.1;
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+  s.contact_damping_ratio = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(cd::validate(s), cdpile::UsageError);
+}

@@ -44,6 +44,7 @@ sim::TiltOptions run_options() {
   s.check_every = 3;
   s.solver = cd::SolverKind::nncg;
   s.contact_stiffness = 2e5;
+  s.contact_damping_ratio = 0.3;
   s.scramble = 7;
   s.max_substeps = 8;
   s.substep_after = 40;
@@ -79,6 +80,7 @@ sim::TiltOptions asked_options() {
   s.check_every = 5;
   s.solver = cd::SolverKind::pcg;
   s.contact_stiffness = 1e5;
+  s.contact_damping_ratio = 0.8;
   s.scramble = 3;
   s.max_substeps = 4;
   s.substep_after = 50;

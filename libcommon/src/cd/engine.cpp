@@ -31,6 +31,40 @@ void lap(Clock::time_point& start, double& acc) {
 
 bool is_fixed(const Grains& g, std::size_t i) { return g.species[i] == Species::floor; }
 
+// The dashpot's eta = 2 zeta sqrt(k m / 2) (docs/method.md, "The contact dashpot"): zeta is
+// the damping ratio of a contact between two grains of the free grains' mean mass m
+// (reduced mass m / 2); all grains' when none is free.
+double dashpot(const Grains& g, const TimeStepping& s) {
+  double mass = 0.0, all = 0.0;
+  std::size_t free = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    all += g.mass[i];
+    if (is_fixed(g, i)) continue;
+    mass += g.mass[i];
+    ++free;
+  }
+  const double mean = free > 0 ? mass / static_cast<double>(free)
+                               : all / static_cast<double>(std::max<std::size_t>(g.size(), 1));
+  return 2.0 * s.contact_damping_ratio * std::sqrt(s.contact_stiffness * 0.5 * mean);
+}
+
+// With the dashpot, what the next step anchors at is the spring's part of the step's
+// impulse R (docs/method.md, "The contact dashpot"): R0 + s (R - R0), s = k h / (k h + eta)
+// the spring's share of the change, not the dashpot's -eta h u, which lasts one step. A
+// sliding contact keeps its normal spring and a tangential part on the cone of it (the
+// Cundall-Strack spring clamped by Coulomb); an open one (R = 0) keeps nothing. Both stay
+// in the cone: convex combinations of admissible impulses, or a point on its edge.
+void spring_part(const ContactRow& r, double s, double& rn, double& rt) {
+  if (!(r.rn > 0.0)) {
+    rn = rt = 0.0;
+    return;
+  }
+  rn = r.rn0 + s * (r.rn - r.rn0);
+  rt = r.status == ContactStatus::slide ? r.rt * (rn / r.rn) : r.rt0 + s * (r.rt - r.rt0);
+  CDPILE_DEBUG_CHECK(rn > 0.0 && std::abs(rt) <= r.mu * rn * (1.0 + 1e-9),
+                     "the spring's part of an impulse leaves the cone");
+}
+
 }  // namespace
 
 void validate(const TimeStepping& s) {
@@ -42,6 +76,10 @@ void validate(const TimeStepping& s) {
   if (!(s.alert_distance >= 0.0)) bad("alert distance must be >= 0");
   if (!(s.contact_stiffness >= 0.0) || !std::isfinite(s.contact_stiffness))
     bad("contact stiffness must be >= 0 and finite (0: rigid contacts)");
+  if (!(s.contact_damping_ratio >= 0.0) || !std::isfinite(s.contact_damping_ratio))
+    bad("contact damping ratio must be >= 0 and finite (0: no dashpot)");
+  if (s.contact_damping_ratio > 0.0 && s.contact_stiffness == 0.0)
+    bad("a contact damping ratio needs a contact stiffness (a dashpot beside the spring)");
   if (s.max_substeps < 1 || s.max_substeps > max_substeps_limit ||
       (s.max_substeps & (s.max_substeps - 1)) != 0)
     bad("the largest number of sub-steps must be a power of two from 1 to " +
@@ -79,6 +117,7 @@ Engine::Engine(Box box, Grains grains, Settings settings)
   }
   system_.bodies.resize(n + 1);
   system_.bodies[n] = {0.0, 0.0, 0.0, 0.0, 0.0};  // the walls: one static body
+  if (settings_.contact_damping_ratio > 0.0) damping_ = dashpot(grains_, settings_);
   set_substep(settings_.time_step);
   stored_h_ = settings_.time_step;
   solver_ = make_solver(settings_);
@@ -93,12 +132,16 @@ Engine::Engine(Box box, Grains grains, Settings settings)
 
 // The (sub)step size of the stages, and the compliance of the force-selection rule
 // (docs/method.md, "Force selection"): an implicit spring of stiffness k on the step's
-// displacement h u, R - R0 = -k h^2 u.
+// displacement h u, R - R0 = -k h^2 u; with the dashpot eta beside it (docs/method.md,
+// "The contact dashpot"), R - R0 = -(k h^2 + eta h) u, of which the spring's share is
+// k h / (k h + eta).
 void Engine::set_substep(double h) {
   h_ = h;
-  if (settings_.contact_stiffness > 0.0) {
-    system_.compliance_n = 1.0 / (settings_.contact_stiffness * h * h);
+  const double k = settings_.contact_stiffness;
+  if (k > 0.0) {
+    system_.compliance_n = 1.0 / (k * h * h + damping_ * h);
     system_.compliance_t = system_.compliance_n;
+    spring_share_ = k * h / (k * h + damping_);
   }
 }
 
@@ -409,7 +452,8 @@ void Engine::update_positions() {
   }
 }
 
-// Stage 9. Keep the non-zero impulses, sorted by pair, for the next warm start. On a team,
+// Stage 9. Keep the non-zero impulses (with the dashpot their spring's part: spring_part),
+// sorted by pair, for the next warm start. On a team,
 // each thread counts and then copies the kept impulses of its range of rows to their place:
 // the same list as on one thread.
 void Engine::store_impulses() {
@@ -421,8 +465,12 @@ void Engine::store_impulses() {
       const ContactRow& r = rows[k];
       if (!kept(r)) continue;
       stored_keys_[at] = pair_key(r.i, r.j);
-      stored_rn_[at] = r.rn;
-      stored_rt_[at] = r.rt;
+      if (damping_ > 0.0) {
+        spring_part(r, spring_share_, stored_rn_[at], stored_rt_[at]);
+      } else {
+        stored_rn_[at] = r.rn;
+        stored_rt_[at] = r.rt;
+      }
       ++at;
     }
   };

@@ -345,6 +345,17 @@ std::vector<RunParameter> make_table() {
                     "for rigid contacts, with --tolerance 1e-4 --solver nsgs as the rigid "
                     "studies (docs/method.md, \"Force selection\")",
                     "m g/D", 0.0, 1e300));
+  // Files made before it was a parameter had no dashpot (0).
+  rows.push_back(
+      Row("contact_damping_ratio", "contact_damping_ratio", "", "damping-ratio", engine)
+          .of(&S::contact_damping_ratio)
+          .pre_seam(0.0)
+          .declared("Solver",
+                    "damping ratio zeta of a contact dashpot beside the --stiffness spring, for "
+                    "a contact of two grains of the mean mass m (eta = 2 zeta sqrt(k m / 2); "
+                    "1: critical, no rebound); 0: none, the spring alone (docs/method.md, "
+                    "\"The contact dashpot\")",
+                    "", 0.0, 1e6));
   rows.push_back(
       Row("scramble", "scramble_seed", "", "scramble", engine)
           .of(&S::scramble)

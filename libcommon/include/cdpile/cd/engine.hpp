@@ -52,6 +52,13 @@ struct TimeStepping {
   /// (docs/method.md, "Force selection"): the compliance 1/(k h^2) on the normal and
   /// tangential diagonal of W, anchored at the previous step's impulses. 0: rigid contacts.
   double contact_stiffness = 0.0;
+  /// Damping ratio zeta of a contact dashpot beside the spring (docs/method.md, "The
+  /// contact dashpot"): a viscous force -eta u on the end-of-step velocity, eta = 2 zeta
+  /// sqrt(k m/2) with m the free grains' mean mass, so that zeta is the damping ratio of
+  /// a contact between two grains of the mean mass (1: critical). The step's compliance
+  /// becomes 1/(k h^2 + eta h) and the anchor of the next step the spring's part of the
+  /// impulse alone. 0: none (the spring of (M1)-(M2) alone); needs contact_stiffness > 0.
+  double contact_damping_ratio = 0.0;
   /// Adaptive sub-steps (docs/method.md, "Sub-steps"): a step whose solve has not met the
   /// criterion after `substep_after` sweeps is done again as two steps of h / 2 under the
   /// same gravity, each split again the same way, down to h / max_substeps, where the
@@ -214,6 +221,8 @@ class Engine {
   std::shared_ptr<Team> team_;  // SolverSettings::threads > 1; copies of an engine share it
   double h_ = 0.0;                                      // the (sub)step being done [s]
   double stored_h_ = 0.0;                               // the (sub)step of the stored impulses [s]
+  double damping_ = 0.0;       // the dashpot's eta [N s/m per metre of thickness]
+  double spring_share_ = 1.0;  // of a (sub)step's impulse change, the spring's: k h / (k h + eta)
   int substep_level_ = 0;                               // EngineState::substep_level
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
