@@ -9,7 +9,9 @@ Each argument is a folder of run summaries (`make -C pipelines summaries`), run-
 made on the same piles (the same seeds of one preparation) tilted at different settings.
 What a study was made with is read from its summaries' /parameters, not from its name: the
 stiffness k (run_contact_stiffness_mgD, in m g/D; 0 for rigid contacts), the step h
-(run_time_step_s) and the sub-steps (run_max_substeps N, run_substep_after S). With S = 1
+(run_time_step_s), the contact dashpot's damping ratio zeta (run_contact_damping_ratio, 0 in
+summaries of runs made before it was a parameter: no dashpot; docs/method.md, "The contact
+dashpot") and the sub-steps (run_max_substeps N, run_substep_after S). With S = 1
 every step is split to h/N from the first on (docs/method.md, "Sub-steps"), so the step is
 h_s = h/N; otherwise a step is split only where it has not converged after S sweeps, and
 the study's step is h (its few split steps are what the defaults do). The folders' runs
@@ -27,7 +29,7 @@ top bin): whether what moves is the count exactly at the bound (nu's test, withi
 the contacts near it as well; a third, the median over the steps of the pile's kinetic
 energy: how agitated the pile stays between its rearrangements. The chart (-o, PNG and PDF beside it) shows both, each
 study's value as the reference's mean over all its seeds plus the paired difference (± its
-s.e.) against k h_s^2 / m, one line per k through its forced steps and its adaptive study
+s.e.) against k h_s^2 / m, one line per k and zeta through its forced steps and its adaptive study
 that splits least; an adaptive study with a lower S beside it, open.
 """
 import argparse
@@ -44,7 +46,9 @@ from stiffness import MOBILISATION_BINS, from_summaries, per_degree, pm  # noqa:
 
 PROG = "limit.py"
 SETTINGS = ("run_contact_stiffness_mgD", "run_time_step_s", "run_max_substeps", "run_substep_after",
-            "run_gravity_m_s2", "run_diameter_mean_m")
+            "run_gravity_m_s2", "run_diameter_mean_m", "run_contact_damping_ratio")
+# what a summary made before the setting existed stands for: no dashpot
+EARLIER = {"run_contact_damping_ratio": 0.0}
 
 
 def fail(msg):
@@ -63,7 +67,7 @@ def settings(folder):
         try:
             with h5py.File(path, "r") as f:
                 attrs = f["parameters"].attrs
-                s = tuple(float(attrs[k]) for k in SETTINGS)
+                s = tuple(float(attrs[k]) if k in attrs else EARLIER[k] for k in SETTINGS)
         except (OSError, KeyError) as e:
             fail(f"{path}: not a summary with the run's parameters ({e})")
         found.setdefault(s, name)
@@ -71,12 +75,12 @@ def settings(folder):
         fail(f"{folder}: no run-SEED.summary.h5")
     if len(found) > 1:
         a, b = list(found.values())[:2]
-        fail(f"{folder}: {a} and {b} were made with different settings (k, h or sub-steps)")
-    k, h, n, after, g, d = next(iter(found))
+        fail(f"{folder}: {a} and {b} were made with different settings (k, h, dashpot or sub-steps)")
+    k, h, n, after, g, d, zeta = next(iter(found))
     forced = after == 1 and n > 1
     h_s = h / n if forced else h
     # rigid contacts (k = 0) are the limit k h_s^2 / m -> infinity
-    return {"k": k, "h": h, "n": int(n), "after": int(after), "forced": forced, "h_s": h_s,
+    return {"k": k, "zeta": zeta, "h": h, "n": int(n), "after": int(after), "forced": forced, "h_s": h_s,
             "khm": k * g * h_s ** 2 / d if k > 0 else math.inf}
 
 
@@ -90,6 +94,10 @@ def step_label(s):
 
 def k_label(k):
     return "rigid" if k == 0 else f"{k:.0e}".replace("e+0", "e")
+
+
+def line_label(k, zeta):
+    return f"k = {k_label(k)} m g/D" + (f", dashpot zeta = {zeta:g}" if zeta > 0 else "")
 
 
 def over_range(folder, to):
@@ -132,7 +140,7 @@ def table(folders, sets, values, order, fmt=".4f"):
         same = i == 0
         rel = f"{100 * d / mr:+.1f} %" if not same and mr else ""
         nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
-        rows.append(f"| {os.path.basename(os.path.normpath(folder))} | {k_label(s['k'])} | {step_label(s)} | "
+        rows.append(f"| {os.path.basename(os.path.normpath(folder))} | {k_label(s['k'])} | {s['zeta']:g} | {step_label(s)} | "
                     f"{s['khm']:.3g} | {len(seeds)} | {mr:{fmt}} | {mv:{fmt}} | {'' if same else pm(d, se)} | {rel} | {nse} |")
         points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
     return rows, points
@@ -141,24 +149,26 @@ def table(folders, sets, values, order, fmt=".4f"):
 def print_table(title, quantity, rows):
     print(title)
     print()
-    print(f"| study | k (m g/D) | step | k h_s^2 / m | pairs | {quantity}, reference | {quantity}, study | difference | relative | in s.e. |")
-    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    print(f"| study | k (m g/D) | dashpot zeta | step | k h_s^2 / m | pairs | {quantity}, reference | {quantity}, study | difference | relative | in s.e. |")
+    print("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
     print("\n".join(rows))
 
 
 def chart(ax, points, ylabel):
-    for k in sorted({s["k"] for s, _, _ in points if s["k"] > 0}):  # rigid: in the table only
-        mine = [(s, y, e) for s, y, e in points if s["k"] == k]
+    # rigid: in the table only
+    for k, zeta in sorted({(s["k"], s["zeta"]) for s, _, _ in points if s["k"] > 0}):
+        mine = [(s, y, e) for s, y, e in points if (s["k"], s["zeta"]) == (k, zeta)]
         # the line: the forced steps and the adaptive study that splits least (the largest
         # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
         least = max((s["after"] for s, _, _ in mine if not s["forced"]), default=None)
         line = sorted((s["khm"], y, e) for s, y, e in mine if s["forced"] or s["after"] == least)
         x, y, e = (np.array(t) for t in zip(*line))
-        drawn = ax.errorbar(x, y, yerr=e, fmt="o-", ms=4, capsize=2, label=f"k = {k_label(k)} m g/D")
+        drawn = ax.errorbar(x, y, yerr=e, fmt="o-" if zeta == 0 else "^--", ms=4, capsize=2,
+                            label=line_label(k, zeta))
         for s, y, e in mine:
             if not s["forced"] and s["after"] != least:
                 ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
-                            color=drawn[0].get_color(), label=f"k = {k_label(k)} m g/D, split after {s['after']} sweeps")
+                            color=drawn[0].get_color(), label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
     ax.set_xscale("log")
     ax.set_xlabel("k h_s^2 / m")
     ax.set_ylabel(ylabel)
@@ -182,15 +192,16 @@ def main():
     nus = [{seed: v[0] for seed, v in b.items()} for b in both]
     nears = [{seed: v[1] for seed, v in b.items()} for b in both]
     quiets = [{seed: v[2] for seed, v in b.items()} for b in both]
-    # the reference first, then by k (rigid last), by step from coarse to fine, by S
+    # the reference first, then by k (rigid last), by zeta, by step from coarse to fine, by S
     order = [0] + sorted(range(1, len(folders)), key=lambda i: (sets[i]["khm"] == math.inf, sets[i]["k"],
-                                                               -sets[i]["h_s"], -sets[i]["after"]))
+                                                               sets[i]["zeta"], -sets[i]["h_s"],
+                                                               -sets[i]["after"]))
     nu_rows, nu_points = table(folders, sets, nus, order)
     near_rows, near_points = table(folders, sets, nears, order)
     quiet_rows, _ = table(folders, sets, quiets, order, ".3g")
     ref = sets[0]
-    against = (f"each study paired by seed with {os.path.basename(os.path.normpath(a.reference))} (k = "
-               f"{k_label(ref['k'])} m g/D, {step_label(ref)}, h = {ref['h']:g} s); difference = study - "
+    against = (f"each study paired by seed with {os.path.basename(os.path.normpath(a.reference))} "
+               f"({line_label(ref['k'], ref['zeta'])}, {step_label(ref)}, h = {ref['h']:g} s); difference = study - "
                f"reference, mean ± s.e. over the pairs")
     print_table(f"nu over 0-{a.to} deg against the stiffness and the step, {against}", "nu", nu_rows)
     print()

@@ -1,9 +1,12 @@
-# pipelines/limit.py at its smallest (60 disks, two seeds, to 2 degrees at k = 1e4): three
-# studies of the same piles, at h, every step at h/4, and k = 1e5 at h; each row's nu over
+# pipelines/limit.py at its smallest (60 disks, two seeds, to 2 degrees at k = 1e4): four
+# studies of the same piles, at h, every step at h/4 with and without the contact dashpot
+# (zeta = 1), and k = 1e5 at h; each row's nu over
 # 0-2 degrees is each run's mean of its per-degree nu from the run files' own per-step
 # counts, the share at |f_t| / (mu f_n) >= 0.95 the frames' histograms' top bin, the
-# kinetic energy the median of the run's steps, each difference the paired one; the step and k h_s^2 / m are read from the
-# summaries' parameters, not from the folders' names; the chart is written; a folder whose
+# kinetic energy the median of the run's steps, each difference the paired one; the step,
+# the dashpot and k h_s^2 / m are read from the summaries' parameters, not from the
+# folders' names (a summary without the dashpot's parameter, made before it was one, has
+# none); the chart is written; a folder whose
 # runs were made with different settings, one without a seed in common and one that is
 # not there are refused in one line with nothing on stdout.
 # ctest: slow, timeout 120
@@ -20,9 +23,10 @@ tilt() {  # folder seed options...
 for s in 1 2; do
   tilt soft $s --stiffness 1e4
   tilt fine $s --stiffness 1e4 --substep-after 1 --max-substeps 4
+  tilt damped $s --stiffness 1e4 --damping-ratio 1 --substep-after 1 --max-substeps 4
   tilt stiff $s --stiffness 1e5
 done
-"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/stiff --to 2 -o chart.png > table.md 2> err.log \
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/damped sum/stiff --to 2 -o chart.png > table.md 2> err.log \
   || { cat err.log >&2; exit 1; }
 [[ -s chart.png && -s chart.pdf ]]
 "$PY" - table.md <<'PYEOF'
@@ -40,11 +44,11 @@ def nu(dir, s):
         per.append((c[m] / n[m]).mean())
     return np.mean(per)
 lines = [l for l in open(table) if l.startswith("| ") and not l.startswith("| study ")]
-assert len(lines) == 9, lines  # nu's table, the share at >= 0.95's, the kinetic energy's
+assert len(lines) == 12, lines  # nu's table, the share at >= 0.95's, the kinetic energy's
 tables = [{l.split("|")[1].strip(): [x.strip() for x in l.split("|")[1:-1]] for l in part}
-          for part in (lines[:3], lines[3:6], lines[6:])]
+          for part in (lines[:4], lines[4:8], lines[8:])]
 rows, near_rows, quiet_rows = tables
-assert set(rows) == set(near_rows) == set(quiet_rows) == {"soft", "fine", "stiff"}, tables
+assert set(rows) == set(near_rows) == set(quiet_rows) == {"soft", "fine", "damped", "stiff"}, tables
 def near(dir, s):
     """each run's mean over its degrees of the frames' share of counted contacts in the top
     bin of |f_t| / (mu f_n) (20 bins of [0, 1]: >= 0.95)"""
@@ -60,48 +64,62 @@ def quiet(dir, s):
         th = np.round(r["observables/tilt_angle/value"][()], 9)
         return np.median(r["observables/kinetic_energy/value"][()][th <= 2])
 # k g h_s^2 / D: h = 1e-4 s, D = 1e-3 m (deposit's defaults), h_s = h/4 where every step split
-want_step = {"soft": ("1e4", "h (split after 1000 sweeps, to h/64)", 1e4 * 9.81 * 1e-8 / 1e-3), "fine": ("1e4", "h/4 (every step)", 1e4 * 9.81 * 1e-8 / 16 / 1e-3),
-             "stiff": ("1e5", "h (split after 1000 sweeps, to h/64)", 1e5 * 9.81 * 1e-8 / 1e-3)}
+want_step = {"soft": ("1e4", "0", "h (split after 1000 sweeps, to h/64)", 1e4 * 9.81 * 1e-8 / 1e-3),
+             "fine": ("1e4", "0", "h/4 (every step)", 1e4 * 9.81 * 1e-8 / 16 / 1e-3),
+             "damped": ("1e4", "1", "h/4 (every step)", 1e4 * 9.81 * 1e-8 / 16 / 1e-3),
+             "stiff": ("1e5", "0", "h (split after 1000 sweeps, to h/64)", 1e5 * 9.81 * 1e-8 / 1e-3)}
 ref = np.array([nu("soft", s) for s in (1, 2)])
 ref_near = np.array([near("soft", s) for s in (1, 2)])
 ref_quiet = np.array([quiet("soft", s) for s in (1, 2)])
-for name, (k, step, khm) in want_step.items():
+for name, (k, zeta, step, khm) in want_step.items():
     r = rows[name]
-    assert r[1] == k and r[2] == step, r
-    assert abs(float(r[3]) - khm) <= 1e-3 * khm, (r, khm)
-    assert r[4] == "2", r
+    assert r[1] == k and r[2] == zeta and r[3] == step, r
+    assert abs(float(r[4]) - khm) <= 1e-3 * khm, (r, khm)
+    assert r[5] == "2", r
     for quantity, r, ref_q in ((nu, rows[name], ref), (near, near_rows[name], ref_near),
                                (quiet, quiet_rows[name], ref_quiet)):
-        assert r[1:5] == rows[name][1:5], (r, rows[name])
+        assert r[1:6] == rows[name][1:6], (r, rows[name])
         got = np.array([quantity(name, s) for s in (1, 2)])
         tol = 5e-5 if quantity is not quiet else 5e-3 * ref_q.mean()  # printed to 4 decimals, or 3 digits
-        assert abs(float(r[5]) - ref_q.mean()) < tol and abs(float(r[6]) - got.mean()) < tol, (r, ref_q, got)
+        assert abs(float(r[6]) - ref_q.mean()) < tol and abs(float(r[7]) - got.mean()) < tol, (r, ref_q, got)
         if name == "soft":
-            assert r[7] == "", r
+            assert r[8] == "", r
             continue
         d = (got - ref_q).mean()
-        assert d != 0 and abs(float(r[7].split("±")[0]) - d) <= 5e-3 * abs(d), (r, d)  # printed to 3 digits
+        assert d != 0 and abs(float(r[8].split("±")[0]) - d) <= 5e-3 * abs(d), (r, d)  # printed to 3 digits
 PYEOF
+# A summary made before the dashpot was a parameter (without run_contact_damping_ratio) had none.
+mkdir -p earlier && cp sum/damped/* earlier/
+"$PY" - earlier/run-*.summary.h5 <<'PYEOF'
+import sys, h5py
+for path in sys.argv[1:]:
+    with h5py.File(path, "r+") as f:
+        assert f["parameters"].attrs["run_contact_damping_ratio"] == 1.0
+        del f["parameters"].attrs["run_contact_damping_ratio"]
+PYEOF
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft earlier --to 2 > earlier.md
+grep -q "^| earlier | 1e4 | 0 | h/4 (every step) |" earlier.md || { cat earlier.md >&2; exit 1; }
 # Refused in one line, nothing on stdout: mixed settings, no common seed, no folder.
 mkdir -p mixed one
 cp sum/soft/run-1.summary.h5 mixed/ && cp sum/stiff/run-2.summary.h5 mixed/
 cp sum/fine/run-1.summary.h5 one/run-3.summary.h5
-expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h or sub-steps)" \
+expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h, dashpot or sub-steps)" \
   "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft mixed
 expect_fail 1 "limit.py: one: no seed in common with the reference" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft one
 expect_fail 1 "limit.py: nothing: not a folder of summaries" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft nothing
 # make limit: the studies of the study's piles found by their names under SUMMARY_ROOT (a
 # study without a summary yet, and one of another preparation, left out), the same rows.
 base=N60-R1.5-mu0.5-rate0.05-pcg
-mkdir -p root/t-$base-k1e4 root/t-to2-h4-$base-k1e4 root/t-to2-$base-k1e5 root/t-to2-$base-k1e9 root/t-to2-$base-mudep0.1-k1e5
+mkdir -p root/t-$base-k1e4 root/t-to2-h4-$base-k1e4 root/t-to2-z1-h4-$base-k1e4 root/t-to2-$base-k1e5 root/t-to2-$base-k1e9 root/t-to2-$base-mudep0.1-k1e5
 cp sum/soft/* root/t-$base-k1e4/ && cp sum/fine/* root/t-to2-h4-$base-k1e4/ && cp sum/stiff/* root/t-to2-$base-k1e5/
+cp sum/damped/* root/t-to2-z1-h4-$base-k1e4/
 cp sum/fine/* root/t-to2-$base-mudep0.1-k1e5/
 make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" CDPILE_BIN="$B" > make.md 2> make.err || { cat make.err >&2; exit 1; }
 cmp make.md docs/limit-t-$base-k1e4.md
 [[ -s docs/limit-t-$base-k1e4.png && -s docs/limit-t-$base-k1e4.pdf ]]
 diff <(grep '^| ' table.md | grep -v '^| study ' | cut -d'|' -f3-) <(grep '^| ' make.md | grep -v '^| study ' | cut -d'|' -f3-) || { cat make.md >&2; exit 1; }
-grep -q "^| t-to2-h4-$base-k1e4 | 1e4 | h/4 (every step) |" make.md || { cat make.md >&2; exit 1; }
+grep -q "^| t-to2-h4-$base-k1e4 | 1e4 | 0 | h/4 (every step) |" make.md || { cat make.md >&2; exit 1; }
 # no such study: make's one line (then make's own), nothing on stdout
 if make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=u GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" > none.md 2> none.err; then echo "limit made a table of nothing" >&2; exit 1; fi
