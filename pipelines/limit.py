@@ -17,13 +17,13 @@ h_s = h/N; otherwise a step is split only where it has not converged after S swe
 the study's step is h (its few split steps are what the defaults do). The folders' runs
 must agree on these; a folder that mixes them is refused.
 
-Prints a markdown table, a row per study: k, the step, k h_s^2 / m (the contact's
+Prints a markdown table, a row per study: k, the dashpot's zeta, the step, k h_s^2 / m (the contact's
 stiffness against the step: m g / D units make it k g h_s^2 / D; at order 1 and below the
 step resolves the contact's time scale sqrt(m / k)), the pairs with the reference, the
 reference's and the study's nu over 0-TO degrees (each run's mean of its per-degree nu,
 pipelines/stiffness.py), their paired difference with its standard error over the pairs,
 in percent of the reference and in standard errors; the reference first, then by k (rigid
-last) and by step from coarse to fine. A second table of the same form gives the share of
+last), by zeta and by step from coarse to fine. A second table of the same form gives the share of
 the counted contacts with |f_t| / (mu f_n) >= 0.95 (the frames' mobilisation histogram's
 top bin): whether what moves is the count exactly at the bound (nu's test, within 1e-3) or
 the contacts near it as well; a third, the median over the steps of the pile's kinetic

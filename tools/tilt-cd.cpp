@@ -56,7 +56,9 @@ static void usage(cli::Usage& u) {
       "stderr; "
       "a frame interval not given keeps the run's interval in degrees. With nothing changed a "
       "branch "
-      "repeats the run's next steps up to the rounding of impulse = force x h. "
+      "repeats the run's next steps up to the rounding of impulse = force x h (with "
+      "--damping-ratio only where the pile is at rest: a frame's forces hold the dashpot's part, "
+      "which the run did not anchor at). "
       "The branch records branch_step and branch_tilt_deg in /parameters.",
       "Checkpoints: a run to a file is kept in OUTPUT.partial, a valid run file with a /checkpoint "
       "group, rewritten every --checkpoint-every steps by an atomic rename, so a kill at any "

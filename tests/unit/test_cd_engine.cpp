@@ -747,6 +747,56 @@ TEST(Dashpot, AColumnAtRestCarriesItsWeightAndResumesBitForBit) {
   EXPECT_EQ(a.grains().velocity, b.grains().velocity);
 }
 
+// A locked disk sliding down a 30-degree incline with the dashpot: once the contact has
+// loaded (a few steps at k = 1e6 m g / D), it slides at the Coulomb acceleration g (sin
+// theta - mu cos theta), on the cone, and what the next step anchors at, the spring's part
+// of a sliding contact, is its whole force, on the cone: the normal velocity is zero, so
+// the dashpot carries nothing.
+TEST(Dashpot, ASlidingBlockKeepsTheCoulombAccelerationAndItsSpringOnTheCone) {
+  const Grains g = one_disk();
+  const double m = g.mass[0], deg = 30.0;
+  cd::Settings s = settings();
+  s.contact_stiffness = 1e6 * m * 9.81 / (2 * kR);
+  s.contact_damping_ratio = 1.0;
+  cd::Engine e(Box{0.5, 0.05}, g, s);
+  e.lock_rotation(0);
+  for (int k = 0; k < 100; ++k) e.step(deg * kDeg);
+  const double v0 = e.grains().velocity[0].x();
+  for (int k = 0; k < 100; ++k) ASSERT_TRUE(e.step(deg * kDeg).converged);
+  const double a = 9.81 * (std::sin(deg * kDeg) - 0.5 * std::cos(deg * kDeg));
+  EXPECT_NEAR(e.grains().velocity[0].x() - v0, a * 100 * s.time_step, 1e-9);
+  const auto c = e.contacts();
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c.status[0], ContactStatus::slide);
+  EXPECT_NEAR(c.fn[0], m * 9.81 * std::cos(deg * kDeg), 1e-9 * m * 9.81);
+  const cd::EngineState state = e.state();
+  ASSERT_EQ(state.impulses.size(), 1u);
+  EXPECT_NEAR(state.impulses[0].rn, c.fn[0] * s.time_step, 1e-9 * c.fn[0] * s.time_step);
+  EXPECT_NEAR(std::abs(state.impulses[0].rt), 0.5 * state.impulses[0].rn, 1e-12 * state.impulses[0].rn);
+}
+
+// Sub-steps with the dashpot: every step split into 4 (`--substep-after 1`) rings as steps
+// of h / 4 do: the compliance and the spring's share follow the sub-step. The disk set on
+// the floor of the test above, 500 steps of h against 2000 of h / 4.
+TEST(Dashpot, SubstepsRingAsTheFinerSteps) {
+  const Grains g = one_disk();
+  const double m = g.mass[0], mg = m * 9.81, h = 4e-6;
+  const double w0 = 2 * std::numbers::pi / (1000 * h), k = m * w0 * w0;
+  cd::Engine split = disk_set_on_the_floor(k, 0.5, h), fine = disk_set_on_the_floor(k, 0.5, h / 4);
+  cd::Settings s = split.settings();
+  s.max_substeps = 4;
+  s.substep_after = 1;
+  split = cd::Engine(split.box(), split.grains(), s);
+  for (int n = 1; n <= 500; ++n) {
+    const cd::StepReport r = split.step(0.0);
+    ASSERT_EQ(r.substeps, 4) << "step " << n;
+    for (int q = 0; q < 4; ++q) fine.step(0.0);
+    ASSERT_EQ(fine.contacts().size(), 1u);
+    EXPECT_NEAR(split.contacts().fn[0], fine.contacts().fn[0], 1e-9 * mg) << "step " << n;
+  }
+  EXPECT_NEAR(split.grains().position[0].y(), fine.grains().position[0].y(), 1e-15);
+}
+
 TEST(Dashpot, SettingsAreChecked) {
   cd::Settings s = settings();
   s.contact_damping_ratio = 1.0;  // rigid contacts: no spring to stand beside

@@ -49,20 +49,23 @@ double dashpot(const Grains& g, const TimeStepping& s) {
 }
 
 // With the dashpot, what the next step anchors at is the spring's part of the step's
-// impulse R (docs/method.md, "The contact dashpot"): R0 + s (R - R0), s = k h / (k h + eta)
+// impulse R (docs/method.md, "The contact dashpot"): (1 - s) R0 + s R, s = k h / (k h + eta)
 // the spring's share of the change, not the dashpot's -eta h u, which lasts one step. A
 // sliding contact keeps its normal spring and a tangential part on the cone of it (the
 // Cundall-Strack spring clamped by Coulomb); an open one (R = 0) keeps nothing. Both stay
 // in the cone: convex combinations of admissible impulses, or a point on its edge.
-void spring_part(const ContactRow& r, double s, double& rn, double& rt) {
+// The weights s and 1 - s are both given (kept), so that a small dashpot's 1 - s does not
+// round away. R0 may lie outside this step's cone (a pile settled with a larger mu): the
+// tangential part is then clamped to it.
+void spring_part(const ContactRow& r, double s, double kept, double& rn, double& rt) {
   if (!(r.rn > 0.0)) {
     rn = rt = 0.0;
     return;
   }
-  rn = r.rn0 + s * (r.rn - r.rn0);
-  rt = r.status == ContactStatus::slide ? r.rt * (rn / r.rn) : r.rt0 + s * (r.rt - r.rt0);
-  CDPILE_DEBUG_CHECK(rn > 0.0 && std::abs(rt) <= r.mu * rn * (1.0 + 1e-9),
-                     "the spring's part of an impulse leaves the cone");
+  rn = kept * r.rn0 + s * r.rn;
+  rt = r.status == ContactStatus::slide ? r.rt * (rn / r.rn) : kept * r.rt0 + s * r.rt;
+  rt = std::clamp(rt, -r.mu * rn, r.mu * rn);
+  CDPILE_DEBUG_CHECK(rn > 0.0, "the spring's part of an impulse is not positive");
 }
 
 }  // namespace
@@ -142,6 +145,7 @@ void Engine::set_substep(double h) {
     system_.compliance_n = 1.0 / (k * h * h + damping_ * h);
     system_.compliance_t = system_.compliance_n;
     spring_share_ = k * h / (k * h + damping_);
+    dashpot_share_ = damping_ / (k * h + damping_);
   }
 }
 
@@ -466,7 +470,7 @@ void Engine::store_impulses() {
       if (!kept(r)) continue;
       stored_keys_[at] = pair_key(r.i, r.j);
       if (damping_ > 0.0) {
-        spring_part(r, spring_share_, stored_rn_[at], stored_rt_[at]);
+        spring_part(r, spring_share_, dashpot_share_, stored_rn_[at], stored_rt_[at]);
       } else {
         stored_rn_[at] = r.rn;
         stored_rt_[at] = r.rt;

@@ -10,7 +10,8 @@
 /// [N s/m], the anchor impulses R0_a of the compliance (the previous step's) and the status.
 ///
 /// The law each contact obeys (docs/method.md, eqs. (M1)-(M3)), with c_n, c_t the step's
-/// compliances 1/(k h^2) (zero for rigid contacts):
+/// compliances 1/(k h^2) (1/(k h^2 + eta h) with the contact dashpot, (M3'); zero for rigid
+/// contacts):
 ///     u'_n = u_n + max(0, gap/h) + c_n (R_n - R0_n),   0 <= R_n  _|_  u'_n >= 0,
 ///     u'_t = u_t + c_t (R_t - R0_t),                   Coulomb on (R_n, R_t, u'_t).
 #pragma once
@@ -70,8 +71,8 @@ inline std::uint64_t pair_key(std::int32_t i, std::int32_t j) {
 struct ContactSystem {
   std::vector<Body> bodies;
   std::vector<ContactRow> rows;
-  double compliance_n = 0.0;  ///< c_n = 1/(k_n h^2) [1/kg per m], 0 for rigid contacts
-  double compliance_t = 0.0;  ///< c_t = 1/(k_t h^2)
+  double compliance_n = 0.0;  ///< c_n = 1/(k_n h^2 + eta h) [1/kg per m], 0 for rigid contacts
+  double compliance_t = 0.0;  ///< c_t = 1/(k_t h^2 + eta h)
   std::int64_t step = 0;      ///< the step being solved (seeds a scrambled sweep order)
   /// Polled by the solvers before every sweep (may be empty): true abandons the step with
   /// StepCancelled. A signalled tool stops within a second even when one step takes

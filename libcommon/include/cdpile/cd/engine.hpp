@@ -63,7 +63,7 @@ struct TimeStepping {
   /// criterion after `substep_after` sweeps is done again as two steps of h / 2 under the
   /// same gravity, each split again the same way, down to h / max_substeps, where the
   /// sweep cap applies. The compliance 1/(k h^2) of a sub-step is 4 times larger per
-  /// halving, so its problem is better conditioned and its warm start closer. 1: no
+  /// halving (2 to 4 times with the dashpot's 1/(k h^2 + eta h)), so its problem is better conditioned and its warm start closer. 1: no
   /// sub-steps (a power of two).
   int max_substeps = 1;
   int substep_after = 100;  ///< sweeps before a step is split (when max_substeps > 1)
@@ -222,7 +222,8 @@ class Engine {
   double h_ = 0.0;                                      // the (sub)step being done [s]
   double stored_h_ = 0.0;                               // the (sub)step of the stored impulses [s]
   double damping_ = 0.0;       // the dashpot's eta [N s/m per metre of thickness]
-  double spring_share_ = 1.0;  // of a (sub)step's impulse change, the spring's: k h / (k h + eta)
+  double spring_share_ = 1.0;   // of a (sub)step's impulse change, the spring's: k h / (k h + eta)
+  double dashpot_share_ = 0.0;  // the dashpot's: eta / (k h + eta)
   int substep_level_ = 0;                               // EngineState::substep_level
   std::vector<Vec2> predicted_, velocity_begin_;
   std::vector<double> omega_begin_, margin_;
