@@ -116,10 +116,16 @@ cp sum/damped/* root/t-to2-z1-h4-$base-k1e4/
 cp sum/fine/* root/t-to2-$base-mudep0.1-k1e5/
 make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" CDPILE_BIN="$B" > make.md 2> make.err || { cat make.err >&2; exit 1; }
-cmp make.md docs/limit-t-$base-k1e4.md
-[[ -s docs/limit-t-$base-k1e4.png && -s docs/limit-t-$base-k1e4.pdf ]]
+cmp make.md docs/limit-t-$base-k1e4-to2.md
+[[ -s docs/limit-t-$base-k1e4-to2.png && -s docs/limit-t-$base-k1e4-to2.pdf ]]
 diff <(grep '^| ' table.md | grep -v '^| study ' | cut -d'|' -f3-) <(grep '^| ' make.md | grep -v '^| study ' | cut -d'|' -f3-) || { cat make.md >&2; exit 1; }
 grep -q "^| t-to2-h4-$base-k1e4 | 1e4 | 0 | h/4 (every step) |" make.md || { cat make.md >&2; exit 1; }
+# the table's name: -to<LIMIT_TO> beside the study's name, none at the default 10
+for to in 10 1; do
+  make -n -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
+    LIMIT_TO=$to SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" | grep -o "out=[^ ]*" > dry-$to.txt
+done
+[[ "$(cat dry-10.txt)" == "out=$PWD/docs/limit-t-$base-k1e4;" && "$(cat dry-1.txt)" == "out=$PWD/docs/limit-t-$base-k1e4-to1;" ]] || { cat dry-10.txt dry-1.txt >&2; exit 1; }
 # no such study: make's one line (then make's own), nothing on stdout
 if make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=u GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" > none.md 2> none.err; then echo "limit made a table of nothing" >&2; exit 1; fi
