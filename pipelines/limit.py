@@ -3,7 +3,7 @@
 paired by seed with a reference study: where the number stops moving
 (docs/reproduction.md, "The time step moves nu as much as k").
 
-    pipelines/limit.py REFERENCE STUDY [STUDY ...] [--to 10] [-o CHART.png]
+    pipelines/limit.py REFERENCE STUDY [STUDY ...] [--to 10] [--skip-short] [-o CHART.png]
 
 Each argument is a folder of run summaries (`make -C pipelines summaries`), run-SEED.summary.h5,
 made on the same piles (the same seeds of one preparation) tilted at different settings.
@@ -16,6 +16,10 @@ every step is split to h/N from the first on (docs/method.md, "Sub-steps"), so t
 h_s = h/N; otherwise a step is split only where it has not converged after S sweeps, and
 the study's step is h (its few split steps are what the defaults do). The folders' runs
 must agree on these; a folder that mixes them is refused.
+A study whose runs stop before --to (tilted to fewer degrees) is refused, or with
+--skip-short left out with a line on stderr: the mean of the degrees it has would not be nu
+over 0-TO. A study tilted further holds the first TO degrees, so a short range (--to 1 or 3:
+the degrees before the piles first rearrange) takes the studies to 10 degrees as well.
 
 Prints a markdown table, a row per study: k, the dashpot's zeta, the step, k h_s^2 / m (the contact's
 stiffness against the step: m g / D units make it k g h_s^2 / D; at order 1 and below the
@@ -54,6 +58,10 @@ EARLIER = {"run_contact_damping_ratio": 0.0}
 def fail(msg):
     print(f"{PROG}: {msg}", file=sys.stderr)
     sys.exit(1)
+
+
+class Short(Exception):
+    """a study whose runs stop before the range's last degree"""
 
 
 def settings(folder):
@@ -108,6 +116,11 @@ def over_range(folder, to):
     degrees; quiet, the median over the steps of the pile's kinetic energy (J/m): its
     agitation between rearrangements, which a step that damps less leaves higher."""
     nu, _ = from_summaries(folder, to)
+    for seed in sorted(nu):
+        reached = int(np.isfinite(nu[seed]).sum())
+        if reached < to:
+            # a mean over the degrees it has would not be nu over 0-to
+            raise Short(f"{folder}: run-{seed} has {reached} of the {to} degrees")
     out = {}
     for seed in nu:
         with h5py.File(os.path.join(folder, f"run-{seed}.summary.h5"), "r") as f:
@@ -180,6 +193,9 @@ def main():
     p.add_argument("studies", nargs="+", help="the other studies' summaries folders")
     p.add_argument("--to", type=int, default=10, help="the last degree [deg] (default 10)")
     p.add_argument("-o", "--output", help="the chart (PNG; a PDF beside it)")
+    p.add_argument("--skip-short", action="store_true",
+                   help="leave out (with a line on stderr) a study whose runs stop before --to, "
+                        "instead of refusing it")
     a = p.parse_args()
     if a.to < 1:
         fail(f"--to {a.to}: give at least 1 degree")
@@ -187,8 +203,24 @@ def main():
     for f in folders:
         if not os.path.isdir(f):
             fail(f"{f}: not a folder of summaries")
-    sets = [settings(f) for f in folders]
-    both = [over_range(f, a.to) for f in folders]
+    all_sets = [settings(f) for f in folders]
+    kept, sets, both, left_out = [], [], [], []
+    for i, (f, s) in enumerate(zip(folders, all_sets)):
+        try:
+            b = over_range(f, a.to)
+        except Short as e:
+            if i == 0 or not a.skip_short:
+                fail(f"{e}: it stops before --to {a.to}")
+            left_out.append(str(e))
+            continue
+        kept.append(f)
+        sets.append(s)
+        both.append(b)
+    if len(kept) == 1:
+        fail(f"no study reaches --to {a.to} beside the reference ({'; '.join(left_out)})")
+    for e in left_out:
+        print(f"{PROG}: left out {e}", file=sys.stderr)
+    folders = kept
     nus = [{seed: v[0] for seed, v in b.items()} for b in both]
     nears = [{seed: v[1] for seed, v in b.items()} for b in both]
     quiets = [{seed: v[2] for seed, v in b.items()} for b in both]

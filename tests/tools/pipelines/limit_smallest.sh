@@ -8,7 +8,9 @@
 # folders' names (a summary without the dashpot's parameter, made before it was one, has
 # none); the chart is written; a folder whose
 # runs were made with different settings, one without a seed in common and one that is
-# not there are refused in one line with nothing on stdout.
+# not there are refused in one line with nothing on stdout; a study tilted to 1 degree is
+# refused over 0-2 degrees, left out with --skip-short (and by make limit), and taken over
+# the first degree.
 # ctest: slow, timeout 120
 B=$CDPILE_BIN
 for s in 1 2; do
@@ -17,7 +19,7 @@ done
 tilt() {  # folder seed options...
   local dir=$1 s=$2; shift 2
   mkdir -p runs/$dir sum/$dir
-  "$B/tilt-cd" pile-$s.h5 --rate 0.05 --to 2 --frame-every-deg 1 --quiet "$@" -o runs/$dir/run-$s.h5
+  "$B/tilt-cd" pile-$s.h5 --rate 0.05 --to "${TO:-2}" --frame-every-deg 1 --quiet "$@" -o runs/$dir/run-$s.h5
   (cd runs/$dir && "$B/summarise" run-$s.h5 --radii 1:1:3 --map-theta 1 --quiet -o ../../sum/$dir/run-$s.summary.h5)
 }
 for s in 1 2; do
@@ -25,6 +27,7 @@ for s in 1 2; do
   tilt fine $s --stiffness 1e4 --substep-after 1 --max-substeps 4
   tilt damped $s --stiffness 1e4 --damping-ratio 1 --substep-after 1 --max-substeps 4
   tilt stiff $s --stiffness 1e5
+  TO=1 tilt short $s --stiffness 1e5
 done
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/damped sum/stiff --to 2 -o chart.png > table.md 2> err.log \
   || { cat err.log >&2; exit 1; }
@@ -105,15 +108,28 @@ cp sum/soft/run-1.summary.h5 mixed/ && cp sum/stiff/run-2.summary.h5 mixed/
 cp sum/fine/run-1.summary.h5 one/run-3.summary.h5
 expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h, dashpot or sub-steps)" \
   "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft mixed
-expect_fail 1 "limit.py: one: no seed in common with the reference" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft one
-expect_fail 1 "limit.py: nothing: not a folder of summaries" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft nothing
+expect_fail 1 "limit.py: one: no seed in common with the reference" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft one --to 2
+expect_fail 1 "limit.py: nothing: not a folder of summaries" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft nothing --to 2
+# A study tilted to 1 degree has no nu over 0-2: refused, or left out with --skip-short
+expect_fail 1 "limit.py: sum/short: run-1 has 1 of the 2 degrees: it stops before --to 2" \
+  "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short --to 2
+expect_fail 1 "limit.py: no study reaches --to 2 beside the reference (sum/short: run-1 has 1 of the 2 degrees)" \
+  "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short --to 2 --skip-short
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short sum/fine sum/damped sum/stiff --to 2 --skip-short > skip.md 2> skip.err
+[[ "$(cat skip.err)" == "limit.py: left out sum/short: run-1 has 1 of the 2 degrees" ]] || { cat skip.err >&2; exit 1; }
+cmp skip.md table.md
+# over the first degree it is a study like the others
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short --to 1 > first.md
+grep -q "^| short | 1e5 | 0 | h (split after 1000 sweeps, to h/64) |" first.md || { cat first.md >&2; exit 1; }
 # make limit: the studies of the study's piles found by their names under SUMMARY_ROOT (a
-# study without a summary yet, and one of another preparation, left out), the same rows.
+# study without a summary yet, one of another preparation and one tilted to 1 degree left
+# out), the same rows.
 base=N60-R1.5-mu0.5-rate0.05-pcg
 mkdir -p root/t-$base-k1e4 root/t-to2-h4-$base-k1e4 root/t-to2-z1-h4-$base-k1e4 root/t-to2-$base-k1e5 root/t-to2-$base-k1e9 root/t-to2-$base-mudep0.1-k1e5
 cp sum/soft/* root/t-$base-k1e4/ && cp sum/fine/* root/t-to2-h4-$base-k1e4/ && cp sum/stiff/* root/t-to2-$base-k1e5/
 cp sum/damped/* root/t-to2-z1-h4-$base-k1e4/
 cp sum/fine/* root/t-to2-$base-mudep0.1-k1e5/
+mkdir -p root/t-to1-$base-k1e5 && cp sum/short/* root/t-to1-$base-k1e5/
 make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" CDPILE_BIN="$B" > make.md 2> make.err || { cat make.err >&2; exit 1; }
 cmp make.md docs/limit-t-$base-k1e4-to2.md
