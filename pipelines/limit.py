@@ -34,7 +34,8 @@ the contacts near it as well; a third, the median over the steps of the pile's k
 energy: how agitated the pile stays between its rearrangements. The chart (-o, PNG and PDF beside it) shows both, each
 study's value as the reference's mean over all its seeds plus the paired difference (± its
 s.e.) against k h_s^2 / m, one line per k and zeta through its forced steps and its adaptive study
-that splits least; an adaptive study with a lower S beside it, open.
+that splits least; an adaptive study with a lower S beside it, open; rigid contacts (no k h_s^2 / m)
+as a dotted level across the chart, its s.e. a band.
 """
 import argparse
 import math
@@ -168,7 +169,6 @@ def print_table(title, quantity, rows):
 
 
 def chart(ax, points, ylabel):
-    # rigid: in the table only
     for k, zeta in sorted({(s["k"], s["zeta"]) for s, _, _ in points if s["k"] > 0}):
         mine = [(s, y, e) for s, y, e in points if (s["k"], s["zeta"]) == (k, zeta)]
         # the line: the forced steps and the adaptive study that splits least (the largest
@@ -182,6 +182,13 @@ def chart(ax, points, ylabel):
             if not s["forced"] and s["after"] != least:
                 ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
                             color=drawn[0].get_color(), label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
+    # rigid contacts have no k h_s^2 / m (it is infinite): a level across the chart, its
+    # s.e. as a band, the value the lines tend to as k grows
+    for s, y, e in points:
+        if s["k"] == 0:
+            ax.axhline(y, color="k", ls=":", lw=1, label=f"rigid, {step_label(s)}")
+            if e > 0:
+                ax.axhspan(y - e, y + e, color="k", alpha=0.1, lw=0)
     ax.set_xscale("log")
     ax.set_xlabel("k h_s^2 / m")
     ax.set_ylabel(ylabel)
@@ -248,7 +255,7 @@ def main():
         fig, axes = plt.subplots(1, 2, figsize=(9.5, 3.8))
         chart(axes[0], nu_points, f"nu over 0-{a.to} deg")
         chart(axes[1], near_points, f"share at |f_t| / (mu f_n) >= 0.95, 0-{a.to} deg")
-        axes[0].legend(fontsize=7)
+        axes[0].legend(fontsize=6, loc="best", framealpha=0.7)
         fig.suptitle(f"the reference's mean ({len(nus[0])} piles) plus the paired difference, ± s.e.; "
                      f"h_s: the step (h/N where every step is split)", fontsize=9)
         save(fig, os.path.dirname(a.output) or ".", os.path.splitext(os.path.basename(a.output))[0])

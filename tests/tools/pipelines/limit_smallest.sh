@@ -28,6 +28,7 @@ for s in 1 2; do
   tilt damped $s --stiffness 1e4 --damping-ratio 1 --substep-after 1 --max-substeps 4
   tilt stiff $s --stiffness 1e5
   TO=1 tilt short $s --stiffness 1e5
+  tilt rigid $s --stiffness 0
 done
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/damped sum/stiff --to 2 -o chart.png > table.md 2> err.log \
   || { cat err.log >&2; exit 1; }
@@ -118,6 +119,10 @@ expect_fail 1 "limit.py: no study reaches --to 2 beside the reference (sum/short
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short sum/fine sum/damped sum/stiff --to 2 --skip-short > skip.md 2> skip.err
 [[ "$(cat skip.err)" == "limit.py: left out sum/short: run-1 has 1 of the 2 degrees" ]] || { cat skip.err >&2; exit 1; }
 cmp skip.md table.md
+# rigid contacts: the row last, k h_s^2 / m infinite; the chart drawn (a level across it)
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/rigid sum/stiff --to 2 -o rigid.png > rigid.md
+[[ -s rigid.png && -s rigid.pdf ]]
+[[ "$(grep '^| ' rigid.md | sed -n 4p | cut -d'|' -f2-6)" == " rigid | rigid | 0 | h (split after 1000 sweeps, to h/64) | inf " ]] || { cat rigid.md >&2; exit 1; }
 # over the first degree it is a study like the others
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short --to 1 > first.md
 grep -q "^| short | 1e5 | 0 | h (split after 1000 sweeps, to h/64) |" first.md || { cat first.md >&2; exit 1; }
