@@ -35,7 +35,8 @@ energy: how agitated the pile stays between its rearrangements. The chart (-o, P
 study's value as the reference's mean over all its seeds plus the paired difference (± its
 s.e.) against k h_s^2 / m, one line per k and zeta through its forced steps and its adaptive study
 that splits least; an adaptive study with a lower S beside it, open; rigid contacts (no k h_s^2 / m)
-as a dotted level across the chart, its s.e. a band.
+as a level across the chart (one line style per step, coarse to fine: dotted, dashed,
+dash-dotted), its s.e. a band.
 """
 import argparse
 import math
@@ -184,11 +185,11 @@ def chart(ax, points, ylabel):
                             color=drawn[0].get_color(), label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
     # rigid contacts have no k h_s^2 / m (it is infinite): a level across the chart, its
     # s.e. as a band, the value the lines tend to as k grows
-    for s, y, e in points:
-        if s["k"] == 0:
-            ax.axhline(y, color="k", ls=":", lw=1, label=f"rigid, {step_label(s)}")
-            if e > 0:
-                ax.axhspan(y - e, y + e, color="k", alpha=0.1, lw=0)
+    rigid = sorted(((s, y, e) for s, y, e in points if s["k"] == 0), key=lambda p: -p[0]["h_s"])
+    for (s, y, e), ls in zip(rigid, [":", "--", "-.", (0, (1, 3))] * len(rigid)):
+        ax.axhline(y, color="k", ls=ls, lw=1, label=f"rigid, {step_label(s)}")
+        if e > 0:
+            ax.axhspan(y - e, y + e, color="k", alpha=0.1, lw=0)
     ax.set_xscale("log")
     ax.set_xlabel("k h_s^2 / m")
     ax.set_ylabel(ylabel)
