@@ -39,6 +39,7 @@ as a level across the chart (one line style per step, coarse to fine: dotted, da
 dash-dotted), its s.e. a band.
 """
 import argparse
+import itertools
 import math
 import os
 import sys
@@ -186,7 +187,7 @@ def chart(ax, points, ylabel):
     # rigid contacts have no k h_s^2 / m (it is infinite): a level across the chart, its
     # s.e. as a band, the value the lines tend to as k grows
     rigid = sorted(((s, y, e) for s, y, e in points if s["k"] == 0), key=lambda p: -p[0]["h_s"])
-    for (s, y, e), ls in zip(rigid, [":", "--", "-.", (0, (1, 3))] * len(rigid)):
+    for (s, y, e), ls in zip(rigid, itertools.cycle([":", "--", "-.", (0, (1, 3))])):
         ax.axhline(y, color="k", ls=ls, lw=1, label=f"rigid, {step_label(s)}")
         if e > 0:
             ax.axhspan(y - e, y + e, color="k", alpha=0.1, lw=0)
