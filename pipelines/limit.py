@@ -31,7 +31,10 @@ last), by zeta and by step from coarse to fine. A second table of the same form 
 the counted contacts with |f_t| / (mu f_n) >= 0.95 (the frames' mobilisation histogram's
 top bin): whether what moves is the count exactly at the bound (nu's test, within 1e-3) or
 the contacts near it as well; a third, the median over the steps of the pile's kinetic
-energy: how agitated the pile stays between its rearrangements. The chart (-o, PNG and PDF beside it) shows both, each
+energy: how agitated the pile stays between its rearrangements; a fourth, where the reference
+and other studies were tilted past the avalanche, theta_c (the summaries' avalanche angle by
+the rule, docs/analysis.md), paired over the seeds that reached it in both (a study tilted to
+10 degrees has no row there; --to does not apply). The chart (-o, PNG and PDF beside it) shows both, each
 study's value as the reference's mean over all its seeds plus the paired difference (± its
 s.e.) against k h_s^2 / m, one line per k and zeta through its forced steps and its adaptive study
 that splits least; an adaptive study with a lower S beside it, open; rigid contacts (no k h_s^2 / m)
@@ -42,6 +45,7 @@ import argparse
 import itertools
 import math
 import os
+import re
 import sys
 
 import h5py
@@ -135,6 +139,24 @@ def over_range(folder, to):
         with np.errstate(invalid="ignore"):
             out[seed] = tuple(float(np.nanmean(v)) if np.isfinite(v).any() else math.nan for v in (nu[seed], near))
         out[seed] += (float(np.median(energy)) if energy.size else math.nan,)
+    return out
+
+
+def avalanche_angles(folder):
+    """{seed: theta_c [deg]} of the runs in `folder` that reached the avalanche (the
+    summary's loading_theta_c_deg found by the avalanche rule, docs/analysis.md); a run
+    stopped before it (a study tilted to 10 degrees) has none."""
+    out = {}
+    for name in sorted(os.listdir(folder)):
+        m = re.fullmatch(r"run-([0-9]+)\.summary\.h5", name)
+        if not m:
+            continue
+        with h5py.File(os.path.join(folder, name), "r") as f:
+            attrs = f["results"].attrs
+            found = attrs.get("loading_theta_c_from", b"")
+            found = found.decode() if isinstance(found, bytes) else str(found)
+            if found == "rule":
+                out[int(m.group(1))] = float(attrs["loading_theta_c_deg"])
     return out
 
 
@@ -240,6 +262,10 @@ def main():
     nu_rows, nu_points = table(folders, sets, nus, order)
     near_rows, near_points = table(folders, sets, nears, order)
     quiet_rows, _ = table(folders, sets, quiets, order, ".3g")
+    # theta_c: only the studies whose runs reached the avalanche, beside the reference's
+    angles = [avalanche_angles(f) for f in folders]
+    avalanching = [i for i in order if i == 0 or set(angles[i]) & set(angles[0])]
+    theta_rows = table(folders, sets, angles, avalanching, ".2f")[0] if angles[0] and len(avalanching) > 1 else []
     ref = sets[0]
     against = (f"each study paired by seed with {os.path.basename(os.path.normpath(a.reference))} "
                f"({line_label(ref['k'], ref['zeta'])}, {step_label(ref)}, h = {ref['h']:g} s); difference = study - "
@@ -252,6 +278,10 @@ def main():
     print()
     print_table(f"The pile's kinetic energy (J/m), the median over the steps of 0-{a.to} deg (its agitation "
                 f"between rearrangements), {against}", "kinetic energy", quiet_rows)
+    if theta_rows:
+        print()
+        print_table(f"theta_c (deg), the avalanche angle (the runs that reached it: the studies tilted past it), "
+                    f"{against}", "theta_c", theta_rows)
     if a.output:
         from cdpile_py.style import plt, save
         fig, axes = plt.subplots(1, 2, figsize=(9.5, 3.8))

@@ -10,7 +10,8 @@
 # runs were made with different settings, one without a seed in common and one that is
 # not there are refused in one line with nothing on stdout; a study tilted to 1 degree is
 # refused over 0-2 degrees, left out with --skip-short (and by make limit), and taken over
-# the first degree.
+# the first degree. Studies tilted past the avalanche get theta_c paired too, and make limit finds
+# them (NAME-...-k<k> and NAME-<tag>-...).
 # ctest: slow, timeout 120
 B=$CDPILE_BIN
 for s in 1 2; do
@@ -19,7 +20,9 @@ done
 tilt() {  # folder seed options...
   local dir=$1 s=$2; shift 2
   mkdir -p runs/$dir sum/$dir
-  "$B/tilt-cd" pile-$s.h5 --rate 0.05 --to "${TO:-2}" --frame-every-deg 1 --quiet "$@" -o runs/$dir/run-$s.h5
+  local to=(--to "${TO:-2}")
+  [[ -z ${PAST:-} ]] || to=()  # past the avalanche (tilt-cd's rule)
+  "$B/tilt-cd" pile-$s.h5 --rate 0.05 "${to[@]}" --frame-every-deg 1 --quiet "$@" -o runs/$dir/run-$s.h5 2> /dev/null
   (cd runs/$dir && "$B/summarise" run-$s.h5 --radii 1:1:3 --map-theta 1 --quiet -o ../../sum/$dir/run-$s.summary.h5)
 }
 for s in 1 2; do
@@ -29,6 +32,8 @@ for s in 1 2; do
   tilt stiff $s --stiffness 1e5
   TO=1 tilt short $s --stiffness 1e5
   tilt rigid $s --stiffness 0
+  PAST=1 tilt past $s --stiffness 1e4
+  PAST=1 tilt past-rigid $s --stiffness 0
 done
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/damped sum/stiff --to 2 -o chart.png > table.md 2> err.log \
   || { cat err.log >&2; exit 1; }
@@ -126,6 +131,30 @@ cmp skip.md table.md
 # over the first degree it is a study like the others
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/short --to 1 > first.md
 grep -q "^| short | 1e5 | 0 | h (split after 1000 sweeps, to h/64) |" first.md || { cat first.md >&2; exit 1; }
+# Studies tilted past the avalanche: theta_c paired as well (the summaries' angle by the
+# rule), a study tilted to 2 degrees left out of that table only; with a reference tilted to 2
+# degrees there is no theta_c table (the 12 rows above).
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/past sum/soft sum/past-rigid --to 2 > past.md
+"$PY" - past.md <<'PYEOF'
+import sys, h5py, numpy as np
+lines = [l for l in open(sys.argv[1]) if l.startswith("| ") and not l.startswith("| study ")]
+assert len(lines) == 3 * 3 + 2, lines  # three studies in three tables, two in theta_c's
+rows = [[x.strip() for x in l.split("|")[1:-1]] for l in lines[9:]]
+assert [r[0] for r in rows] == ["past", "past-rigid"], rows
+def theta_c(dir, s):
+    with h5py.File(f"sum/{dir}/run-{s}.summary.h5", "r") as f:
+        a = f["results"].attrs
+        assert a["loading_theta_c_from"] in (b"rule", "rule"), dict(a)
+        return float(a["loading_theta_c_deg"])
+ref = np.array([theta_c("past", s) for s in (1, 2)])
+rig = np.array([theta_c("past-rigid", s) for s in (1, 2)])
+d = rig - ref
+assert rows[1][1] == "rigid" and rows[1][5] == "2", rows
+assert abs(float(rows[1][6]) - ref.mean()) < 5e-3 and abs(float(rows[1][7]) - rig.mean()) < 5e-3, (rows, ref, rig)
+assert abs(float(rows[1][8].split("±")[0]) - d.mean()) <= 5e-3 * abs(d.mean()) + 1e-9, (rows, d)
+se = d.std(ddof=1) / np.sqrt(2)
+assert abs(float(rows[1][8].split("±")[1]) - se) <= 5e-3 * se + 1e-9, (rows, se)
+PYEOF
 # make limit: the studies of the study's piles found by their names under SUMMARY_ROOT (a
 # study without a summary yet, one of another preparation and one tilted to 1 degree left
 # out), the same rows.
@@ -135,11 +164,17 @@ cp sum/soft/* root/t-$base-k1e4/ && cp sum/fine/* root/t-to2-h4-$base-k1e4/ && c
 cp sum/damped/* root/t-to2-z1-h4-$base-k1e4/
 cp sum/fine/* root/t-to2-$base-mudep0.1-k1e5/
 mkdir -p root/t-to1-$base-k1e5 && cp sum/short/* root/t-to1-$base-k1e5/
+# tilted past the avalanche: at another k (NAME-...-k<k>) and tagged at the study's
+# (NAME-<tag>-...), both found; of another preparation, not
+mkdir -p root/t-$base-k0 root/t-z1-$base root/t-$base-mudep0.1-k0
+cp sum/past-rigid/* root/t-$base-k0/ && cp sum/past-rigid/* root/t-$base-mudep0.1-k0/ && cp sum/past/* root/t-z1-$base/
 make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=t GRAINS=60 WIDTH=10 RATE=0.05 STIFFNESS=1e4 \
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" CDPILE_BIN="$B" > make.md 2> make.err || { cat make.err >&2; exit 1; }
 cmp make.md docs/limit-t-$base-k1e4-to2.md
 [[ -s docs/limit-t-$base-k1e4-to2.png && -s docs/limit-t-$base-k1e4-to2.pdf ]]
-diff <(grep '^| ' table.md | grep -v '^| study ' | cut -d'|' -f3-) <(grep '^| ' make.md | grep -v '^| study ' | cut -d'|' -f3-) || { cat make.md >&2; exit 1; }
+diff <(grep '^| ' table.md | grep -v '^| study ' | cut -d'|' -f3-) \
+  <(grep '^| ' make.md | grep -v -e '^| study ' -e "^| t-$base-k0 |" -e "^| t-z1-$base |" | cut -d'|' -f3-) || { cat make.md >&2; exit 1; }
+[[ $(grep -c "^| t-$base-k0 | rigid |" make.md) == 3 && $(grep -c "^| t-z1-$base | 1e4 |" make.md) == 3 ]] || { cat make.md >&2; exit 1; }
 grep -q "^| t-to2-h4-$base-k1e4 | 1e4 | 0 | h/4 (every step) |" make.md || { cat make.md >&2; exit 1; }
 # the table's name: -to<LIMIT_TO> beside the study's name, none at the default 10
 for to in 10 1; do
