@@ -39,7 +39,8 @@ study's value as the reference's mean over all its seeds plus the paired differe
 s.e.) against k h_s^2 / m, one line per k and zeta through its forced steps and its adaptive study
 that splits least; an adaptive study with a lower S beside it, open; rigid contacts (no k h_s^2 / m)
 as a level across the chart (one line style per step, coarse to fine: dotted, dashed,
-dash-dotted), its s.e. a band.
+dash-dotted), its s.e. a band. Of studies made alike (a study to 3 degrees and one to 10 hold
+the same runs' first degrees) the chart draws the one with the most pairs; the tables keep both.
 """
 import argparse
 import itertools
@@ -161,7 +162,7 @@ def avalanche_angles(folder):
 
 
 def table(folders, sets, values, order, fmt=".4f"):
-    """The rows of one quantity's table, and the chart's points (settings, value, s.e.):
+    """The rows of one quantity's table, and the chart's points (settings, value, s.e., pairs):
     each study against the reference (folders[0]), paired by seed."""
     ref = values[0]
     ref_all = mean_sd_se(np.array([x for x in ref.values() if math.isfinite(x)]))[0]
@@ -180,8 +181,20 @@ def table(folders, sets, values, order, fmt=".4f"):
         nse = f"{d / se:+.1f}" if not same and math.isfinite(se) and se > 0 else ""
         rows.append(f"| {os.path.basename(os.path.normpath(folder))} | {k_label(s['k'])} | {s['zeta']:g} | {step_label(s)} | "
                     f"{s['khm']:.3g} | {len(seeds)} | {mr:{fmt}} | {mv:{fmt}} | {'' if same else pm(d, se)} | {rel} | {nse} |")
-        points.append((s, ref_all if same else ref_all + d, 0.0 if same else se))
+        points.append((s, ref_all if same else ref_all + d, 0.0 if same else se, len(seeds)))
     return rows, points
+
+
+def one_per_setting(points):
+    """The chart's points, one per setting: of studies made alike (a study to 3 degrees and
+    one to 10 hold the same runs' first degrees) the one with the most pairs is drawn; the
+    table keeps both rows."""
+    best = {}
+    for s, y, e, pairs in points:
+        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"])
+        if key not in best or pairs > best[key][3]:
+            best[key] = (s, y, e, pairs)
+    return [(s, y, e) for s, y, e, _ in best.values()]
 
 
 def print_table(title, quantity, rows):
@@ -193,6 +206,7 @@ def print_table(title, quantity, rows):
 
 
 def chart(ax, points, ylabel):
+    points = one_per_setting(points)
     for k, zeta in sorted({(s["k"], s["zeta"]) for s, _, _ in points if s["k"] > 0}):
         mine = [(s, y, e) for s, y, e in points if (s["k"], s["zeta"]) == (k, zeta)]
         # the line: the forced steps and the adaptive study that splits least (the largest
