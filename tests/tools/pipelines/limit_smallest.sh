@@ -187,3 +187,14 @@ if make -s --no-print-directory -C "$CDPILE_SOURCE/pipelines" limit NAME=u GRAIN
   LIMIT_TO=2 SUMMARY_ROOT="$PWD/root" STIFF_DOCS="$PWD/docs" > none.md 2> none.err; then echo "limit made a table of nothing" >&2; exit 1; fi
 grep -qx "pipelines: limit: no study of u-$base-k1e4's piles tilted to 2 degrees in $PWD/root" none.err || { cat none.err >&2; exit 1; }
 [[ ! -s none.md ]]
+# The chart draws one point per setting: of two rigid studies at h (to 2 degrees and past the
+# avalanche, the same runs' first degrees) the one with more pairs.
+"$PY" - "$CDPILE_SOURCE/pipelines" <<'PYEOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+from limit import one_per_setting, settings
+rigid, past = settings("sum/rigid"), settings("sum/past-rigid")
+stiff = settings("sum/stiff")
+got = one_per_setting([(rigid, 1.0, 0.1, 1), (past, 2.0, 0.2, 2), (stiff, 3.0, 0.3, 1)])
+assert got == [(past, 2.0, 0.2), (stiff, 3.0, 0.3)], got
+PYEOF
