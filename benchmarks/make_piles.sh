@@ -21,7 +21,7 @@ for spec in 500:15 1000:30 4000:120 16000:480; do
   out=$dir/pile_$n.h5
   if [[ -e $out ]]; then echo "$out: exists, kept"; continue; fi
   start=$(date +%s.%N)
-  "$bin/deposit" --grains "$n" --width "$width" --seed 1 --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 --quiet -o "$out"
+  "$bin/deposit" --grains "$n" --width "$width" --seed 1 --stiffness 0 --solver nsgs --max-substeps 1 --max-sweeps 2000 --tolerance 1e-4 --quiet -o "$out"
   end=$(date +%s.%N)
   printf '%s: %s grains, width %s D, deposited in %.1f s\n' "$out" "$n" "$width" \
     "$(echo "$end - $start" | bc)"

@@ -54,7 +54,7 @@ case "${1:-}" in
     for seed in "${seeds[@]}"; do
       pile=$out/pile-$prep-$seed.h5
       [[ -e $pile ]] || "$bin/deposit" --grains "${GRAINS:-1000}" --width "${WIDTH:-30}" \
-        --seed "$seed" "${settle[@]}" --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 \
+        --seed "$seed" "${settle[@]}" --stiffness 0 --solver nsgs --max-substeps 1 --max-sweeps 2000 --tolerance 1e-4 \
         --quiet -o "$pile"
       for k in "${ks[@]}"; do
         label="$prep${RULE:+-$RULE} seed=$seed k=$k"

@@ -63,7 +63,7 @@ timed() {  # timed CMD...: runs CMD, leaves its CPU seconds in $cpu
 engine=(--solver nsgs --max-substeps 1 --tolerance 1e-4)
 pile_of() {  # pile_of SEED OUTDIR: the 1000-grain pile of SEED (30 D wide), made once
   local pile=$2/pile-$1.h5
-  [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$1" --stiffness 0 "${engine[@]}" \
+  [[ -e $pile ]] || "$bin/deposit" --grains 1000 --width 30 --seed "$1" --stiffness 0 --max-sweeps 2000 "${engine[@]}" \
     --quiet -o "$pile"
   echo "$pile"
 }

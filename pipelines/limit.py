@@ -188,10 +188,11 @@ def table(folders, sets, values, order, fmt=".4f"):
 def one_per_setting(points):
     """The chart's points, one per setting: of studies made alike (a study to 3 degrees and
     one to 10 hold the same runs' first degrees) the one with the most pairs is drawn; the
-    table keeps both rows."""
+    table keeps both rows. Steps split by the rescue (to h/n) and unsplit ones (n = 1, rigid
+    contacts' default since 2026-12-03) are two settings."""
     best = {}
     for s, y, e, pairs in points:
-        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"])
+        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"], s["n"])
         if key not in best or pairs > best[key][3]:
             best[key] = (s, y, e, pairs)
     return [(s, y, e) for s, y, e, _ in best.values()]

@@ -245,6 +245,40 @@ TEST(RunParameters, DeclaredOptionsSetTheirFields) {
   }
 }
 
+// --max-substeps and --max-sweeps have no default of their own: not given, they take the
+// compliant defaults (64, 2000), or with --stiffness 0 the rigid ones (no sub-steps, a cap
+// of 100 000 at h: docs/method.md, "Sub-steps"); given, they win at any stiffness.
+TEST(RunParameters, RigidContactsDefaultToUnsplitStepsWithAHigherCap) {
+  for (const OptionDeclaration& d : sim::declared_options()) {
+    if (d.name == "max-substeps" || d.name == "max-sweeps") {
+      EXPECT_TRUE(std::holds_alternative<std::monostate>(d.default_value)) << d.name;
+    }
+  }
+  const sim::PileScale scale{1e-3, 1e-6, 9.81};
+  OptionValues values{{"stiffness", 1e6}};
+  cd::Settings s = sim::settings_from_options(values, scale);
+  EXPECT_EQ(s.max_substeps, 64);
+  EXPECT_EQ(s.max_sweeps, 2000);
+  values["stiffness"] = 0.0;
+  s = sim::settings_from_options(values, scale);
+  EXPECT_EQ(s.contact_stiffness, 0.0);
+  EXPECT_EQ(s.max_substeps, 1);
+  EXPECT_EQ(s.max_sweeps, 100000);
+  EXPECT_EQ(s.max_substeps, sim::rigid_option_defaults().max_substeps);
+  EXPECT_EQ(s.max_sweeps, sim::rigid_option_defaults().max_sweeps);
+  values["max-substeps"] = std::int64_t{16};
+  values["max-sweeps"] = std::int64_t{2000};
+  s = sim::settings_from_options(values, scale);
+  EXPECT_EQ(s.max_substeps, 16);
+  EXPECT_EQ(s.max_sweeps, 2000);
+  values["stiffness"] = 1e6;
+  values["max-substeps"] = std::int64_t{1};
+  values["max-sweeps"] = std::int64_t{100000};
+  s = sim::settings_from_options(values, scale);
+  EXPECT_EQ(s.max_substeps, 1);
+  EXPECT_EQ(s.max_sweeps, 100000);
+}
+
 // validate() holds each field to its row's range (RunParameter::accepted), with the
 // messages it has always given, naming the field as the front end spells it.
 TEST(RunParameters, ValidateRefusesEachFieldOutOfItsRowsRange) {

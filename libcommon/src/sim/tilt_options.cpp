@@ -203,6 +203,12 @@ struct Row {
     p.accepted = a;
     return std::move(*this);
   }
+  // An option without a default of its own: settings_from_options sets the field from
+  // the contact stiffness when the option is not given.
+  Row&& defaulted_by_stiffness() && {
+    declaration.default_value = std::monostate{};
+    return std::move(*this);
+  }
   Row&& pre_seam(io::Value v) && {
     p.pre_seam = std::move(v);
     return std::move(*this);
@@ -296,10 +302,15 @@ std::vector<RunParameter> make_table() {
           .declared("Solver",
                     "NSGS convergence threshold of --criterion, relative to the velocity scale", "",
                     1e-15, 1.0));
+  // The cap and the sub-steps default by the contacts, rigid or compliant
+  // (settings_from_options): absent when not given, not defaulted.
   rows.push_back(Row("max_sweeps", "max_sweeps", "", "max-sweeps", engine)
                      .of(&S::max_sweeps)
+                     .defaulted_by_stiffness()
                      .declared("Solver",
-                               "cap of NSGS sweeps per step (hitting it is counted and reported)",
+                               "cap of NSGS sweeps per step (hitting it is counted and reported); "
+                               "default 2000, 100000 with --stiffness 0, whose steps are not "
+                               "split (docs/method.md, \"Sub-steps\")",
                                "", 1, 100000000));
   rows.push_back(
       Row("criterion", "criterion", "", "criterion", engine)
@@ -342,8 +353,8 @@ std::vector<RunParameter> make_table() {
                     "contact stiffness k of the force-selection rule, in m g / D (m the mean "
                     "grain mass, D the mean diameter): the compliance 1/(k h^2) anchored at the "
                     "previous step's impulses picks the step's forces near the previous ones; 0 "
-                    "for rigid contacts, with --tolerance 1e-4 --solver nsgs as the rigid "
-                    "studies (docs/method.md, \"Force selection\")",
+                    "for rigid contacts, whose steps are not split by default (--max-substeps) "
+                    "(docs/method.md, \"Force selection\")",
                     "m g/D", 0.0, 1e300));
   // Files made before it was a parameter had no dashpot (0).
   rows.push_back(
@@ -370,10 +381,12 @@ std::vector<RunParameter> make_table() {
       Row("max_substeps", "max_substeps", "", "max-substeps", engine)
           .of(&S::max_substeps)
           .pre_seam(std::int64_t{1})
+          .defaulted_by_stiffness()
           .declared("Solver",
                     "adaptive sub-steps: a step not converged after --substep-after sweeps is "
                     "done again as two half steps under the same gravity, recursively, down to h "
-                    "/ this (a power of two; 1: none) (docs/method.md, \"Sub-steps\")",
+                    "/ this (a power of two; 1: none); default 64, 1 with --stiffness 0, whose "
+                    "conditioning halving h does not improve (docs/method.md, \"Sub-steps\")",
                     "", 1, cd::max_substeps_limit));
   rows.push_back(
       Row("substep_after", "substep_after", "", "substep-after", engine)
@@ -544,6 +557,14 @@ cd::Settings settings_from_options(const OptionValues& values, const PileScale& 
   for (const RunParameter& p : run_parameters())
     if (p.declaration && p.group == ParameterGroup::settings)
       p.set_option(o, option_value(p, values, scale));
+  // Rigid contacts' steps are not split, and their cap is 50 times the compliant one's:
+  // without a compliance halving h does not improve a step's conditioning, and a split
+  // step's tolerance, relative to g h / 2^level, asks 2^level times more of its solve, so
+  // the rescue made the rigid steps harder (docs/method.md, "Sub-steps").
+  const bool rigid = o.settings.contact_stiffness == 0.0;
+  const cd::Settings by_stiffness = rigid ? rigid_option_defaults() : option_defaults();
+  if (!values.count("max-substeps")) o.settings.max_substeps = by_stiffness.max_substeps;
+  if (!values.count("max-sweeps")) o.settings.max_sweeps = by_stiffness.max_sweeps;
   const int n = o.settings.max_substeps;
   if ((n & (n - 1)) != 0)
     throw UsageError(field("max_substeps") + ": expected a power of two in [1, " +
@@ -557,6 +578,14 @@ cd::Settings option_defaults() {
   d.tolerance = 1e-6;
   d.max_substeps = 64;
   d.substep_after = 1000;
+  return d;
+}
+
+cd::Settings rigid_option_defaults() {
+  cd::Settings d = option_defaults();
+  d.contact_stiffness = 0.0;
+  d.max_substeps = 1;
+  d.max_sweeps = 100000;
   return d;
 }
 

@@ -6,7 +6,7 @@
 # ctest: slow, timeout 120
 B=$CDPILE_BIN
 # the engine of the studies made so far (pipelines/Makefile, STUDY_ENGINE)
-old=(--solver nsgs --max-substeps 1 --tolerance 1e-4)
+old=(--solver nsgs --max-substeps 1 --max-sweeps 2000 --tolerance 1e-4)
 "$B/deposit" --grains 80 --width 10 --seed 3 --stiffness 0 "${old[@]}" --quiet -o pile.h5
 mkdir -p study
 "$B/tilt-cd" pile.h5 --rate 0.05 --stiffness 1e5 "${old[@]}" --frame-every-deg 1 --quiet -o study/run-1.h5

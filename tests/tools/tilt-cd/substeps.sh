@@ -1,5 +1,5 @@
 # --max-substeps N --substep-after S: a step not converged after S sweeps is done again as two half steps, down to h / N (docs/method.md, "Sub-steps"); both are recorded in /parameters, every step's sub-steps in /observables/substeps, and a run killed and resumed is the run never interrupted, bit for bit (the sub-step level is in the checkpoint). A stiff pile (k = 1e7 m g / D) capped at 60 sweeps splits and converges every step.
-deposit --grains 100 --width 12 --seed 2 --stiffness 0 --solver nsgs --max-substeps 1 --tolerance 1e-4 -o pile.h5 --quiet
+deposit --grains 100 --width 12 --seed 2 --stiffness 0 --solver nsgs --max-substeps 1 --max-sweeps 2000 --tolerance 1e-4 -o pile.h5 --quiet
 opts=(--to 1.5 --rate 0.005 --stiffness 1e7 --solver nsgs --tolerance 1e-4 --max-sweeps 60 --max-substeps 16 --substep-after 10
       --checkpoint-every 20 --frame-every 50 --quiet)
 tilt-cd pile.h5 -o ref.h5 "${opts[@]}"

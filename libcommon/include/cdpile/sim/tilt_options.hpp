@@ -131,14 +131,20 @@ std::vector<OptionDeclaration> declared_options();
 void set_declared_options(TiltOptions& o, const OptionValues& values);
 /// The engine's settings from the values of declared_options() (cli::option_values), the
 /// options in D or m g / D converted by `scale`; those without an option (gravity, the
-/// friction) are cd::Settings' defaults. Throws cdpile::UsageError for a number of
-/// sub-steps that is not a power of two.
+/// friction) are cd::Settings' defaults; --max-substeps and --max-sweeps not given take
+/// option_defaults()' values, rigid_option_defaults()' with --stiffness 0. Throws
+/// cdpile::UsageError for a number of sub-steps that is not a power of two.
 cd::Settings settings_from_options(const OptionValues& values, const PileScale& scale);
 /// The engine's settings the options default to: cd::Settings' with the solver that
 /// converges the compliant steps (pcg), the tolerance at which their critical contacts
 /// converge (1e-6), and sub-steps that rescue the rare step pcg leaves unconverged after
 /// 1000 sweeps (docs/method.md, "Defaults and their reasons").
 cd::Settings option_defaults();
+/// The options' defaults with --stiffness 0: option_defaults() with rigid contacts, no
+/// sub-steps (halving h does not improve a rigid step's conditioning) and a sweep cap of
+/// 100 000 at h, which settings_from_options takes where --max-substeps or --max-sweeps is
+/// not given (docs/method.md, "Sub-steps").
+cd::Settings rigid_option_defaults();
 
 /// Checks the options: each field's range (RunParameter::accepted), then the tilts against
 /// the start and the frame interval, then the engine's settings (cd::validate); throws
