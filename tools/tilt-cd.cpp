@@ -162,9 +162,8 @@ static sim::InheritedOptions inherited(const cli::Args& a, const sim::PileInput&
 }
 
 static std::string change_text(const cli::Args& a, const sim::OptionChange& c) {
-  if (c.option.empty())  // derived: the frame interval at another rate
-    return c.parameter + " " + c.value + " (the run's " + c.run_value +
-           ": the same interval in degrees at this --rate)";
+  if (c.option.empty())  // derived from the options given (sim::inherit_options)
+    return c.parameter + " " + c.value + " (the run's " + c.run_value + ": " + c.reason + ")";
   return "--" + c.option + " " + a.text(c.option) + ": " + c.parameter + " " + c.value +
          " instead of the run's " + c.run_value;
 }

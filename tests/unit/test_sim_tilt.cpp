@@ -608,6 +608,49 @@ TEST(Settings, PreSeamFilesReadAsRigidNsgsCheckedEverySweep) {
   EXPECT_EQ(cd::Settings{}.strips, 16);
 }
 
+// A branch that makes a compliant run's contacts rigid takes the rigid defaults of the
+// sub-steps and the cap where not given (docs/method.md, "Sub-steps"), and back; a branch
+// at another compliant stiffness keeps the run's.
+TEST(Tilt, ABranchToRigidContactsTakesTheirSubstepsAndCap) {
+  sim::TiltOptions run = short_run();
+  run.settings.contact_stiffness = 1e6;
+  run.settings.max_substeps = 64;
+  run.settings.max_sweeps = 2000;
+  const io::Values compliant = sim::tilt_parameters(run);
+  sim::TiltOptions asked;
+  asked.settings.contact_stiffness = 0.0;
+  sim::InheritedOptions b = sim::inherit_options(compliant, asked, {"stiffness"}, 0.1, "run.h5");
+  EXPECT_EQ(b.options.settings.max_substeps, 1);
+  EXPECT_EQ(b.options.settings.max_sweeps, 100000);
+  ASSERT_EQ(b.changes.size(), 3u);  // in the table's order: the cap, k, the sub-steps
+  EXPECT_EQ(b.changes[0].parameter, "max_sweeps");
+  EXPECT_EQ(b.changes[0].option, "");
+  EXPECT_EQ(b.changes[0].run_value + " " + b.changes[0].value, "2000 100000");
+  EXPECT_EQ(b.changes[0].reason, "the default with rigid contacts");
+  EXPECT_EQ(b.changes[1].option, "stiffness");
+  EXPECT_EQ(b.changes[2].parameter, "max_substeps");
+  // given, they win
+  asked.settings.max_substeps = 4;
+  b = sim::inherit_options(compliant, asked, {"stiffness", "max-substeps"}, 0.1, "run.h5");
+  EXPECT_EQ(b.options.settings.max_substeps, 4);
+  EXPECT_EQ(b.options.settings.max_sweeps, 100000);
+  // and back: a rigid run branched compliant
+  run.settings.contact_stiffness = 0.0;
+  run.settings.max_substeps = 1;
+  run.settings.max_sweeps = 100000;
+  asked = sim::TiltOptions{};
+  asked.settings.contact_stiffness = 2e7;
+  b = sim::inherit_options(sim::tilt_parameters(run), asked, {"stiffness"}, 0.1, "run.h5");
+  EXPECT_EQ(b.options.settings.max_substeps, 64);
+  EXPECT_EQ(b.options.settings.max_sweeps, 2000);
+  // another compliant stiffness keeps the run's
+  run.settings.contact_stiffness = 1e6;
+  run.settings.max_substeps = 16;
+  b = sim::inherit_options(sim::tilt_parameters(run), asked, {"stiffness"}, 0.1, "run.h5");
+  EXPECT_EQ(b.options.settings.max_substeps, 16);
+  EXPECT_EQ(b.options.settings.max_sweeps, 100000);
+}
+
 // A branch or a resume takes the run's options; those given override them and are listed
 // as changes; a frame interval not given keeps its degrees at another rate.
 TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
@@ -639,6 +682,7 @@ TEST(Tilt, BranchAndResumeInheritTheRunsOptions) {
   EXPECT_EQ(b.changes[0].value, "0.004");
   EXPECT_EQ(b.changes[1].option, "");
   EXPECT_EQ(b.changes[1].parameter, "frame_every_steps");
+  EXPECT_EQ(b.changes[1].reason, "the same interval in degrees at this --rate");
   EXPECT_EQ(b.changes[2].option, "tolerance");
   // a run without --to: "none"
   io::Values open_ended = stored;

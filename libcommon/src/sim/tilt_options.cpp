@@ -16,6 +16,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <tuple>
 #include <type_traits>
 
 namespace cdpile::sim {
@@ -671,6 +672,7 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   const io::Values before = tilt_parameters(from_run), want = tilt_parameters(asked);
   io::Values merged = before;
   std::map<std::string, std::string> option_of;  // parameter -> the option that set it
+  std::map<std::string, std::string> reason_of;  // parameter -> why it changed, if derived
   for (const RunParameter& p : run_parameters()) {
     if (p.inherit != Inherit::from_run) continue;
     for (const std::string& option : {p.option, p.also_option})
@@ -679,15 +681,34 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
         option_of[p.key] = option;
       }
   }
+  // The sub-steps and the cap default by the contacts (settings_from_options): a branch
+  // that makes the run's compliant contacts rigid, or its rigid ones compliant, takes the
+  // new contacts' defaults for those of the two not given. (A resume, no start_deg, keeps
+  // the run's options: another stiffness is refused there, by that option's name.)
+  const bool was_rigid = from_run.settings.contact_stiffness == 0.0;
+  const bool rigid = std::get<double>(merged.at(parameter_key("contact_stiffness"))) == 0.0;
+  if (start_deg && rigid != was_rigid) {
+    const cd::Settings d = rigid ? rigid_option_defaults() : option_defaults();
+    const std::string why = rigid ? "the default with rigid contacts" : "the default with compliant contacts";
+    for (const auto& [option, field, value] :
+         {std::tuple{"max-substeps", "max_substeps", d.max_substeps},
+          std::tuple{"max-sweeps", "max_sweeps", d.max_sweeps}})
+      if (!given.count(option)) {
+        merged[parameter_key(field)] = std::int64_t{value};
+        reason_of[parameter_key(field)] = why;
+      }
+  }
   // The run's frame interval is an interval of tilt: at another rate it stays that many
   // degrees, not that many steps.
   const std::string &rate_key = parameter_key("rate_deg"),
                     &frames_key = parameter_key("frame_every"),
                     &from_key = parameter_key("from_deg");
   const double rate = std::get<double>(merged.at(rate_key));
-  if (!option_of.count(frames_key) && rate != from_run.rate_deg)
+  if (!option_of.count(frames_key) && rate != from_run.rate_deg) {
     merged[frames_key] = std::max<std::int64_t>(
         1, std::llround(static_cast<double>(from_run.frame_every) * from_run.rate_deg / rate));
+    reason_of[frames_key] = "the same interval in degrees at this --rate";
+  }
   if (start_deg) merged[from_key] = *start_deg;
   InheritedOptions out;
   out.options = tilt_options_from_parameters(merged, file);
@@ -698,8 +719,10 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
     if (p.key.empty() || p.option.empty() || (start_deg && p.key == from_key)) continue;
     if (merged.at(p.key) == before.at(p.key)) continue;
     const auto by = option_of.find(p.key);
+    const auto why = reason_of.find(p.key);
     out.changes.push_back({by == option_of.end() ? "" : by->second, p.key,
-                           message_text(p, before.at(p.key)), message_text(p, merged.at(p.key))});
+                           message_text(p, before.at(p.key)), message_text(p, merged.at(p.key)),
+                           why == reason_of.end() ? "" : why->second});
   }
   return out;
 }

@@ -170,6 +170,7 @@ struct OptionChange {
   std::string option;            ///< the option given (without dashes); empty for a derived value
   std::string parameter;         ///< the run parameter it sets
   std::string run_value, value;  ///< as text
+  std::string reason;            ///< why a derived value changed; empty for an option given
 };
 struct InheritedOptions {
   TiltOptions options;
@@ -178,7 +179,9 @@ struct InheritedOptions {
 /// The options of a branch or a resume: the run's (`run`, its /parameters), except those
 /// the user gave (`given`, option names), which are taken from `asked` (the command line's
 /// options). A frame interval not given keeps the run's interval in degrees when the
-/// rate changes. `start_deg`: a branch starts at its frame's tilt, not at the run's
+/// rate changes; a branch that makes the contacts rigid (or compliant) takes their
+/// defaults of --max-substeps and --max-sweeps where not given. `start_deg`: a branch starts at
+/// its frame's tilt, not at the run's
 /// --from (not counted as a change). What is not a parameter (checkpoint_every, threads:
 /// Inherit::as_asked in run_parameters()) is always `asked`'s.
 InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked,
