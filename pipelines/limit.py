@@ -212,15 +212,24 @@ def chart(ax, points, ylabel):
         mine = [(s, y, e) for s, y, e in points if (s["k"], s["zeta"]) == (k, zeta)]
         # the line: the forced steps and the adaptive study that splits least (the largest
         # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
-        least = max((s["after"] for s, _, _ in mine if not s["forced"]), default=None)
-        line = sorted((s["khm"], y, e) for s, y, e in mine if s["forced"] or s["after"] == least)
-        x, y, e = (np.array(t) for t in zip(*line))
-        drawn = ax.errorbar(x, y, yerr=e, fmt="o-" if zeta == 0 else "^--", ms=4, capsize=2,
-                            label=line_label(k, zeta))
+        # studies unsplit at h (n = 1, no rescue) are marked apart, not joined
+        adaptive = [s for s, _, _ in mine if not s["forced"] and s["n"] > 1]
+        least = max((s["after"] for s in adaptive), default=None)
+        line = sorted((s["khm"], y, e) for s, y, e in mine
+                      if s["forced"] or (s["n"] > 1 and s["after"] == least))
+        color = None  # the line's, or the next one where k has no line
+        if line:
+            x, y, e = (np.array(t) for t in zip(*line))
+            drawn = ax.errorbar(x, y, yerr=e, fmt="o-" if zeta == 0 else "^--", ms=4, capsize=2,
+                                label=line_label(k, zeta))
+            color = drawn[0].get_color()
         for s, y, e in mine:
-            if not s["forced"] and s["after"] != least:
+            if s["n"] == 1:
+                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="D", ms=6, capsize=2,
+                            color=color, label=f"{line_label(k, zeta)}, every step at h (unsplit)")
+            elif not s["forced"] and s["after"] != least:
                 ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
-                            color=drawn[0].get_color(), label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
+                            color=color, label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
     # rigid contacts have no k h_s^2 / m (it is infinite): a level across the chart, its
     # s.e. as a band, the value the lines tend to as k grows
     rigid = sorted(((s, y, e) for s, y, e in points if s["k"] == 0), key=lambda p: -p[0]["h_s"])
