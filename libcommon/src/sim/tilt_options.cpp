@@ -532,6 +532,11 @@ std::vector<OptionDeclaration> declared_options() {
 }
 
 namespace {
+// The options' defaults for rigid or compliant contacts (the sub-steps and the cap differ).
+cd::Settings defaults_for_contacts(bool rigid) {
+  return rigid ? rigid_option_defaults() : option_defaults();
+}
+
 // The value of p's option in the field's unit, if given or defaulted.
 std::optional<OptionValue> option_value(const RunParameter& p, const OptionValues& values,
                                         const PileScale& s) {
@@ -562,8 +567,7 @@ cd::Settings settings_from_options(const OptionValues& values, const PileScale& 
   // without a compliance halving h does not improve a step's conditioning, and a split
   // step's tolerance, relative to g h / 2^level, asks 2^level times more of its solve, so
   // the rescue made the rigid steps harder (docs/method.md, "Sub-steps").
-  const bool rigid = o.settings.contact_stiffness == 0.0;
-  const cd::Settings by_stiffness = rigid ? rigid_option_defaults() : option_defaults();
+  const cd::Settings by_stiffness = defaults_for_contacts(o.settings.contact_stiffness == 0.0);
   if (!values.count("max-substeps")) o.settings.max_substeps = by_stiffness.max_substeps;
   if (!values.count("max-sweeps")) o.settings.max_sweeps = by_stiffness.max_sweeps;
   const int n = o.settings.max_substeps;
@@ -688,8 +692,9 @@ InheritedOptions inherit_options(const io::Values& run, const TiltOptions& asked
   const bool was_rigid = from_run.settings.contact_stiffness == 0.0;
   const bool rigid = std::get<double>(merged.at(parameter_key("contact_stiffness"))) == 0.0;
   if (start_deg && rigid != was_rigid) {
-    const cd::Settings d = rigid ? rigid_option_defaults() : option_defaults();
-    const std::string why = rigid ? "the default with rigid contacts" : "the default with compliant contacts";
+    const cd::Settings d = defaults_for_contacts(rigid);
+    const std::string why =
+        rigid ? "the default with rigid contacts" : "the default with compliant contacts";
     for (const auto& [option, field, value] :
          {std::tuple{"max-substeps", "max_substeps", d.max_substeps},
           std::tuple{"max-sweeps", "max_sweeps", d.max_sweeps}})
