@@ -29,6 +29,8 @@ RunRecord sample_run() {
     r.steps.critical.push_back(3 + (k % 2));
     r.steps.kinetic_energy.push_back(1e-9 * (k + 1) / 3.0);
     r.steps.converged.push_back(k != 2);
+    r.steps.sweeps.push_back(k == 2 ? 200000 : 40 + k);
+    r.steps.substeps.push_back(k == 3 ? 4 : 1);
   }
   // sliding, rotational_energy, max_speed, grains_without_contact: not recorded
   FrameRecord a;
@@ -101,6 +103,8 @@ TEST(RunSummary, RunRecordRoundTrip) {
   EXPECT_EQ(q.steps.critical, r.steps.critical);
   EXPECT_EQ(q.steps.kinetic_energy, r.steps.kinetic_energy);  // every bit
   EXPECT_EQ(q.steps.converged, r.steps.converged);
+  EXPECT_EQ(q.steps.sweeps, (std::vector<std::int64_t>{40, 41, 200000, 43, 44}));
+  EXPECT_EQ(q.steps.substeps, (std::vector<std::int64_t>{1, 1, 1, 4, 1}));
   EXPECT_TRUE(q.steps.sliding.empty());
   EXPECT_TRUE(q.steps.max_speed.empty());
   ASSERT_EQ(q.frames.size(), 2u);

@@ -59,6 +59,8 @@ void check_steps(const RunRecord& r) {
   same(r.steps.converged.size(), "converged", true);
   same(r.steps.max_speed.size(), "max_speed", true);
   same(r.steps.grains_without_contact.size(), "grains_without_contact", true);
+  same(r.steps.sweeps.size(), "sweeps", true);
+  same(r.steps.substeps.size(), "substeps", true);
 }
 
 // Whether each step is static (RestRule; docs/analysis.md, "Static and moving states"):

@@ -76,6 +76,8 @@ const std::vector<StepColumn>& step_columns() {
       {"max_speed", "m/s", ColumnKind::real, nullptr, &RunSteps::max_speed, true},
       {"grains_without_contact", "", ColumnKind::integer, &RunSteps::grains_without_contact,
        nullptr, true},
+      {"sweeps", "", ColumnKind::integer, &RunSteps::sweeps, nullptr, true},
+      {"substeps", "", ColumnKind::integer, &RunSteps::substeps, nullptr, true},
   };
   return c;
 }

@@ -485,6 +485,8 @@ analysis::RunSteps steps_from_series(const Series& s, bool include_walls, const 
   if (auto c = integer("converged")) r.converged = *c;
   if (auto v = real("max_speed")) r.max_speed = *v;
   if (auto c = integer("grains_without_contact")) r.grains_without_contact = *c;
+  if (auto c = integer("sweeps")) r.sweeps = *c;
+  if (auto c = integer("substeps")) r.substeps = *c;
   return r;
 }
 

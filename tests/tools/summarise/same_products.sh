@@ -33,3 +33,10 @@ same f-runs.tsv f-sums.tsv
 critical run-1.summary.h5 --quiet > c1.tsv
 grep -q "^# provenance: tilt-cd	0\.1\.0+[0-9a-f]*" c1.tsv
 grep -q "^# provenance: summarise	0\.1\.0+[0-9a-f]*" c1.tsv
+# the summary keeps what the solver did at each step: the run's sweeps and sub-steps, value by value
+values() { h5dump -y -w 0 -d "$1" "$2" | sed -n '/^   DATA {/,/^   }/p' | grep -v '[{}]' | tr -d ' \n'; }
+for k in sweeps substeps; do
+  r=$(values /observables/$k/value run-1.h5)
+  [[ $(tr -cd , <<< "$r" | wc -c) -gt 100 ]]  # a value per step
+  expect_eq "$r" "$(values /tables/steps/$k run-1.summary.h5)"
+done

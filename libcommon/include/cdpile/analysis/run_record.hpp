@@ -96,6 +96,10 @@ struct RunSteps {
   std::vector<std::int64_t> converged;    ///< 1 if the step met its criterion, if recorded
   std::vector<double> max_speed;          ///< largest grain speed [m/s], if recorded
   std::vector<std::int64_t> grains_without_contact;  ///< free grains in flight, if recorded
+  /// What the solver did, if recorded: sweeps and iterations summed over the step's
+  /// sub-steps, and the sub-steps (1: unsplit; docs/method.md, "Sub-steps"). Not read by
+  /// any rule; kept so that a summary tells whether its run's steps were split or capped.
+  std::vector<std::int64_t> sweeps, substeps;
 };
 
 /// Every counted contact of one frame (critical --contacts), in the order of the frame's
