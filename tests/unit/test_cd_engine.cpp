@@ -546,6 +546,44 @@ TEST(Substeps, AStiffColumnSplitsConvergesAndCarriesItsWeight) {
   }
 }
 
+// With the sub-steps starting at h every step (SubstepStart::h), a split step is one whose
+// attempt at h failed: it took at least substep_after sweeps there first, and a step
+// after a split one that converges at h is not split. Started at the last level, the
+// column stays split across steps instead: fewer of its steps are at h, and some split steps
+// made no attempt at h. Both converge every step and carry the column's weight.
+TEST(Substeps, StartingEachStepAtHSplitsOnlyTheStepsThatFailThere) {
+  const int k = 30, after = 30;
+  cd::Engine last = stiff_column(k, 1e7, 256, after, 300), at_h = last;
+  cd::Settings s = at_h.settings();
+  s.substep_start = cd::SubstepStart::h;
+  at_h = cd::Engine(at_h.box(), at_h.grains(), s);
+  int whole_last = 0, whole_h = 0, split_h = 0, split_without_attempt_last = 0;
+  for (int step = 0; step < 400; ++step) {
+    const cd::StepReport a = last.step(0.0), b = at_h.step(0.0);
+    EXPECT_TRUE(a.converged && b.converged) << "step " << step;
+    whole_last += a.substeps == 1;
+    whole_h += b.substeps == 1;
+    split_without_attempt_last += a.substeps > 1 && a.sweeps < after;
+    if (b.substeps > 1) {
+      ++split_h;
+      EXPECT_GE(b.sweeps, after) << "step " << step;
+    }
+  }
+  EXPECT_GT(split_h, 0);
+  EXPECT_GT(whole_h, whole_last);
+  EXPECT_GT(split_without_attempt_last, 0);
+  const double mg = at_h.grains().mass[0] * 9.81;
+  const auto c = at_h.contacts();
+  ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+  for (std::size_t q = 0; q < c.size(); ++q) {
+    const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+    EXPECT_NEAR(c.fn[q], carried * mg, 1e-3 * k * mg) << "contact " << q;
+  }
+  EXPECT_EQ(cd::substep_start_from_name("h"), cd::SubstepStart::h);
+  EXPECT_STREQ(cd::substep_start_name(cd::SubstepStart::last), "last");
+  EXPECT_THROW(cd::substep_start_from_name("first"), cdpile::UsageError);
+}
+
 // The sub-step level is part of the state: an engine rebuilt from the grains and state of
 // a split run continues it bit for bit; a level beyond the settings' max_substeps is
 // refused; and a split step cancelled half way leaves the last completed step's grains

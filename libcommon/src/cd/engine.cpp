@@ -155,6 +155,20 @@ void Engine::lock_rotation(std::size_t grain, bool locked) {
   if (locked) grains_.angular_velocity[grain] = 0.0;
 }
 
+const char* substep_start_name(SubstepStart s) {
+  switch (s) {
+    case SubstepStart::last: return "last";
+    case SubstepStart::h: return "h";
+  }
+  return "?";
+}
+
+SubstepStart substep_start_from_name(const std::string& name) {
+  for (const SubstepStart s : {SubstepStart::last, SubstepStart::h})
+    if (name == substep_start_name(s)) return s;
+  throw UsageError("unknown sub-step start '" + name + "' (last or h)");
+}
+
 StepReport Engine::step(double tilt_angle) {
   last_tilt_angle_ = tilt_angle;
   const Vec2 g = tilted_gravity(settings_.gravity, tilt_angle);
@@ -167,8 +181,8 @@ StepReport Engine::step(double tilt_angle) {
     try {
       // Start at the level the last step ended at (a rearrangement lasts many steps, and
       // each failed attempt costs substep_after sweeps), one level coarser when every
-      // sub-step of the last step converged in under a quarter of that.
-      const int parts = 1 << substep_level_;
+      // sub-step of the last step converged in under a quarter of that; or at h.
+      const int parts = settings_.substep_start == SubstepStart::h ? 1 : 1 << substep_level_;
       SubstepTally tally;
       tally.finest = parts;
       for (int k = 0; k < parts; ++k) advance(settings_.time_step / parts, parts, g, report, tally);

@@ -396,6 +396,17 @@ std::vector<RunParameter> make_table() {
           .declared("Solver",
                     "sweeps a step may take before it is split into two (with --max-substeps > 1)",
                     "", 1, 100000000));
+  // Files made before it was a parameter started each step at the last one's level.
+  rows.push_back(
+      Row("substep_start", "substep_start", "", "substep-start", engine)
+          .of_text(&S::substep_start, cd::substep_start_name, cd::substep_start_from_name)
+          .pre_seam(std::string("last"))
+          .declared("Solver",
+                    "with --max-substeps > 1, the sub-steps a step starts with: 'last', the "
+                    "level the last step ended at (one coarser once its sub-steps came easily); "
+                    "'h', the whole step every time, so that the pile is at h wherever a step "
+                    "converges there (docs/method.md, \"Sub-steps\")",
+                    {"last", "h"}));
   rows.push_back(
       Row("sweep_order", "sweep_order", "", "sweep-order", engine)
           .of_text(&S::sweep_order, cd::sweep_order_name, cd::sweep_order_from_name)

@@ -41,6 +41,11 @@ struct DelassusProblem;  // delassus.hpp
 /// How a step advances the pile: the time stepping and the contact law. SI units;
 /// defaults are for a mean grain diameter D = 1e-3 m (docs/method.md gives the reason for
 /// each). Nothing here is a solver choice (SolverSettings, solver.hpp).
+/// Where each step's sub-steps start (TimeStepping::substep_start).
+enum class SubstepStart { last, h };
+const char* substep_start_name(SubstepStart s);
+SubstepStart substep_start_from_name(const std::string& name);  ///< throws UsageError
+
 struct TimeStepping {
   double time_step = 1e-4;       ///< h [s]; h sqrt(g/D) = 0.0099 for D = 1 mm
   double theta = 0.5;            ///< theta-method parameter, in [0.5, 1]
@@ -67,6 +72,12 @@ struct TimeStepping {
   /// sub-steps (a power of two).
   int max_substeps = 1;
   int substep_after = 100;  ///< sweeps before a step is split (when max_substeps > 1)
+  /// The sub-steps a step starts with (docs/method.md, "Sub-steps"): `last`, the level the
+  /// last step ended at, one level coarser once its sub-steps came easily (a rearrangement
+  /// lasts many steps, and each failed attempt at h costs substep_after sweeps); `h`, the
+  /// whole step every time, so that only the steps that do not converge at h are split and
+  /// the pile is at h everywhere else.
+  SubstepStart substep_start = SubstepStart::last;
 };
 
 /// The largest TimeStepping::max_substeps: h / 1024 is already 1e-7 s at the default h.
