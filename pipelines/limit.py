@@ -11,7 +11,8 @@ What a study was made with is read from its summaries' /parameters, not from its
 stiffness k (run_contact_stiffness_mgD, in m g/D; 0 for rigid contacts), the step h
 (run_time_step_s), the contact dashpot's damping ratio zeta (run_contact_damping_ratio, 0 in
 summaries of runs made before it was a parameter: no dashpot; docs/method.md, "The contact
-dashpot") and the sub-steps (run_max_substeps N, run_substep_after S). With S = 1
+dashpot") and the sub-steps (run_max_substeps N, run_substep_after S, and run_substep_start,
+'last' in summaries made before it was a parameter). With S = 1
 every step is split to h/N from the first on (docs/method.md, "Sub-steps"), so the step is
 h_s = h/N; otherwise a step is split only where it has not converged after S sweeps, and
 the study's step is h (its few split steps are what the defaults do). The folders' runs
@@ -84,6 +85,8 @@ def settings(folder):
             with h5py.File(path, "r") as f:
                 attrs = f["parameters"].attrs
                 s = tuple(float(attrs[k]) if k in attrs else EARLIER[k] for k in SETTINGS)
+                start = attrs.get("run_substep_start", "last")
+                s += (start.decode() if isinstance(start, bytes) else str(start),)
         except (OSError, KeyError) as e:
             fail(f"{path}: not a summary with the run's parameters ({e})")
         found.setdefault(s, name)
@@ -92,11 +95,12 @@ def settings(folder):
     if len(found) > 1:
         a, b = list(found.values())[:2]
         fail(f"{folder}: {a} and {b} were made with different settings (k, h, dashpot or sub-steps)")
-    k, h, n, after, g, d, zeta = next(iter(found))
+    k, h, n, after, g, d, zeta, start = next(iter(found))
     forced = after == 1 and n > 1
     h_s = h / n if forced else h
     # rigid contacts (k = 0) are the limit k h_s^2 / m -> infinity
     return {"k": k, "zeta": zeta, "h": h, "n": int(n), "after": int(after), "forced": forced, "h_s": h_s,
+            "start": start,
             "khm": k * g * h_s ** 2 / d if k > 0 else math.inf}
 
 
@@ -104,7 +108,8 @@ def step_label(s):
     if s["forced"]:
         return f"h/{s['n']} (every step)"
     if s["n"] > 1:
-        return f"h (split after {s['after']} sweeps, to h/{s['n']})"
+        return (f"h (split after {s['after']} sweeps, to h/{s['n']}"
+                + (", from h each step)" if s["start"] == "h" else ")"))
     return "h"
 
 
@@ -192,7 +197,7 @@ def one_per_setting(points):
     contacts' default since 2026-12-03) are two settings."""
     best = {}
     for s, y, e, pairs in points:
-        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"], s["n"])
+        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"], s["n"], s["start"])
         if key not in best or pairs > best[key][3]:
             best[key] = (s, y, e, pairs)
     return [(s, y, e) for s, y, e, _ in best.values()]
@@ -213,10 +218,10 @@ def chart(ax, points, ylabel):
         # the line: the forced steps and the adaptive study that splits least (the largest
         # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
         # studies unsplit at h (n = 1, no rescue) are marked apart, not joined
-        adaptive = [s for s, _, _ in mine if not s["forced"] and s["n"] > 1]
+        adaptive = [s for s, _, _ in mine if not s["forced"] and s["n"] > 1 and s["start"] == "last"]
         least = max((s["after"] for s in adaptive), default=None)
         line = sorted((s["khm"], y, e) for s, y, e in mine
-                      if s["forced"] or (s["n"] > 1 and s["after"] == least))
+                      if s["forced"] or (s["n"] > 1 and s["after"] == least and s["start"] == "last"))
         color = None  # the line's, or the next one where k has no line
         if line:
             x, y, e = (np.array(t) for t in zip(*line))
@@ -227,6 +232,9 @@ def chart(ax, points, ylabel):
             if s["n"] == 1:
                 ax.errorbar([s["khm"]], [y], yerr=[e], fmt="D", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, every step at h (unsplit)")
+            elif not s["forced"] and s["start"] == "h":
+                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="v", ms=6, capsize=2,
+                            color=color, label=f"{line_label(k, zeta)}, split from h each step")
             elif not s["forced"] and s["after"] != least:
                 ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")

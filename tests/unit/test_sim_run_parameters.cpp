@@ -84,6 +84,7 @@ sim::TiltOptions asked_options() {
   s.scramble = 3;
   s.max_substeps = 4;
   s.substep_after = 50;
+  s.substep_start = cd::SubstepStart::h;
   s.sweep_order = cd::SweepOrder::strips;
   s.strips = 6;
   s.alert_distance = 2e-4;
