@@ -499,6 +499,18 @@ cd::Engine stiff_column(int k, double stiffness, int max_substeps, int after, in
   return cd::Engine(Box{0.02, 0.1}, g, s);
 }
 
+/// The contacts of a settled column of k disks carry its weight, n m g under the n-th disk
+/// from the top (the floor k m g), within 1e-3 of the column's weight.
+void expect_column_carries_its_weight(const cd::Engine& e, int k) {
+  const double mg = e.grains().mass[0] * 9.81;
+  const auto c = e.contacts();
+  ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
+  for (std::size_t q = 0; q < c.size(); ++q) {
+    const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
+    EXPECT_NEAR(c.fn[q], carried * mg, 1e-3 * k * mg) << "contact " << q;
+  }
+}
+
 }  // namespace
 
 // Steps that converge within the budget are never split: with sub-steps allowed the run is
@@ -537,13 +549,7 @@ TEST(Substeps, AStiffColumnSplitsConvergesAndCarriesItsWeight) {
   EXPECT_GT(capped, 0);
   EXPECT_GT(split_steps, 0);
   EXPECT_GE(split.profile().substeps, split.profile().steps);
-  const double mg = split.grains().mass[0] * 9.81;
-  const auto c = split.contacts();
-  ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
-  for (std::size_t q = 0; q < c.size(); ++q) {
-    const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
-    EXPECT_NEAR(c.fn[q], carried * mg, 1e-3 * k * mg) << "contact " << q;
-  }
+  expect_column_carries_its_weight(split, k);
 }
 
 // With the sub-steps starting at h every step (SubstepStart::h), a split step is one whose
@@ -572,13 +578,7 @@ TEST(Substeps, StartingEachStepAtHSplitsOnlyTheStepsThatFailThere) {
   EXPECT_GT(split_h, 0);
   EXPECT_GT(whole_h, whole_last);
   EXPECT_GT(split_without_attempt_last, 0);
-  const double mg = at_h.grains().mass[0] * 9.81;
-  const auto c = at_h.contacts();
-  ASSERT_EQ(c.size(), static_cast<std::size_t>(k));
-  for (std::size_t q = 0; q < c.size(); ++q) {
-    const int carried = c.j[q] < 0 ? k : k - 1 - c.i[q];
-    EXPECT_NEAR(c.fn[q], carried * mg, 1e-3 * k * mg) << "contact " << q;
-  }
+  expect_column_carries_its_weight(at_h, k);
   EXPECT_EQ(cd::substep_start_from_name("h"), cd::SubstepStart::h);
   EXPECT_STREQ(cd::substep_start_name(cd::SubstepStart::last), "last");
   EXPECT_THROW(cd::substep_start_from_name("first"), cdpile::UsageError);
