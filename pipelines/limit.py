@@ -211,6 +211,11 @@ def print_table(title, quantity, rows):
     print("\n".join(rows))
 
 
+def one_err(e):
+    """A point's error bar: none for a study of one pair (its s.e. is not defined)."""
+    return [e] if math.isfinite(e) else None
+
+
 def chart(ax, points, ylabel):
     points = one_per_setting(points)
     for k, zeta in sorted({(s["k"], s["zeta"]) for s, _, _ in points if s["k"] > 0}):
@@ -230,13 +235,13 @@ def chart(ax, points, ylabel):
             color = drawn[0].get_color()
         for s, y, e in mine:
             if s["n"] == 1:
-                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="D", ms=6, capsize=2,
+                ax.errorbar([s["khm"]], [y], yerr=one_err(e), fmt="D", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, every step at h (unsplit)")
             elif not s["forced"] and s["start"] == "h":
-                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="v", ms=6, capsize=2,
+                ax.errorbar([s["khm"]], [y], yerr=one_err(e), fmt="v", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, split from h each step")
             elif not s["forced"] and s["after"] != least:
-                ax.errorbar([s["khm"]], [y], yerr=[e], fmt="s", mfc="none", ms=6, capsize=2,
+                ax.errorbar([s["khm"]], [y], yerr=one_err(e), fmt="s", mfc="none", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, split after {s['after']} sweeps")
     # rigid contacts have no k h_s^2 / m (it is infinite): a level across the chart, its
     # s.e. as a band, the value the lines tend to as k grows
