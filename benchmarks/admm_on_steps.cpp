@@ -5,15 +5,17 @@
 // beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
-//                      [--relaxation A] [--ipm | --warm] [--polish N | --newton N]
+//                      [--relaxation A] [--ipm | --ipm-st [--ipm-gamma G] | --warm]
+//                      [--polish N | --newton N]
 //                      [--prox EPS N [--prox-inner M]
 //                       [--prox-fb | --prox-anderson K [--prox-uniform]]]
 //                      [--fb N [--fb-smooth X] [--fb-lm THETA]] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
-//   --ipm: the interior-point prototype below instead of ADMM; --warm: neither (the
-//   warm start as it is);
+//   --ipm: the interior-point prototype below instead of ADMM; --ipm-st: the interior
+//   point on Stewart and Trinkle's LCP (below), gamma of its neighbourhood G (default
+//   0.01); --warm: neither (the warm start as it is);
 //   --nsgs N: then up to N sweeps of NSGS (cd::solve_nsgs), stopped on the law's residual;
 //   --polish N: then up to N active-set Newton iterations (below);
 //   --newton N: the same with a line search on the natural map's residual;
@@ -79,6 +81,9 @@ struct IpmOptions {
   /// Hold the shift at the start impulses' (|u_t| of W r + q) instead of moving it inside:
   /// the step is then the monotone LCP of research note section 7.
   bool fixed_shift = false;
+  /// --ipm-st only: gamma of the wide neighbourhood min z_i w_i >= gamma mean(z w) that
+  /// each step keeps (0: none).
+  double neighbourhood = 0.01;
   std::function<bool()> cancel;
   /// After every iteration (may be empty): the iteration, the law's residual, the mean
   /// complementarity mu and the largest infeasibility |F(y) - w|.
@@ -242,6 +247,155 @@ IpmReport solve_ipm(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o
     }
   }
   r = gi * y;
+  return report;
+}
+
+// --ipm-st: the interior point on the step as Stewart and Trinkle's LCP (Stewart and
+// Trinkle 1996; in 2D with the two tangent directions +t and -t it is Coulomb's law
+// exactly, not a faceted cone), in place of De Saxce's shift. Per contact four unknowns
+// z = (R_n, b1, b2, lambda) >= 0, R_t = b1 - b2, lambda a sliding speed, and
+//
+//     w_n  = u_n                    >= 0,  R_n    w_n  = 0   (Signorini)
+//     w_b1 = lambda + u_t           >= 0,  b1     w_b1 = 0
+//     w_b2 = lambda - u_t           >= 0,  b2     w_b2 = 0
+//     w_l  = mu R_n - b1 - b2       >= 0,  lambda w_l  = 0   (the cone)
+//
+// with u = W R + q: a sliding contact has lambda = |u_t| > 0, so b1 + b2 = mu R_n and the
+// b on the side of the motion is 0 (R_t = -sign(u_t) mu R_n); a sticking one has
+// lambda = 0 and u_t = 0. The |u_t| whose kink held the shifted form at the sticking
+// contacts (the --ipm prototype above) is a variable here, and its complementarity is
+// strict there (lambda = 0, w_l > 0 inside the cone). The price: w = M z + c with
+// M = E^T W E + L, L the local coupling of lambda, not monotone (its mu R_n entry), so
+// the central path is not guaranteed; measured, not proved. One sparse LU of
+// M + diag(w / z) an iteration, 4 m unknowns.
+struct StForm {
+  ColMatrix e;  ///< R = E z (2m x 4m)
+  ColMatrix m;  ///< E^T W E + L
+  Vector c;     ///< E^T q
+};
+
+StForm st_form(const cd::DelassusProblem& p) {
+  const Eigen::Index nc = p.contacts();
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index a = 0; a < nc; ++a) {
+    t.emplace_back(2 * a, 4 * a, 1.0);
+    t.emplace_back(2 * a + 1, 4 * a + 1, 1.0);
+    t.emplace_back(2 * a + 1, 4 * a + 2, -1.0);
+  }
+  StForm f;
+  f.e.resize(2 * nc, 4 * nc);
+  f.e.setFromTriplets(t.begin(), t.end());
+  t.clear();
+  for (Eigen::Index a = 0; a < nc; ++a) {
+    t.emplace_back(4 * a + 1, 4 * a + 3, 1.0);
+    t.emplace_back(4 * a + 2, 4 * a + 3, 1.0);
+    t.emplace_back(4 * a + 3, 4 * a, p.mu[a]);
+    t.emplace_back(4 * a + 3, 4 * a + 1, -1.0);
+    t.emplace_back(4 * a + 3, 4 * a + 2, -1.0);
+    for (int i = 0; i < 4; ++i) t.emplace_back(4 * a + i, 4 * a + i, 0.0);  // room for diag(w / z)
+  }
+  ColMatrix l(4 * nc, 4 * nc);
+  l.setFromTriplets(t.begin(), t.end());
+  const ColMatrix w_matrix = p.W;
+  const ColMatrix et = f.e.transpose();
+  f.m = et * w_matrix * f.e + l;
+  f.c = et * p.q;
+  return f;
+}
+
+/// x = J^-1 b with two rounds of iterative refinement: near the solution diag(w / z) spans
+/// twenty orders of magnitude and one LU solve alone loses the last digits the step needs.
+template <class Lu>
+Vector refined_solve(const Lu& lu, const ColMatrix& j, const Vector& b) {
+  Vector x = lu.solve(b);
+  for (int i = 0; i < 2; ++i) x += lu.solve(b - j * x);
+  return x;
+}
+
+IpmReport solve_ipm_st(const cd::DelassusProblem& p, Vector& r, const IpmOptions& o) {
+  IpmReport report;
+  const Eigen::Index nc = p.contacts();
+  const Eigen::Index n = 4 * nc;
+  if (nc == 0) {
+    report.converged = true;
+    return report;
+  }
+  StForm st = st_form(p);
+  const ColMatrix w_matrix = p.W;
+  const Vector d_w = w_matrix.diagonal();
+  const double v_scale = std::max(o.velocity_floor, 1e-300);
+  const double i_scale = v_scale / (d_w.mean() > 0.0 ? d_w.mean() : 1.0);
+  // z's and w's units per row: impulse and velocity, but lambda a velocity and w_l an
+  // impulse. The iteration runs on z / s_z and w / s_w, all of order one, so that the
+  // LU's pivots compare like with like: M' = S_w^-1 M S_z, c' = S_w^-1 c, E' = E S_z.
+  Vector s_z(n), s_w(n);
+  for (Eigen::Index a = 0; a < nc; ++a) {
+    s_z.segment<4>(4 * a) << i_scale, i_scale, i_scale, v_scale;
+    s_w.segment<4>(4 * a) << v_scale, v_scale, v_scale, i_scale;
+  }
+  st.m = s_w.cwiseInverse().asDiagonal() * st.m * s_z.asDiagonal();
+  st.c = st.c.cwiseQuotient(s_w);
+  st.e = st.e * s_z.asDiagonal();
+  Vector z = Vector::Ones(n), floor_w = Vector::Ones(n);
+  Vector w = (st.m * z + st.c).cwiseMax(floor_w);
+  Vector rd(n), rhs(n), dz(n), dw(n), dza(n), dwa(n), rc(n);
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  bool analysed = false;
+  for (int k = 1; k <= o.max_iterations; ++k) {
+    if (o.cancel && o.cancel()) throw cd::StepCancelled();
+    const double mu = z.dot(w) / static_cast<double>(n);
+    rd = st.m * z + st.c - w;
+    ColMatrix j = st.m;
+    const Vector d = w.cwiseQuotient(z);
+    for (Eigen::Index i = 0; i < n; ++i) j.coeffRef(i, i) += d[i];
+    j.makeCompressed();
+    if (!analysed) {
+      lu.analyzePattern(j);
+      analysed = true;
+    }
+    lu.factorize(j);
+    if (lu.info() != Eigen::Success) break;
+    report.iterations = k;
+    rhs = -rd - w;
+    dza = refined_solve(lu, j, rhs);
+    dwa = -w - d.cwiseProduct(dza);
+    const double alpha_a = std::min(step_to_boundary(z, dza), step_to_boundary(w, dwa));
+    const double mu_affine = (z + alpha_a * dza).dot(w + alpha_a * dwa) / static_cast<double>(n);
+    const double sigma = std::pow(mu_affine / mu, 3.0);
+    rc = z.cwiseProduct(w) + dza.cwiseProduct(dwa) - Vector::Constant(n, sigma * mu);
+    rhs = -rd - rc.cwiseQuotient(z);
+    dz = refined_solve(lu, j, rhs);
+    dw = -(rc + w.cwiseProduct(dz)).cwiseQuotient(z);
+    double alpha =
+        std::min(1.0, 0.99 * std::min(step_to_boundary(z, dz), step_to_boundary(w, dw)));
+    // M is not monotone, so dz.dw can be negative and the complementarity fall faster than
+    // the infeasibility, which falls by exactly (1 - alpha) (the step solves the linear
+    // equations): the iterates then stall on the boundary, infeasible. Keep
+    // mu(alpha) >= (1 - alpha) mu, mu(alpha) = mu + alpha b + alpha^2 a (Wright 1997,
+    // ch. 6: the infeasibility may not outrun the complementarity).
+    const double qa = dz.dot(dw) / static_cast<double>(n);
+    const double qb = (z.dot(dw) + w.dot(dz)) / static_cast<double>(n);
+    if (qa < 0.0 && qb + mu > 0.0) alpha = std::min(alpha, -0.99 * (qb + mu) / qa);
+    // And a wide neighbourhood of the central path, min z_i w_i >= gamma mu (Wright 1997,
+    // ch. 5): no pair may reach its boundary long before the others.
+    if (o.neighbourhood > 0.0)
+      for (int b = 0; b < 60; ++b) {
+        const Vector zt = z + alpha * dz, wt = w + alpha * dw;
+        const Vector zw = zt.cwiseProduct(wt);
+        if (zw.minCoeff() >= o.neighbourhood * zw.mean()) break;
+        alpha *= 0.8;
+      }
+    z += alpha * dz;
+    w += alpha * dw;
+    const Vector impulses = st.e * z;
+    report.residual = cd::admm_law_residual(p, impulses, o.velocity_floor);
+    if (o.on_iteration) o.on_iteration(k, report.residual, mu, rd.lpNorm<Eigen::Infinity>());
+    if (report.residual <= o.tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  r = st.e * z;
   return report;
 }
 
@@ -621,6 +775,8 @@ int main(int argc, char** argv) {
   int trace = 0;
   bool ipm = false;
   bool fixed_shift = false;
+  bool stewart_trinkle = false;
+  double ipm_gamma = 0.01;
   bool skip = false;
   bool from_engine = false;
   int polish_iterations = 0;
@@ -653,6 +809,10 @@ int main(int argc, char** argv) {
       o.relaxation = std::stod(argv[++a]);
     else if (arg == "--ipm")
       ipm = true;
+    else if (arg == "--ipm-st")
+      ipm = stewart_trinkle = true;
+    else if (arg == "--ipm-gamma" && has)
+      ipm_gamma = std::stod(argv[++a]);
     else if (arg == "--fixed-shift")
       ipm = fixed_shift = true;
     else if (arg == "--warm")
@@ -716,12 +876,13 @@ int main(int argc, char** argv) {
         io.velocity_floor = o.velocity_floor;
         io.max_iterations = o.max_iterations;
         io.fixed_shift = fixed_shift;
+        io.neighbourhood = ipm_gamma;
         if (trace > 0)
           io.on_iteration = [&](int k, double law, double mu, double infeasible) {
             if (k % trace == 0)
               std::printf("  %5d law %.3e mu %.3e infeasibility %.3e\n", k, law, mu, infeasible);
           };
-        const IpmReport i = solve_ipm(p, r, io);
+        const IpmReport i = stewart_trinkle ? solve_ipm_st(p, r, io) : solve_ipm(p, r, io);
         rep.iterations = rep.factorisations = i.iterations;
         rep.residual = i.residual;
         rep.converged = i.converged;
