@@ -5,6 +5,7 @@
 // beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
+//                      [--start FILE] [--save FILE]
 //                      [--relaxation A] [--ipm | --ipm-st [--ipm-gamma G] | --warm]
 //                      [--polish N | --newton N]
 //                      [--prox EPS N [--prox-inner M]
@@ -13,6 +14,8 @@
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
+//   --start FILE: start from the impulses in FILE (2m values) instead of step-K.r0;
+//   --save FILE: write the impulses reached there (one file: give one step);
 //   --ipm: the interior-point prototype below instead of ADMM; --ipm-st: the interior
 //   point on Stewart and Trinkle's LCP (below), gamma of its neighbourhood G (default
 //   0.01); --warm: neither (the warm start as it is);
@@ -777,6 +780,8 @@ int main(int argc, char** argv) {
   bool fixed_shift = false;
   bool stewart_trinkle = false;
   double ipm_gamma = 0.01;
+  std::string start_file;
+  std::string save_file;
   bool skip = false;
   bool from_engine = false;
   int polish_iterations = 0;
@@ -813,6 +818,10 @@ int main(int argc, char** argv) {
       ipm = stewart_trinkle = true;
     else if (arg == "--ipm-gamma" && has)
       ipm_gamma = std::stod(argv[++a]);
+    else if (arg == "--start" && has)
+      start_file = argv[++a];
+    else if (arg == "--save" && has)
+      save_file = argv[++a];
     else if (arg == "--fixed-shift")
       ipm = fixed_shift = true;
     else if (arg == "--warm")
@@ -868,6 +877,7 @@ int main(int argc, char** argv) {
       Eigen::VectorXd r = read_row(stem + ".r0", 2 * p.contacts());
       const Eigen::VectorXd engine = read_row(stem + ".r", 2 * p.contacts());
       if (from_engine) r = engine;
+      if (!start_file.empty()) r = read_row(start_file, 2 * p.contacts());
       const std::clock_t cpu = std::clock();
       cd::AdmmReport rep;
       if (ipm) {
@@ -932,6 +942,12 @@ int main(int argc, char** argv) {
         rep.converged = pr.converged;
       }
       const double ms = 1e3 * static_cast<double>(std::clock() - cpu) / CLOCKS_PER_SEC;
+      if (!save_file.empty()) {
+        std::ofstream out(save_file);
+        out.precision(17);
+        for (Eigen::Index i = 0; i < r.size(); ++i) out << (i ? " " : "") << r[i];
+        out << "\n";
+      }
       std::printf("%s\t%ld\t%d\t%d\t%.3e\t%d\t%.1f\t%.3e\t%.3e\t%.3e\n", file.c_str(),
                   static_cast<long>(p.contacts()), rep.iterations, rep.factorisations, rep.residual,
                   rep.converged ? 1 : 0, ms, cd::natural_map_residual(p, r),
