@@ -5,7 +5,7 @@
 // beside the engine's own impulses' (step-K.r). docs/performance.md, "A factorised solver".
 //
 // Usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] [--trace K]
-//                      [--start FILE] [--save FILE]
+//                      [--start FILE] [--save FILE] [--ipm-tolerance T]
 //                      [--relaxation A] [--ipm | --ipm-st [--ipm-gamma G] | --warm]
 //                      [--polish N | --newton N]
 //                      [--prox EPS N [--prox-inner M]
@@ -14,13 +14,16 @@
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
+//   --ipm-tolerance T: the interior point stops at the law's residual T (default: the
+//   tolerance), to hand its impulses to --polish;
 //   --start FILE: start from the impulses in FILE (2m values) instead of step-K.r0;
 //   --save FILE: write the impulses reached there (one file: give one step);
 //   --ipm: the interior-point prototype below instead of ADMM; --ipm-st: the interior
 //   point on Stewart and Trinkle's LCP (below), gamma of its neighbourhood G (default
 //   0.01); --warm: neither (the warm start as it is);
 //   --nsgs N: then up to N sweeps of NSGS (cd::solve_nsgs), stopped on the law's residual;
-//   --polish N: then up to N active-set Newton iterations (below);
+//   --polish N: then up to N active-set Newton iterations (cd::solve_active_set, the
+//   engine's --finish-after; with --trace the copy below, which prints each iteration);
 //   --newton N: the same with a line search on the natural map's residual;
 //   --prox EPS N [--prox-inner M]: then up to N proximal-point iterations around it, each
 //   with at most M (default 30) Newton iterations (below); --prox-fb: those iterations
@@ -29,6 +32,7 @@
 //   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
 //   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed;
 //   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's.
+#include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
 #include "cdpile/cd/delassus.hpp"
@@ -781,6 +785,7 @@ int main(int argc, char** argv) {
   bool stewart_trinkle = false;
   double ipm_gamma = 0.01;
   std::string start_file;
+  double ipm_tolerance = 0.0;
   std::string save_file;
   bool skip = false;
   bool from_engine = false;
@@ -818,6 +823,8 @@ int main(int argc, char** argv) {
       ipm = stewart_trinkle = true;
     else if (arg == "--ipm-gamma" && has)
       ipm_gamma = std::stod(argv[++a]);
+    else if (arg == "--ipm-tolerance" && has)
+      ipm_tolerance = std::stod(argv[++a]);
     else if (arg == "--start" && has)
       start_file = argv[++a];
     else if (arg == "--save" && has)
@@ -882,7 +889,7 @@ int main(int argc, char** argv) {
       cd::AdmmReport rep;
       if (ipm) {
         IpmOptions io;
-        io.tolerance = o.tolerance;
+        io.tolerance = ipm_tolerance > 0.0 ? ipm_tolerance : o.tolerance;
         io.velocity_floor = o.velocity_floor;
         io.max_iterations = o.max_iterations;
         io.fixed_shift = fixed_shift;
@@ -923,7 +930,18 @@ int main(int argc, char** argv) {
         rep.residual = i.residual;
         rep.converged = i.converged;
       }
-      if (polish_iterations > 0) {
+      if (polish_iterations > 0 && !damped_newton && trace == 0) {
+        // The library's active-set Newton (cd::solve_active_set, the engine's finish).
+        cd::ActiveSetOptions ao;
+        ao.tolerance = o.tolerance;
+        ao.velocity_floor = o.velocity_floor;
+        ao.max_factorisations = polish_iterations;
+        const cd::ActiveSetReport ar = cd::solve_active_set(p, r, ao);
+        rep.iterations += ar.factorisations;
+        rep.factorisations += ar.factorisations;
+        rep.residual = ar.residual;
+        rep.converged = ar.converged;
+      } else if (polish_iterations > 0) {
         const PolishReport pr = polish(p, r, polish_iterations, o.tolerance, o.velocity_floor, trace > 0 ? 1 : 0, damped_newton);
         rep.iterations += pr.iterations;
         rep.factorisations += pr.iterations;

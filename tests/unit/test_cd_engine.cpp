@@ -1,6 +1,7 @@
 // Physics validation of the CD engine on scenes with known answers (docs/method.md,
 // "Validation"):
 // a block and a rolling disk on an incline, a column of disks, collisions with e = 0.
+#include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/engine.hpp"
 #include "cdpile/cd/local_solver.hpp"
@@ -662,6 +663,97 @@ TEST(Substeps, ForcesAreTheLastSubstepsImpulsesOverItsStep) {
 }
 
 // --- a state that is not finite -----------------------------------------------------
+
+// --- the active-set finish (docs/method.md, "Finishing a step by its active set") --------
+
+namespace {
+
+/// The step's problem of a uniform disk on a floor tilted by `deg`, in Delassus form: one
+/// contact, W = diag(1/m, 1/m + R^2/I) (I = m R^2 / 2: W_tt = 3/m), q = -g h (cos, sin).
+cd::DelassusProblem disk_on_incline(double deg, double mu) {
+  const double m = 1.0, gh = 9.81e-4;
+  cd::DelassusProblem p;
+  p.W.resize(2, 2);
+  p.W.insert(0, 0) = 1.0 / m;
+  p.W.insert(1, 1) = 3.0 / m;
+  p.q = Eigen::Vector2d(-gh * std::cos(deg * kDeg), -gh * std::sin(deg * kDeg));
+  p.mu = Eigen::VectorXd::Constant(1, mu);
+  return p;
+}
+
+}  // namespace
+
+// Rolling without slip needs R_t = m g h sin / 3 (u_t = 0 with W_tt = 3/m), within the cone
+// while tan(theta) <= 3 mu; beyond, the disk slides with R_t = mu R_n. The active-set
+// Newton from zero impulses finds either exactly, R_n = m g h cos in both.
+TEST(ActiveSet, ADiskOnAnInclineRollsOrSlidesAsTheLawSays) {
+  const double gh = 9.81e-4, mu = 0.2;  // rolls up to atan(0.6) = 31 degrees
+  for (const double deg : {10.0, 30.0, 40.0, 60.0}) {
+    const cd::DelassusProblem p = disk_on_incline(deg, mu);
+    Eigen::VectorXd r;
+    cd::ActiveSetOptions o;
+    o.tolerance = 1e-12;
+    o.velocity_floor = gh;
+    const cd::ActiveSetReport rep = cd::solve_active_set(p, r, o);
+    ASSERT_TRUE(rep.converged) << deg << " deg";
+    EXPECT_LE(rep.factorisations, 3);
+    const double rn = gh * std::cos(deg * kDeg), rolling = gh * std::sin(deg * kDeg) / 3.0;
+    EXPECT_NEAR(r[0], rn, 1e-15) << deg << " deg";
+    EXPECT_NEAR(r[1], std::tan(deg * kDeg) <= 3 * mu ? rolling : mu * rn, 1e-15) << deg << " deg";
+  }
+}
+
+// A set whose system is singular (a rigid contact counted twice: two identical rows,
+// sticking) stops the Newton unconverged instead of returning what the LU made of it.
+TEST(ActiveSet, ASingularSetStopsUnconverged) {
+  cd::DelassusProblem p;
+  p.W.resize(4, 4);
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      p.W.insert(2 * a, 2 * b) = 1.0;
+      p.W.insert(2 * a + 1, 2 * b + 1) = 3.0;
+    }
+  p.q = Eigen::Vector4d(-1e-3, -1e-4, -1e-3, -1e-4);
+  p.mu = Eigen::Vector2d(0.5, 0.5);
+  Eigen::VectorXd r;
+  cd::ActiveSetOptions o;
+  o.velocity_floor = 9.81e-4;
+  const cd::ActiveSetReport rep = cd::solve_active_set(p, r, o);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_TRUE(r.allFinite());
+}
+
+// The stiff column of "AStiffColumnSplitsConvergesAndCarriesItsWeight", unsplit and capped
+// at 300 sweeps, stops short on some steps; handed to the active-set Newton after 100
+// sweeps, every step converges at h, the hard ones by the finish (counted per step), and
+// the contacts carry the column's weight. Rigid contacts (k = 0) the same: a column is
+// isostatic, so its sticking set's system is regular.
+TEST(ActiveSet, AStiffColumnConvergesUnsplitByTheFinish) {
+  const int k = 30;
+  for (const double stiffness : {1e8, 0.0}) {
+    cd::Engine plain = stiff_column(k, stiffness, 1, 30, 300), finished = plain;
+    cd::Settings s = finished.settings();
+    s.finish_after = 100;
+    finished = cd::Engine(finished.box(), finished.grains(), s);
+    int capped = 0, finishes = 0;
+    for (int step = 0; step < 100; ++step) {
+      const cd::StepReport a = plain.step(0.0), b = finished.step(0.0);
+      capped += a.converged ? 0 : 1;
+      EXPECT_EQ(a.finishes, 0);
+      EXPECT_TRUE(b.converged) << "k " << stiffness << " step " << step;
+      EXPECT_EQ(b.substeps, 1);
+      EXPECT_LE(b.sweeps, 300);
+      EXPECT_LE(b.law_residual, 1e-6) << "k " << stiffness << " step " << step;
+      finishes += b.finishes;
+    }
+    EXPECT_GT(capped, 0) << "k " << stiffness;
+    EXPECT_GT(finishes, 0) << "k " << stiffness;
+    expect_column_carries_its_weight(finished, k);
+  }
+  cd::Settings bad = settings();
+  bad.finish_after = -1;
+  EXPECT_THROW(cd::Engine(Box{0.02, 0.1}, one_disk(), bad), cdpile::UsageError);
+}
 
 TEST(Checks, AStateThatIsNotFiniteStopsTheStepNamed) {
   // A grain thrown with a velocity whose norm overflows (a warm start of 1e300 N, say):

@@ -85,6 +85,7 @@ sim::TiltOptions asked_options() {
   s.max_substeps = 4;
   s.substep_after = 50;
   s.substep_start = cd::SubstepStart::h;
+  s.finish_after = 700;
   s.sweep_order = cd::SweepOrder::strips;
   s.strips = 6;
   s.alert_distance = 2e-4;

@@ -2,6 +2,7 @@
 // inside the iteration (admm.hpp; docs/method.md, "The factorised solver").
 #include "cdpile/cd/admm.hpp"
 
+#include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/pcg.hpp"
 #include "cdpile/check.hpp"
@@ -238,36 +239,6 @@ AdmmReport solve_admm(const DelassusProblem& p, Vector& r, const AdmmOptions& o)
   return report;
 }
 
-namespace {
-
-/// The impulses of the system's rows, in the problem's layout (delassus_problem).
-Vector row_impulses(const ContactSystem& s) {
-  Vector r(2 * static_cast<Eigen::Index>(s.rows.size()));
-  for (std::size_t a = 0; a < s.rows.size(); ++a) {
-    r[2 * static_cast<Eigen::Index>(a)] = s.rows[a].rn;
-    r[2 * static_cast<Eigen::Index>(a) + 1] = s.rows[a].rt;
-  }
-  return r;
-}
-
-/// Gives the rows the impulses r and the bodies the velocities they make
-/// (v = v_free + M^-1 H^T R stays true), each row's status from its impulse.
-void set_impulses(ContactSystem& s, const Vector& r) {
-  for (std::size_t a = 0; a < s.rows.size(); ++a) {
-    ContactRow& row = s.rows[a];
-    const double rn = r[2 * static_cast<Eigen::Index>(a)],
-                 rt = r[2 * static_cast<Eigen::Index>(a) + 1];
-    s.apply_impulse(row, rn - row.rn, rt - row.rt);
-    row.rn = rn;
-    row.rt = rt;
-    row.status = !(rn > 0.0)                  ? ContactStatus::open
-                 : std::abs(rt) < row.mu * rn ? ContactStatus::stick
-                                              : ContactStatus::slide;
-  }
-}
-
-}  // namespace
-
 SolveReport AdmmSolver::solve(ContactSystem& system, double gravity_velocity) const {
   if (system.rows.empty()) return SolveReport{};
   // ADMM on the step's problem from the impulses the rows hold (the previous step's).
@@ -280,7 +251,7 @@ SolveReport AdmmSolver::solve(ContactSystem& system, double gravity_velocity) co
   const DelassusProblem p = delassus_problem(system);
   Vector r = row_impulses(system);
   const AdmmReport a = solve_admm(p, r, o);
-  set_impulses(system, r);
+  set_row_impulses(system, r);
   // pcg from ADMM's impulses: its sweeps test the criterion on the impulses of a sweep,
   // as every solver returns, and finish what ADMM left.
   SolverSettings rest = settings_;

@@ -255,6 +255,7 @@ void Engine::advance(double hs, int parts, const Vec2& g, StepReport& report, Su
     return;
   }
   tally.hardest_sweeps = std::max(tally.hardest_sweeps, s.sweeps);
+  report.finishes += s.finished ? 1 : 0;
   const LawResidual law = law_residual(system_, settings_.gravity * hs);
   report.residual = std::max(report.residual, s.residual);
   report.residual_rms = std::max(report.residual_rms, s.residual_rms);

@@ -2,7 +2,9 @@
 // residual of the contact law (solver.hpp, contact_system.hpp).
 #include "cdpile/cd/solver.hpp"
 
+#include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/admm.hpp"
+#include "cdpile/cd/delassus.hpp"
 #include "cdpile/cd/local_solver.hpp"
 #include "cdpile/cd/nsgs.hpp"
 #include "cdpile/cd/pcg.hpp"
@@ -80,6 +82,7 @@ void validate(const SolverSettings& s) {
   if (s.krylov_after < 1 || s.sweeps_between_rounds < 1)
     bad("the sweeps before and between gradient rounds must be >= 1");
   if (s.newton_after < 0) bad("the sweeps before the Newton steps must be >= 0");
+  if (s.finish_after < 0) bad("the sweeps before the active-set finish must be >= 0");
   if (s.strips < 0 || s.strips > max_strips)
     bad("strips must be in [0, " + std::to_string(max_strips) + "], got " +
         std::to_string(s.strips));
@@ -93,8 +96,55 @@ void validate(const SolverSettings& s) {
                      " strips (pair order is sequential; docs/method.md, \"Threads\")");
 }
 
+namespace {
+
+/// A solver whose steps not converged after finish_after sweeps are finished by the
+/// active-set Newton (docs/method.md, "Finishing a step by its active set"): the solver
+/// to finish_after, the Newton from its impulses (kept only if it meets the law's
+/// residual, half the tolerance, as ADMM's), then the solver again from the impulses
+/// kept, so that its sweeps check the criterion as in every step. A Newton that fails is
+/// tried again from the solver's impulses at 2, 4, 8 ... times finish_after, nearer the
+/// solution each time, until the cap.
+class FinishedSolver final : public ContactSolver {
+ public:
+  explicit FinishedSolver(const SolverSettings& s) : settings_(s) {}
+  SolverKind kind() const override { return settings_.solver; }
+  SolveReport solve(ContactSystem& system, double gravity_velocity) const override {
+    ActiveSetOptions o;
+    o.tolerance = 0.5 * settings_.tolerance;
+    o.velocity_floor = gravity_velocity;
+    o.cancel = system.cancel;
+    int done = 0;
+    bool finished = false;
+    for (long next = settings_.finish_after;; next *= 2) {
+      SolverSettings part = settings_;
+      part.finish_after = 0;
+      part.max_sweeps = static_cast<int>(std::min<long>(next, settings_.max_sweeps)) - done;
+      SolveReport report = make_solver(part)->solve(system, gravity_velocity);
+      done += report.sweeps;
+      if (report.converged || done >= settings_.max_sweeps) {
+        report.sweeps = done;
+        report.finished = finished;
+        return report;
+      }
+      Eigen::VectorXd r = row_impulses(system);
+      if (solve_active_set(delassus_problem(system), r, o).converged) {
+        set_row_impulses(system, r);
+        finished = true;
+      }
+    }
+  }
+
+ private:
+  SolverSettings settings_;
+};
+
+}  // namespace
+
 std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
   validate(s);
+  if (s.finish_after > 0 && s.finish_after < s.max_sweeps)
+    return std::make_shared<const FinishedSolver>(s);
   switch (s.solver) {
     case SolverKind::nsgs: return std::make_shared<const NsgsSolver>(s);
     case SolverKind::nncg: return std::make_shared<const NncgSolver>(s);

@@ -407,6 +407,18 @@ std::vector<RunParameter> make_table() {
                     "'h', the whole step every time, so that the pile is at h wherever a step "
                     "converges there (docs/method.md, \"Sub-steps\")",
                     {"last", "h"}));
+  // Files made before it was a parameter never finished a step so (0).
+  rows.push_back(
+      Row("finish_after", "finish_after", "", "finish-after", engine)
+          .of(&S::finish_after)
+          .pre_seam(std::int64_t{0})
+          .declared("Solver",
+                    "sweeps and iterations after which a step not yet converged is handed to "
+                    "the active-set Newton on its problem (a sparse LU per set of contact "
+                    "statuses; its solution kept only if it solves the contact law, else the "
+                    "solver goes on); 0: never (docs/method.md, \"Finishing a step by its "
+                    "active set\")",
+                    "", 0, 100000000));
   rows.push_back(
       Row("sweep_order", "sweep_order", "", "sweep-order", engine)
           .of_text(&S::sweep_order, cd::sweep_order_name, cd::sweep_order_from_name)

@@ -108,6 +108,8 @@ struct StepReport {
   /// sweeps counts the sweeps of every attempt, split ones included; the residuals are the
   /// largest of the sub-steps'; the contacts and forces are those of the last sub-step.
   int substeps = 1;
+  /// The (sub-)steps finished by the active-set Newton (SolverSettings::finish_after).
+  int finishes = 0;
   /// The contact law's residual at the step's end (LawResidual, relative to g h):
   /// solver-independent, so steps of any solver and stopping rule compare.
   double law_residual = 0.0;

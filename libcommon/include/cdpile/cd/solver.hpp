@@ -83,6 +83,12 @@ struct SolverSettings {
   /// converges in fewer sweeps are left to it (docs/performance.md, "The newton solver").
   /// The path to the solution only, not the solution.
   int newton_after = 100;
+  /// A step not converged after this many sweeps and iterations is handed to the
+  /// active-set Newton on its problem (active_set.hpp; docs/method.md, "Finishing a step
+  /// by its active set"), whose solution is kept only if it meets the law's residual; the
+  /// solver then goes on from the impulses kept, to its criterion or its cap. 0: never.
+  /// Unlike newton_after it changes which steps converge, so it is a parameter of a run.
+  int finish_after = 0;
   /// The order of the sweeps (schedule.hpp; docs/method.md, "Threads"): pair order, or
   /// vertical strips of the box, which threads can share. The order changes the path to
   /// the solution, not the law; a run in strips gives the same numbers on any number of
@@ -121,6 +127,8 @@ struct SolveReport {
   /// component of each), divided by the same scale: the 'quad' measure.
   double residual_rms = 0.0;
   bool converged = true;  ///< the criterion was met before the sweep cap
+  /// The step was finished by the active-set Newton (SolverSettings::finish_after).
+  bool finished = false;
 
   /// Records the residual of a new sweep (`residual` and the history of the last ones).
   void add_sweep(double new_residual);

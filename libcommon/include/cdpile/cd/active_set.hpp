@@ -1,0 +1,51 @@
+/// The active-set Newton on a step's problem in Delassus form (docs/method.md, "Finishing a
+/// step by its active set"): the statuses of the contacts (open, sticking, sliding either
+/// way) read from the impulses by Alart and Curnier's projection, then the linear system
+/// those statuses make solved exactly by one sparse LU, until the statuses repeat. On a
+/// fixed set of statuses Coulomb's law is linear (open R = 0; sticking u = 0; sliding
+/// u_n = 0 and R_t = -+mu R_n), so a repeat is a solution of the law, to the LU's rounding.
+/// Its basin is narrow (docs/performance.md, "The active-set Newton's basin"): it is
+/// started from a solver's impulses that are already near the solution, and its result is
+/// kept only if it meets the law's residual.
+#pragma once
+
+#include "cdpile/cd/contact_system.hpp"
+#include "cdpile/cd/delassus.hpp"
+
+#include <Eigen/Core>
+
+#include <functional>
+
+namespace cdpile::cd {
+
+struct ActiveSetOptions {
+  /// The law's residual (admm_law_residual, in the engine's velocity scale) that a
+  /// solution must meet.
+  double tolerance = 1e-6;
+  double velocity_floor = 1.0;  ///< g h [m/s], the floor of that scale
+  int max_factorisations = 10;
+  std::function<bool()> cancel;  ///< polled before each factorisation (throws StepCancelled)
+};
+
+struct ActiveSetReport {
+  int factorisations = 0;
+  double residual = 0.0;   ///< admm_law_residual of the impulses returned
+  bool converged = false;  ///< residual <= tolerance
+};
+
+/// The active-set Newton from the impulses in `r` (2m values), which it replaces by the
+/// last solution of a set's linear system; it stops when that solution meets the law's
+/// residual, when the statuses repeat, or after max_factorisations. A set whose system is singular (rigid contacts
+/// sticking in a hyperstatic network) stops it unconverged.
+ActiveSetReport solve_active_set(const DelassusProblem& p, Eigen::VectorXd& r,
+                                 const ActiveSetOptions& o);
+
+/// The impulses of a contact system's rows, in delassus_problem's layout (2a normal,
+/// 2a + 1 tangent).
+Eigen::VectorXd row_impulses(const ContactSystem& s);
+
+/// Gives the rows the impulses r and the bodies the velocities they make
+/// (v = v_free + M^-1 H^T R stays true), each row's status from its impulse.
+void set_row_impulses(ContactSystem& s, const Eigen::VectorXd& r);
+
+}  // namespace cdpile::cd

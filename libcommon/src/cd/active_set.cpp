@@ -1,0 +1,137 @@
+// The active-set Newton on a step's problem (active_set.hpp; docs/method.md, "Finishing a
+// step by its active set").
+#include "cdpile/cd/active_set.hpp"
+
+#include "cdpile/cd/admm.hpp"
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+#include <cmath>
+#include <vector>
+
+namespace cdpile::cd {
+
+namespace {
+
+using Vector = Eigen::VectorXd;
+using ColMatrix = Eigen::SparseMatrix<double>;
+
+enum class Status : unsigned char { open, stick, slip_plus, slip_minus };
+
+/// Alart and Curnier's statuses with rho_a = 1 / W_aa: the projection of R - rho u on the
+/// cone is 0 (open), R - rho u itself (sticking) or on the edge of the side of its R_t
+/// (sliding, u_t of the other sign).
+std::vector<Status> statuses(const DelassusProblem& p, const Vector& r, const Vector& u) {
+  std::vector<Status> st(static_cast<std::size_t>(p.contacts()));
+  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+    const double rho = 1.0 / p.W.coeff(2 * a, 2 * a);
+    const double tn = r[2 * a] - rho * u[2 * a];
+    const double tt = r[2 * a + 1] - rho * u[2 * a + 1];
+    Status s = Status::open;
+    if (tn > 0.0)
+      s = std::abs(tt) <= p.mu[a] * tn ? Status::stick
+          : tt > 0.0                   ? Status::slip_plus
+                                       : Status::slip_minus;
+    st[static_cast<std::size_t>(a)] = s;
+  }
+  return st;
+}
+
+/// The linear system of a set of statuses, A R = b: an open contact's rows R = 0, a
+/// sticking one's W R = -q, a sliding one's normal row W R = -q and R_t -+ mu R_n = 0.
+void set_system(const DelassusProblem& p, const std::vector<Status>& st, ColMatrix& a, Vector& b) {
+  const Eigen::Index n = 2 * p.contacts();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<std::size_t>(p.W.nonZeros()));
+  b = Vector::Zero(n);
+  auto copy_row = [&](Eigen::Index row) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, row); it; ++it)
+      t.emplace_back(row, it.col(), it.value());
+    b[row] = -p.q[row];
+  };
+  for (Eigen::Index c = 0; c < p.contacts(); ++c) {
+    const Status s = st[static_cast<std::size_t>(c)];
+    if (s == Status::open) {
+      t.emplace_back(2 * c, 2 * c, 1.0);
+      t.emplace_back(2 * c + 1, 2 * c + 1, 1.0);
+    } else if (s == Status::stick) {
+      copy_row(2 * c);
+      copy_row(2 * c + 1);
+    } else {
+      copy_row(2 * c);
+      t.emplace_back(2 * c + 1, 2 * c + 1, 1.0);
+      t.emplace_back(2 * c + 1, 2 * c, s == Status::slip_plus ? -p.mu[c] : p.mu[c]);
+    }
+  }
+  a.resize(n, n);
+  a.setFromTriplets(t.begin(), t.end());
+}
+
+}  // namespace
+
+ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const ActiveSetOptions& o) {
+  ActiveSetReport report;
+  const Eigen::Index n = 2 * p.contacts();
+  if (r.size() != n) r = Vector::Zero(n);
+  if (n == 0) {
+    report.converged = true;
+    return report;
+  }
+  std::vector<Status> previous;
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  ColMatrix a;
+  Vector b;
+  while (true) {
+    const std::vector<Status> st = statuses(p, r, p.W * r + p.q);
+    if (st == previous) {  // the last solve's statuses hold at its solution
+      report.residual = admm_law_residual(p, r, o.velocity_floor);
+      report.converged = report.residual <= o.tolerance;
+      return report;
+    }
+    if (report.factorisations >= o.max_factorisations) break;
+    if (o.cancel && o.cancel()) throw StepCancelled();
+    set_system(p, st, a, b);
+    lu.compute(a);
+    if (lu.info() != Eigen::Success) break;  // singular: a rigid hyperstatic sticking set
+    ++report.factorisations;
+    const Vector next = lu.solve(b);
+    if (!next.allFinite()) break;
+    r = next;
+    previous = st;
+    // A set's solution that meets the law's residual is kept even before its statuses
+    // repeat (rounding can flip a contact at its bound from one solve to the next).
+    report.residual = admm_law_residual(p, r, o.velocity_floor);
+    if (report.residual <= o.tolerance) {
+      report.converged = true;
+      return report;
+    }
+  }
+  report.residual = admm_law_residual(p, r, o.velocity_floor);
+  return report;
+}
+
+Vector row_impulses(const ContactSystem& s) {
+  Vector r(2 * static_cast<Eigen::Index>(s.rows.size()));
+  for (std::size_t a = 0; a < s.rows.size(); ++a) {
+    r[2 * static_cast<Eigen::Index>(a)] = s.rows[a].rn;
+    r[2 * static_cast<Eigen::Index>(a) + 1] = s.rows[a].rt;
+  }
+  return r;
+}
+
+void set_row_impulses(ContactSystem& s, const Vector& r) {
+  for (std::size_t a = 0; a < s.rows.size(); ++a) {
+    ContactRow& row = s.rows[a];
+    const double rn = r[2 * static_cast<Eigen::Index>(a)],
+                 rt = r[2 * static_cast<Eigen::Index>(a) + 1];
+    s.apply_impulse(row, rn - row.rn, rt - row.rt);
+    row.rn = rn;
+    row.rt = rt;
+    row.status = !(rn > 0.0)                  ? ContactStatus::open
+                 : std::abs(rt) < row.mu * rn ? ContactStatus::stick
+                                              : ContactStatus::slide;
+  }
+}
+
+}  // namespace cdpile::cd
