@@ -889,6 +889,7 @@ constexpr ObservableRange kObservableRanges[] = {
     {"sliding", 0, kExactInteger, true},
     {"sweeps", 0, kExactInteger, true},
     {"substeps", 0, kExactInteger, true},
+    {"finishes", 0, kExactInteger, true},
     {"residual", 0, kInf, false},
     {"residual_rms", 0, kInf, false},
     {"law_residual", 0, kInf, false},

@@ -44,6 +44,7 @@ const std::vector<Observable>& observables() {
       {"sliding", "", Integer{[](R r, C) { return std::int64_t{r.sliding}; }}},
       {"sweeps", "", Integer{[](R r, C) { return std::int64_t{r.sweeps}; }}},
       {"substeps", "", Integer{[](R r, C) { return std::int64_t{r.substeps}; }}},
+      {"finishes", "", Integer{[](R r, C) { return std::int64_t{r.finishes}; }}},
       {"converged", "", Integer{[](R r, C) { return std::int64_t{r.converged ? 1 : 0}; }}},
       {"critical", "", Integer{[](R, C c) { return c.all; }}},
       {"critical_grain", "", Integer{[](R, C c) { return c.grain; }}},
