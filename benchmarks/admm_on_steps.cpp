@@ -539,7 +539,6 @@ IpmReport solve_fb(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
 // side of R_t - rho u_t); on a fixed set of statuses the law is linear and De Saxce's
 // shift drops out (open: R = 0; stick: u = 0; sliding: u_n = 0, R_t = s mu R_n), so one
 // sparse LU gives that set's solution. Stops when the statuses repeat, or after N.
-enum class Status : unsigned char { open, stick, slip_plus, slip_minus };
 
 struct PolishReport {
   int iterations = 0;  ///< factorisations
@@ -548,30 +547,16 @@ struct PolishReport {
   bool converged = false;
 };
 
-std::vector<Status> statuses(const cd::DelassusProblem& p, const Vector& r, const Vector& u) {
-  std::vector<Status> st(static_cast<std::size_t>(p.contacts()));
-  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
-    const double rho = 1.0 / p.W.coeff(2 * a, 2 * a);
-    const double tn = r[2 * a] - rho * u[2 * a];
-    const double tt = r[2 * a + 1] - rho * u[2 * a + 1];
-    Status s = Status::open;
-    if (tn > 0.0) s = std::abs(tt) <= p.mu[a] * tn ? Status::stick : tt > 0.0 ? Status::slip_plus : Status::slip_minus;
-    st[static_cast<std::size_t>(a)] = s;
-  }
-  return st;
-}
-
 PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations, double tolerance,
                     double velocity_floor, int trace, bool damped = false) {
   PolishReport report;
   const Eigen::Index n = 2 * p.contacts();
   if (n == 0) return report;
-  std::vector<Status> previous;
+  std::vector<cd::LawStatus> previous;
   bool full_step = true;  // statuses that repeat after a shortened step do not end the Newton
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
   for (int k = 1; k <= max_iterations; ++k) {
-    const Vector u = p.W * r + p.q;
-    const std::vector<Status> st = statuses(p, r, u);
+    const std::vector<cd::LawStatus> st = cd::law_statuses(p, r);
     report.changed = 0;
     if (!previous.empty())
       for (std::size_t a = 0; a < st.size(); ++a) report.changed += st[a] != previous[a] ? 1 : 0;
@@ -580,34 +565,9 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
       report.converged = report.residual <= tolerance;
       break;
     }
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(static_cast<std::size_t>(p.W.nonZeros()));
-    Vector b = Vector::Zero(n);
-    auto copy_row = [&](Eigen::Index row) {
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(p.W, row); it; ++it)
-        t.emplace_back(row, it.col(), it.value());
-      b[row] = -p.q[row];
-    };
-    for (Eigen::Index a = 0; a < p.contacts(); ++a) {
-      switch (st[static_cast<std::size_t>(a)]) {
-        case Status::open:
-          t.emplace_back(2 * a, 2 * a, 1.0);
-          t.emplace_back(2 * a + 1, 2 * a + 1, 1.0);
-          break;
-        case Status::stick:
-          copy_row(2 * a);
-          copy_row(2 * a + 1);
-          break;
-        case Status::slip_plus:
-        case Status::slip_minus:
-          copy_row(2 * a);
-          t.emplace_back(2 * a + 1, 2 * a + 1, 1.0);
-          t.emplace_back(2 * a + 1, 2 * a, st[static_cast<std::size_t>(a)] == Status::slip_plus ? -p.mu[a] : p.mu[a]);
-          break;
-      }
-    }
-    ColMatrix a_matrix(n, n);
-    a_matrix.setFromTriplets(t.begin(), t.end());
+    ColMatrix a_matrix;
+    Vector b;
+    cd::status_system(p, st, a_matrix, b);
     lu.compute(a_matrix);
     if (lu.info() != Eigen::Success) {
       std::printf("  polish %d: the LU failed\n", k);
@@ -635,7 +595,7 @@ PolishReport polish(const cd::DelassusProblem& p, Vector& r, int max_iterations,
     previous = st;
     if (trace > 0) {
       int counts[4] = {0, 0, 0, 0};
-      for (Status s : st) ++counts[static_cast<int>(s)];
+      for (cd::LawStatus s : st) ++counts[static_cast<int>(s)];
       std::printf("  polish %3d: changed %d, open %d stick %d slip %d, law before %.3e after %.3e\n", k,
                   report.changed, counts[0], counts[1], counts[2] + counts[3], report.residual,
                   cd::admm_law_residual(p, r, velocity_floor));

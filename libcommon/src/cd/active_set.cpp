@@ -13,34 +13,29 @@
 namespace cdpile::cd {
 
 namespace {
-
 using Vector = Eigen::VectorXd;
 using ColMatrix = Eigen::SparseMatrix<double>;
+}  // namespace
 
-enum class Status : unsigned char { open, stick, slip_plus, slip_minus };
-
-/// Alart and Curnier's statuses with rho_a = 1 / W_aa: the projection of R - rho u on the
-/// cone is 0 (open), R - rho u itself (sticking) or on the edge of the side of its R_t
-/// (sliding, u_t of the other sign).
-std::vector<Status> statuses(const DelassusProblem& p, const Vector& r, const Vector& u) {
-  std::vector<Status> st(static_cast<std::size_t>(p.contacts()));
+std::vector<LawStatus> law_statuses(const DelassusProblem& p, const Vector& r) {
+  const Vector u = p.W * r + p.q;
+  std::vector<LawStatus> st(static_cast<std::size_t>(p.contacts()));
   for (Eigen::Index a = 0; a < p.contacts(); ++a) {
     const double rho = 1.0 / p.W.coeff(2 * a, 2 * a);
     const double tn = r[2 * a] - rho * u[2 * a];
     const double tt = r[2 * a + 1] - rho * u[2 * a + 1];
-    Status s = Status::open;
+    LawStatus s = LawStatus::open;
     if (tn > 0.0)
-      s = std::abs(tt) <= p.mu[a] * tn ? Status::stick
-          : tt > 0.0                   ? Status::slip_plus
-                                       : Status::slip_minus;
+      s = std::abs(tt) <= p.mu[a] * tn ? LawStatus::stick
+          : tt > 0.0                   ? LawStatus::slip_plus
+                                       : LawStatus::slip_minus;
     st[static_cast<std::size_t>(a)] = s;
   }
   return st;
 }
 
-/// The linear system of a set of statuses, A R = b: an open contact's rows R = 0, a
-/// sticking one's W R = -q, a sliding one's normal row W R = -q and R_t -+ mu R_n = 0.
-void set_system(const DelassusProblem& p, const std::vector<Status>& st, ColMatrix& a, Vector& b) {
+void status_system(const DelassusProblem& p, const std::vector<LawStatus>& st, ColMatrix& a,
+                   Vector& b) {
   const Eigen::Index n = 2 * p.contacts();
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<std::size_t>(p.W.nonZeros()));
@@ -51,24 +46,22 @@ void set_system(const DelassusProblem& p, const std::vector<Status>& st, ColMatr
     b[row] = -p.q[row];
   };
   for (Eigen::Index c = 0; c < p.contacts(); ++c) {
-    const Status s = st[static_cast<std::size_t>(c)];
-    if (s == Status::open) {
+    const LawStatus s = st[static_cast<std::size_t>(c)];
+    if (s == LawStatus::open) {
       t.emplace_back(2 * c, 2 * c, 1.0);
       t.emplace_back(2 * c + 1, 2 * c + 1, 1.0);
-    } else if (s == Status::stick) {
+    } else if (s == LawStatus::stick) {
       copy_row(2 * c);
       copy_row(2 * c + 1);
     } else {
       copy_row(2 * c);
       t.emplace_back(2 * c + 1, 2 * c + 1, 1.0);
-      t.emplace_back(2 * c + 1, 2 * c, s == Status::slip_plus ? -p.mu[c] : p.mu[c]);
+      t.emplace_back(2 * c + 1, 2 * c, s == LawStatus::slip_plus ? -p.mu[c] : p.mu[c]);
     }
   }
   a.resize(n, n);
   a.setFromTriplets(t.begin(), t.end());
 }
-
-}  // namespace
 
 ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const ActiveSetOptions& o) {
   ActiveSetReport report;
@@ -78,12 +71,12 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     report.converged = true;
     return report;
   }
-  std::vector<Status> previous;
+  std::vector<LawStatus> previous;
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
   ColMatrix a;
   Vector b;
   while (true) {
-    const std::vector<Status> st = statuses(p, r, p.W * r + p.q);
+    const std::vector<LawStatus> st = law_statuses(p, r);
     if (st == previous) {  // the last solve's statuses hold at its solution
       report.residual = admm_law_residual(p, r, o.velocity_floor);
       report.converged = report.residual <= o.tolerance;
@@ -91,7 +84,7 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     }
     if (report.factorisations >= o.max_factorisations) break;
     if (o.cancel && o.cancel()) throw StepCancelled();
-    set_system(p, st, a, b);
+    status_system(p, st, a, b);
     lu.compute(a);
     if (lu.info() != Eigen::Success) break;  // singular: a rigid hyperstatic sticking set
     ++report.factorisations;

@@ -13,10 +13,26 @@
 #include "cdpile/cd/delassus.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <functional>
+#include <vector>
 
 namespace cdpile::cd {
+
+/// A contact's face of the law: open, sticking, or sliding with R_t = -mu R_n (slip_plus,
+/// u_t > 0) or R_t = +mu R_n (slip_minus).
+enum class LawStatus : unsigned char { open, stick, slip_plus, slip_minus };
+
+/// Alart and Curnier's statuses of impulses r (rho_a = 1 / W_aa): open where
+/// R_n - rho u_n <= 0, else sticking where R - rho u lies in the cone, else sliding on the
+/// side of its R_t.
+std::vector<LawStatus> law_statuses(const DelassusProblem& p, const Eigen::VectorXd& r);
+
+/// The linear system A R = b of a set of statuses: an open contact's rows R = 0, a sticking
+/// one's W R = -q, a sliding one's normal row W R = -q and R_t -+ mu R_n = 0.
+void status_system(const DelassusProblem& p, const std::vector<LawStatus>& st,
+                   Eigen::SparseMatrix<double>& a, Eigen::VectorXd& b);
 
 struct ActiveSetOptions {
   /// The law's residual (admm_law_residual, in the engine's velocity scale) that a
