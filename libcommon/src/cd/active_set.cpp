@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -72,6 +73,7 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     return report;
   }
   std::vector<LawStatus> previous;
+  std::vector<std::vector<LawStatus>> solved;  // every set solved so far
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
   ColMatrix a;
   Vector b;
@@ -83,6 +85,8 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
       return report;
     }
     if (report.factorisations >= o.max_factorisations) break;
+    // A set solved before and not the last one: the Newton cycles, and would forever.
+    if (std::find(solved.begin(), solved.end(), st) != solved.end()) break;
     if (o.cancel && o.cancel()) throw StepCancelled();
     status_system(p, st, a, b);
     lu.compute(a);
@@ -92,6 +96,7 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     if (!next.allFinite()) break;
     r = next;
     previous = st;
+    solved.push_back(st);
     // A set's solution that meets the law's residual is kept even before its statuses
     // repeat (rounding can flip a contact at its bound from one solve to the next).
     report.residual = admm_law_residual(p, r, o.velocity_floor);

@@ -51,7 +51,8 @@ struct ActiveSetReport {
 
 /// The active-set Newton from the impulses in `r` (2m values), which it replaces by the
 /// last solution of a set's linear system; it stops when that solution meets the law's
-/// residual, when the statuses repeat, or after max_factorisations. A set whose system is singular (rigid contacts
+/// residual, when the statuses repeat, when it comes back to a set it solved before (a
+/// cycle), or after max_factorisations. A set whose system is singular (rigid contacts
 /// sticking in a hyperstatic network) stops it unconverged.
 ActiveSetReport solve_active_set(const DelassusProblem& p, Eigen::VectorXd& r,
                                  const ActiveSetOptions& o);
