@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,7 @@ class FinishedSolver final : public ContactSolver {
     o.cancel = system.cancel;
     int done = 0;
     bool finished = false;
+    std::optional<DelassusProblem> problem;
     for (long next = settings_.finish_after;; next *= 2) {
       SolverSettings part = settings_;
       part.finish_after = 0;
@@ -127,8 +129,11 @@ class FinishedSolver final : public ContactSolver {
         report.finished = finished;
         return report;
       }
+      // The problem does not depend on the impulses (q is the bodies' velocities less W R):
+      // assembled once for every retry of the step.
+      if (!problem) problem = delassus_problem(system);
       Eigen::VectorXd r = row_impulses(system);
-      if (solve_active_set(delassus_problem(system), r, o).converged) {
+      if (solve_active_set(*problem, r, o).converged) {
         set_row_impulses(system, r);
         finished = true;
       }
