@@ -24,6 +24,10 @@
 //   --nsgs N: then up to N sweeps of NSGS (cd::solve_nsgs), stopped on the law's residual;
 //   --polish N: then up to N active-set Newton iterations (cd::solve_active_set, the
 //   engine's --finish-after; with --trace the copy below, which prints each iteration);
+//   --polish-proximal EPS [--polish-proximal-iterations N]: its proximal term on singular
+//   sets (cd::ActiveSetOptions::proximal, proximal_iterations; default 0: a singular set
+//   stops it); --polish-trace: the law's residual after each of its factorisations;
+//   --polish-max-changes N: its cap on the statuses a set changes (default 20);
 //   --newton N: the same with a line search on the natural map's residual;
 //   --prox EPS N [--prox-inner M]: then up to N proximal-point iterations around it, each
 //   with at most M (default 30) Newton iterations (below); --prox-fb: those iterations
@@ -750,6 +754,10 @@ int main(int argc, char** argv) {
   bool skip = false;
   bool from_engine = false;
   int polish_iterations = 0;
+  double polish_proximal = 0.0;
+  int polish_proximal_iterations = 1;
+  bool polish_trace = false;
+  int polish_max_changes = cd::ActiveSetOptions{}.max_status_changes;
   int nsgs_sweeps = 0;
   double prox_eps = 0.0;
   bool damped_newton = false;
@@ -797,6 +805,14 @@ int main(int argc, char** argv) {
       from_engine = skip = true;
     else if (arg == "--polish" && has)
       polish_iterations = std::stoi(argv[++a]);
+    else if (arg == "--polish-proximal" && has)
+      polish_proximal = std::stod(argv[++a]);
+    else if (arg == "--polish-proximal-iterations" && has)
+      polish_proximal_iterations = std::stoi(argv[++a]);
+    else if (arg == "--polish-trace")
+      polish_trace = true;
+    else if (arg == "--polish-max-changes" && has)
+      polish_max_changes = std::stoi(argv[++a]);
     else if (arg == "--newton" && has) {
       polish_iterations = std::stoi(argv[++a]);
       damped_newton = true;
@@ -896,7 +912,15 @@ int main(int argc, char** argv) {
         ao.tolerance = o.tolerance;
         ao.velocity_floor = o.velocity_floor;
         ao.max_factorisations = polish_iterations;
+        ao.proximal = polish_proximal;
+        ao.proximal_iterations = polish_proximal_iterations;
+        ao.max_status_changes = polish_max_changes;
+        if (polish_trace)
+          ao.trace = [](int k, double law) { std::printf("  polish %3d: law %.3e\n", k, law); };
         const cd::ActiveSetReport ar = cd::solve_active_set(p, r, ao);
+        if (ar.proximal_solves > 0)
+          std::fprintf(stderr, "%s: %d of %d sets solved by the proximal point\n", file.c_str(),
+                       ar.proximal_solves, ar.factorisations);
         rep.iterations += ar.factorisations;
         rep.factorisations += ar.factorisations;
         rep.residual = ar.residual;

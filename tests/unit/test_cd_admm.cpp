@@ -52,6 +52,21 @@ cd::AdmmOptions tight_options(double compliance) {
 
 }  // namespace
 
+// The law's residual counts a negative normal impulse as a violation (R_n >= 0), also at a
+// contact that separates, where the law asks R = 0: a disk leaving the floor at 1e-3 m/s
+// with R_n = -1e-6 is off by W_nn 1e-6 (the finish's check, docs/method.md, "Finishing a
+// step by its active set", must not accept it).
+TEST(Admm, TheLawResidualCountsANegativeNormalImpulse) {
+  cd::DelassusProblem p;
+  p.W.resize(2, 2);
+  p.W.insert(0, 0) = 2.0;
+  p.W.insert(1, 1) = 6.0;
+  p.q = Eigen::Vector2d(1e-3, 0.0);
+  p.mu = Eigen::VectorXd::Constant(1, 0.5);
+  EXPECT_EQ(cd::admm_law_residual(p, Eigen::Vector2d(0.0, 0.0), 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(cd::admm_law_residual(p, Eigen::Vector2d(-1e-6, 0.0), 1.0), 2e-6);
+}
+
 // A disk with its rotation locked on the floor of a tilted box (mu = 0.5): at 20 degrees
 // (tan 20 < mu) it sticks with f = m g (cos, sin); at 30 degrees it slides with f_n =
 // m g cos 30, |f_t| = mu f_n and the acceleration g (sin 30 - mu cos 30). Every step

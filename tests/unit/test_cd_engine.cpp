@@ -703,9 +703,12 @@ TEST(ActiveSet, ADiskOnAnInclineRollsOrSlidesAsTheLawSays) {
   }
 }
 
-// A set whose system is singular (a rigid contact counted twice: two identical rows,
-// sticking) stops the Newton unconverged instead of returning what the LU made of it.
-TEST(ActiveSet, ASingularSetStopsUnconverged) {
+namespace {
+
+/// A rigid contact counted twice (two identical rows) pressed by 1e-3 normal and 1e-4
+/// tangential velocity: sticking, its sets' systems are singular, and any split of the
+/// impulse R_n = 1e-3, R_t = 1e-4 / 3 between the two rows within their cones solves it.
+cd::DelassusProblem a_contact_counted_twice() {
   cd::DelassusProblem p;
   p.W.resize(4, 4);
   for (int a = 0; a < 2; ++a)
@@ -715,12 +718,47 @@ TEST(ActiveSet, ASingularSetStopsUnconverged) {
     }
   p.q = Eigen::Vector4d(-1e-3, -1e-4, -1e-3, -1e-4);
   p.mu = Eigen::Vector2d(0.5, 0.5);
+  return p;
+}
+
+}  // namespace
+
+// A set whose system is singular stops the Newton unconverged instead of returning what the
+// LU made of it.
+TEST(ActiveSet, ASingularSetStopsUnconverged) {
+  const cd::DelassusProblem p = a_contact_counted_twice();
   Eigen::VectorXd r;
   cd::ActiveSetOptions o;
   o.velocity_floor = 9.81e-4;
   const cd::ActiveSetReport rep = cd::solve_active_set(p, r, o);
   EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(rep.proximal_solves, 0);
   EXPECT_TRUE(r.allFinite());
+}
+
+// With the proximal term (the option measured on rigid steps, docs/performance.md), the
+// singular set is solved and the part the law leaves free keeps its start: from equal
+// impulses the two rows share the load equally, from (2, 1) they keep that ratio's excess
+// (R1 - R2 is the self-stress, which the iterates do not move).
+TEST(ActiveSet, TheProximalTermSolvesASingularSetKeepingItsFreePart) {
+  const cd::DelassusProblem p = a_contact_counted_twice();
+  cd::ActiveSetOptions o;
+  o.velocity_floor = 9.81e-4;
+  o.tolerance = 1e-12;
+  o.proximal = 1e-6;
+  o.proximal_iterations = 200;
+  for (const double split : {0.5, 2.0 / 3.0}) {
+    Eigen::VectorXd r(4);
+    r << split * 1e-3, split * 1e-4 / 3, (1 - split) * 1e-3, (1 - split) * 1e-4 / 3;
+    r *= 0.9;  // below the load: the Newton has to move the determined part
+    const cd::ActiveSetReport rep = cd::solve_active_set(p, r, o);
+    ASSERT_TRUE(rep.converged) << split;
+    EXPECT_GE(rep.proximal_solves, 1);
+    EXPECT_NEAR(r[0] + r[2], 1e-3, 1e-14) << split;
+    EXPECT_NEAR(r[1] + r[3], 1e-4 / 3, 1e-14) << split;
+    // the free part R1 - R2 as started: 0.9 (2 split - 1) 1e-3
+    EXPECT_NEAR(r[0] - r[2], 0.9 * (2 * split - 1) * 1e-3, 1e-12) << split;
+  }
 }
 
 // The stiff column of "AStiffColumnSplitsConvergesAndCarriesItsWeight", unsplit and capped

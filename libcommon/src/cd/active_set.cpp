@@ -16,6 +16,34 @@ namespace cdpile::cd {
 namespace {
 using Vector = Eigen::VectorXd;
 using ColMatrix = Eigen::SparseMatrix<double>;
+using SparseLu = Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>>;
+
+/// The proximal point on a singular set's system A x = b (docs/method.md, "Rigid steps"):
+/// x <- x + (A + eps D)^-1 (b - A x), D = diag(A), from x, with `lu` holding A + eps D.
+/// Each iterate is the solution of the system nearest the last in the metric eps D, so the
+/// part of x that A leaves free (the hyperstatic network's self-stresses) keeps its start
+/// while the rest converges, at the rate eps / (lambda + eps) on a mode of stiffness lambda.
+/// Returns whether the iterates settled (a step below 1e-13 of x); they do not when the
+/// set's system has no solution (then they drift), nor when A has an eigenvalue near
+/// -eps D (then they grow): both seen on the rigid steps (docs/performance.md, "A proximal
+/// term on the rigid sets").
+/// The contacts whose statuses differ between two sets.
+int status_changes(const std::vector<LawStatus>& a, const std::vector<LawStatus>& b) {
+  int changed = 0;
+  for (std::size_t c = 0; c < a.size(); ++c) changed += a[c] != b[c] ? 1 : 0;
+  return changed;
+}
+
+bool proximal_solve(const SparseLu& lu, const ColMatrix& a, const Vector& b, Vector& x,
+                    int max_iterations) {
+  for (int j = 0; j < max_iterations; ++j) {
+    const Vector dx = lu.solve(b - a * x);
+    if (!dx.allFinite()) return false;
+    x += dx;
+    if (dx.lpNorm<Eigen::Infinity>() <= 1e-13 * x.lpNorm<Eigen::Infinity>()) return true;
+  }
+  return false;
+}
 }  // namespace
 
 std::vector<LawStatus> law_statuses(const DelassusProblem& p, const Vector& r) {
@@ -74,7 +102,7 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
   }
   std::vector<LawStatus> previous;
   std::vector<std::vector<LawStatus>> solved;  // every set solved so far
-  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  SparseLu lu;
   ColMatrix a;
   Vector b;
   while (true) {
@@ -87,12 +115,39 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     if (report.factorisations >= o.max_factorisations) break;
     // A set solved before and not the last one: the Newton cycles, and would forever.
     if (std::find(solved.begin(), solved.end(), st) != solved.end()) break;
+    // A set far from the last: the Newton wanders (docs/performance.md, "Finishing the hard
+    // steps by their active set": its successes change at most 14 contacts a set).
+    if (!previous.empty() && status_changes(previous, st) > o.max_status_changes) break;
     if (o.cancel && o.cancel()) throw StepCancelled();
     status_system(p, st, a, b);
     lu.compute(a);
-    if (lu.info() != Eigen::Success) break;  // singular: a rigid hyperstatic sticking set
-    ++report.factorisations;
-    const Vector next = lu.solve(b);
+    Vector next;
+    if (lu.info() == Eigen::Success) {
+      ++report.factorisations;
+      next = lu.solve(b);
+    }
+    if (lu.info() != Eigen::Success || !next.allFinite()) {
+      // singular: rigid contacts sticking in a hyperstatic network
+      if (!(o.proximal > 0.0)) break;
+      // The term on the rows that carry u (the law's velocity), none on the rows R = 0 and
+      // R_t = -+mu R_n, which a proximal term on the impulses leaves exact.
+      Vector d = Vector::Zero(a.rows());
+      for (Eigen::Index c = 0; c < p.contacts(); ++c) {
+        const LawStatus s = st[static_cast<std::size_t>(c)];
+        if (s == LawStatus::open) continue;
+        d[2 * c] = p.W.coeff(2 * c, 2 * c);
+        if (s == LawStatus::stick) d[2 * c + 1] = p.W.coeff(2 * c + 1, 2 * c + 1);
+      }
+      ColMatrix regular = a;
+      regular.diagonal() += o.proximal * d;
+      lu.compute(regular);
+      if (lu.info() != Eigen::Success) break;
+      ++report.factorisations;
+      ++report.proximal_solves;
+      next = r;
+      // One proximal step is taken as the set's solution; more must settle.
+      if (!proximal_solve(lu, a, b, next, o.proximal_iterations) && o.proximal_iterations > 1) break;
+    }
     if (!next.allFinite()) break;
     r = next;
     previous = st;
@@ -100,6 +155,7 @@ ActiveSetReport solve_active_set(const DelassusProblem& p, Vector& r, const Acti
     // A set's solution that meets the law's residual is kept even before its statuses
     // repeat (rounding can flip a contact at its bound from one solve to the next).
     report.residual = admm_law_residual(p, r, o.velocity_floor);
+    if (o.trace) o.trace(report.factorisations, report.residual);
     if (report.residual <= o.tolerance) {
       report.converged = true;
       return report;

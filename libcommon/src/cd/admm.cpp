@@ -92,7 +92,9 @@ double law_residual(const DelassusProblem& p, const std::vector<Block>& blocks, 
       scale_sum += w.nn * rn;
       ++active;
     }
-    if (!(rn > 0.0) && !(l.rn > 0.0)) continue;  // open and staying open
+    // Open and staying open; a negative normal impulse is a violation (R_n >= 0), which
+    // the local solve's projection measures.
+    if (rn == 0.0 && !(l.rn > 0.0)) continue;
     largest = std::max({largest, std::abs(w.nn * (l.rn - rn)), std::abs(w.tt * (l.rt - rt))});
   }
   const double scale = std::max(velocity_floor, active > 0 ? scale_sum / active : 0.0);

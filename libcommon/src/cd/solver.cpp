@@ -162,7 +162,8 @@ std::shared_ptr<const ContactSolver> make_solver(const SolverSettings& s) {
 
 LawResidual law_residual(const ContactSystem& s, double velocity_scale) {
   // Each contact's violation on the team's threads (-1: open and staying open, no
-  // violation), then summed in row order: the same bits on any team.
+  // violation; a negative normal impulse is one), then summed in row order: the same bits
+  // on any team.
   std::vector<double> violation(s.rows.size());
   for_each_range(s.rows.size(), s.team, [&](std::size_t first, std::size_t last) {
     for (std::size_t k = first; k < last; ++k) {
@@ -170,7 +171,7 @@ LawResidual law_residual(const ContactSystem& s, double velocity_scale) {
       double b_n, b_t;
       s.free_local_velocity(r, b_n, b_t);
       const LocalImpulse l = local_solve_diagonal(r.w_nn, r.w_tt, r.mu, b_n, b_t);
-      violation[k] = !(r.rn > 0.0) && !(l.rn > 0.0)
+      violation[k] = r.rn == 0.0 && !(l.rn > 0.0)
                          ? -1.0
                          : std::max(std::abs(r.w_nn * (l.rn - r.rn)), std::abs(r.w_tt * (l.rt - r.rt)));
     }

@@ -40,11 +40,29 @@ struct ActiveSetOptions {
   double tolerance = 1e-6;
   double velocity_floor = 1.0;  ///< g h [m/s], the floor of that scale
   int max_factorisations = 10;
+  /// Stop when a set differs from the last one solved by more than this many contacts:
+  /// near its solution the Newton changes a few statuses a set (at most 8 on the loose
+  /// pile's hard steps at 1e6, 14 at 1e8), and one that changes dozens has left its
+  /// basin and fails (docs/performance.md, "Finishing the hard steps by their active set").
+  int max_status_changes = 20;
+  /// A proximal term for the sets whose system is singular (rigid contacts sticking in a
+  /// hyperstatic network), relative to the diagonal of W on the rows that carry u: such a
+  /// set is solved by the proximal point on its system A R = b from the Newton's impulses,
+  /// R <- R + (A + proximal D)^-1 (b - A R), proximal_iterations back-solves of one LU
+  /// (1: that one step is the set's solution; more: they must settle, or the Newton stops).
+  /// 0 (the default): a singular set stops the Newton. Measured on rigid steps and not
+  /// kept in the engine (docs/performance.md, "A proximal term on the rigid sets"); the
+  /// benchmark admm_on_steps sets it (--polish-proximal).
+  double proximal = 0.0;
+  int proximal_iterations = 1;
+  /// Called after each factorisation with their count and the law's residual then.
+  std::function<void(int, double)> trace;
   std::function<bool()> cancel;  ///< polled before each factorisation (throws StepCancelled)
 };
 
 struct ActiveSetReport {
   int factorisations = 0;
+  int proximal_solves = 0;  ///< sets solved by the proximal point (singular)
   double residual = 0.0;   ///< admm_law_residual of the impulses returned
   bool converged = false;  ///< residual <= tolerance
 };
@@ -52,8 +70,10 @@ struct ActiveSetReport {
 /// The active-set Newton from the impulses in `r` (2m values), which it replaces by the
 /// last solution of a set's linear system; it stops when that solution meets the law's
 /// residual, when the statuses repeat, when it comes back to a set it solved before (a
-/// cycle), or after max_factorisations. A set whose system is singular (rigid contacts
-/// sticking in a hyperstatic network) stops it unconverged.
+/// cycle), when a set differs from the last by more than max_status_changes contacts, or
+/// after max_factorisations. A set whose system is singular (rigid contacts
+/// sticking in a hyperstatic network) stops it unconverged, unless options.proximal asks
+/// for the proximal point on it.
 ActiveSetReport solve_active_set(const DelassusProblem& p, Eigen::VectorXd& r,
                                  const ActiveSetOptions& o);
 
