@@ -12,7 +12,9 @@ stiffness k (run_contact_stiffness_mgD, in m g/D; 0 for rigid contacts), the ste
 (run_time_step_s), the contact dashpot's damping ratio zeta (run_contact_damping_ratio, 0 in
 summaries of runs made before it was a parameter: no dashpot; docs/method.md, "The contact
 dashpot") and the sub-steps (run_max_substeps N, run_substep_after S, and run_substep_start,
-'last' in summaries made before it was a parameter). With S = 1
+'last' in summaries made before it was a parameter), and the active-set finish (run_finish_after
+N, 0 in summaries made before it: docs/method.md, "Finishing a step by its active set"; a
+study finished so is its own setting, a star on the chart). With S = 1
 every step is split to h/N from the first on (docs/method.md, "Sub-steps"), so the step is
 h_s = h/N; otherwise a step is split only where it has not converged after S sweeps, and
 the study's step is h (its few split steps are what the defaults do). The folders' runs
@@ -59,9 +61,9 @@ from stiffness import MOBILISATION_BINS, from_summaries, per_degree, pm  # noqa:
 
 PROG = "limit.py"
 SETTINGS = ("run_contact_stiffness_mgD", "run_time_step_s", "run_max_substeps", "run_substep_after",
-            "run_gravity_m_s2", "run_diameter_mean_m", "run_contact_damping_ratio")
-# what a summary made before the setting existed stands for: no dashpot
-EARLIER = {"run_contact_damping_ratio": 0.0}
+            "run_gravity_m_s2", "run_diameter_mean_m", "run_contact_damping_ratio", "run_finish_after")
+# what a summary made before the setting existed stands for: no dashpot, no finish
+EARLIER = {"run_contact_damping_ratio": 0.0, "run_finish_after": 0.0}
 
 
 def fail(msg):
@@ -94,23 +96,26 @@ def settings(folder):
         fail(f"{folder}: no run-SEED.summary.h5")
     if len(found) > 1:
         a, b = list(found.values())[:2]
-        fail(f"{folder}: {a} and {b} were made with different settings (k, h, dashpot or sub-steps)")
-    k, h, n, after, g, d, zeta, start = next(iter(found))
+        fail(f"{folder}: {a} and {b} were made with different settings (k, h, dashpot, sub-steps or finish)")
+    k, h, n, after, g, d, zeta, finish, start = next(iter(found))
     forced = after == 1 and n > 1
     h_s = h / n if forced else h
     # rigid contacts (k = 0) are the limit k h_s^2 / m -> infinity
     return {"k": k, "zeta": zeta, "h": h, "n": int(n), "after": int(after), "forced": forced, "h_s": h_s,
-            "start": start,
+            "start": start, "finish": int(finish),
             "khm": k * g * h_s ** 2 / d if k > 0 else math.inf}
 
 
 def step_label(s):
+    # the active-set finish (docs/method.md, "Finishing a step by its active set") comes
+    # before any split
+    finish = f"finished after {s['finish']} sweeps" if s["finish"] > 0 else ""
     if s["forced"]:
-        return f"h/{s['n']} (every step)"
+        return f"h/{s['n']} (every step" + (f", {finish})" if finish else ")")
     if s["n"] > 1:
-        return (f"h (split after {s['after']} sweeps, to h/{s['n']}"
+        return (f"h ({finish + ', ' if finish else ''}split after {s['after']} sweeps, to h/{s['n']}"
                 + (", from h each step)" if s["start"] == "h" else ")"))
-    return "h"
+    return f"h ({finish})" if finish else "h"
 
 
 def k_label(k):
@@ -194,10 +199,11 @@ def one_per_setting(points):
     """The chart's points, one per setting: of studies made alike (a study to 3 degrees and
     one to 10 hold the same runs' first degrees) the one with the most pairs is drawn; the
     table keeps both rows. Steps split by the rescue (to h/n) and unsplit ones (n = 1, rigid
-    contacts' default since 2026-12-03) are two settings."""
+    contacts' default since 2026-12-03) are two settings, and so are steps finished by the
+    active set and not."""
     best = {}
     for s, y, e, pairs in points:
-        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"], s["n"], s["start"])
+        key = (s["k"], s["zeta"], s["h_s"], s["forced"], s["after"], s["n"], s["start"], s["finish"])
         if key not in best or pairs > best[key][3]:
             best[key] = (s, y, e, pairs)
     return [(s, y, e) for s, y, e, _ in best.values()]
@@ -223,10 +229,12 @@ def chart(ax, points, ylabel):
         # the line: the forced steps and the adaptive study that splits least (the largest
         # S); an adaptive study with a lower S sits beside it, unjoined, marked with its S
         # studies unsplit at h (n = 1, no rescue) are marked apart, not joined
-        adaptive = [s for s, _, _ in mine if not s["forced"] and s["n"] > 1 and s["start"] == "last"]
+        # studies finished by the active set are marked apart too
+        adaptive = [s for s, _, _ in mine
+                    if not s["forced"] and s["n"] > 1 and s["start"] == "last" and s["finish"] == 0]
         least = max((s["after"] for s in adaptive), default=None)
-        line = sorted((s["khm"], y, e) for s, y, e in mine
-                      if s["forced"] or (s["n"] > 1 and s["after"] == least and s["start"] == "last"))
+        line = sorted((s["khm"], y, e) for s, y, e in mine if s["finish"] == 0 and (
+            s["forced"] or (s["n"] > 1 and s["after"] == least and s["start"] == "last")))
         color = None  # the line's, or the next one where k has no line
         if line:
             x, y, e = (np.array(t) for t in zip(*line))
@@ -234,7 +242,10 @@ def chart(ax, points, ylabel):
                                 label=line_label(k, zeta))
             color = drawn[0].get_color()
         for s, y, e in mine:
-            if s["n"] == 1:
+            if s["finish"] > 0:
+                ax.errorbar([s["khm"]], [y], yerr=one_err(e), fmt="*", ms=8, capsize=2,
+                            color=color, label=f"{line_label(k, zeta)}, {step_label(s)}")
+            elif s["n"] == 1:
                 ax.errorbar([s["khm"]], [y], yerr=one_err(e), fmt="D", ms=6, capsize=2,
                             color=color, label=f"{line_label(k, zeta)}, every step at h (unsplit)")
             elif not s["forced"] and s["start"] == "h":

@@ -6,7 +6,8 @@
 # kinetic energy the median of the run's steps, each difference the paired one; the step,
 # the dashpot and k h_s^2 / m are read from the summaries' parameters, not from the
 # folders' names (a summary without the dashpot's parameter, made before it was one, has
-# none); the chart is written; a folder whose
+# none), and so is the active-set finish (a study finished after N sweeps is its own
+# row); the chart is written; a folder whose
 # runs were made with different settings, one without a seed in common and one that is
 # not there are refused in one line with nothing on stdout; a study tilted to 1 degree is
 # refused over 0-2 degrees, left out with --skip-short (and by make limit), and taken over
@@ -34,6 +35,7 @@ for s in 1 2; do
   tilt rigid $s --stiffness 0
   PAST=1 tilt past $s --stiffness 1e4
   PAST=1 tilt past-rigid $s --stiffness 0
+  tilt finished $s --stiffness 1e4 --finish-after 50
 done
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/fine sum/damped sum/stiff --to 2 -o chart.png > table.md 2> err.log \
   || { cat err.log >&2; exit 1; }
@@ -105,14 +107,19 @@ for path in sys.argv[1:]:
     with h5py.File(path, "r+") as f:
         assert f["parameters"].attrs["run_contact_damping_ratio"] == 1.0
         del f["parameters"].attrs["run_contact_damping_ratio"]
+        del f["parameters"].attrs["run_finish_after"]
 PYEOF
 "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft earlier --to 2 > earlier.md
 grep -q "^| earlier | 1e4 | 0 | h/4 (every step) |" earlier.md || { cat earlier.md >&2; exit 1; }
+# A study finished by the active set is a setting of its own, named by its step.
+"$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft sum/finished --to 2 > finished.md
+grep -q "^| finished | 1e4 | 0 | h (finished after 50 sweeps, split after 1000 sweeps, to h/64) | .* | 2 |" finished.md \
+  || { cat finished.md >&2; exit 1; }
 # Refused in one line, nothing on stdout: mixed settings, no common seed, no folder.
 mkdir -p mixed one
 cp sum/soft/run-1.summary.h5 mixed/ && cp sum/stiff/run-2.summary.h5 mixed/
 cp sum/fine/run-1.summary.h5 one/run-3.summary.h5
-expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h, dashpot or sub-steps)" \
+expect_fail 1 "limit.py: mixed: run-1.summary.h5 and run-2.summary.h5 were made with different settings (k, h, dashpot, sub-steps or finish)" \
   "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft mixed
 expect_fail 1 "limit.py: one: no seed in common with the reference" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft one --to 2
 expect_fail 1 "limit.py: nothing: not a folder of summaries" "$PY" "$CDPILE_SOURCE/pipelines/limit.py" sum/soft nothing --to 2
