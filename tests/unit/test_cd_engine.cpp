@@ -703,6 +703,43 @@ TEST(ActiveSet, ADiskOnAnInclineRollsOrSlidesAsTheLawSays) {
   }
 }
 
+// The Newton stops when a set differs from the last by more than max_status_changes
+// contacts. 30 disks rolling on an incline at 30 degrees (mu = 0.2: within the cone since
+// tan 30 <= 3 mu), independent: from zero impulses Alart and Curnier's projection reads them
+// all sliding, the first set's solution all sticking, 30 changes at once. With the cap at
+// 20 the Newton stops after one LU, unconverged; with the cap at 30 it solves them all.
+TEST(ActiveSet, ANewtonThatChangesMoreStatusesThanItsCapStops) {
+  const cd::DelassusProblem one = disk_on_incline(30.0, 0.2);
+  const int n = 30;
+  cd::DelassusProblem p;
+  p.W.resize(2 * n, 2 * n);
+  p.q.resize(2 * n);
+  p.mu.resize(n);
+  for (int a = 0; a < n; ++a) {
+    p.W.insert(2 * a, 2 * a) = one.W.coeff(0, 0);
+    p.W.insert(2 * a + 1, 2 * a + 1) = one.W.coeff(1, 1);
+    p.q.segment<2>(2 * a) = one.q;
+    p.mu[a] = one.mu[0];
+  }
+  cd::ActiveSetOptions o;
+  o.tolerance = 1e-12;
+  o.velocity_floor = 9.81e-4;
+  for (const int cap : {20, 30}) {
+    o.max_status_changes = cap;
+    Eigen::VectorXd r;
+    const cd::ActiveSetReport rep = cd::solve_active_set(p, r, o);
+    if (cap < n) {
+      EXPECT_FALSE(rep.converged);
+      EXPECT_EQ(rep.factorisations, 1);
+    } else {
+      ASSERT_TRUE(rep.converged);
+      EXPECT_EQ(rep.factorisations, 2);
+      for (int a = 0; a < n; ++a)  // rolling: R_t = m g h sin / 3
+        EXPECT_NEAR(r[2 * a + 1], 9.81e-4 * std::sin(30 * kDeg) / 3.0, 1e-15);
+    }
+  }
+}
+
 namespace {
 
 /// A rigid contact counted twice (two identical rows) pressed by 1e-3 normal and 1e-4
