@@ -18,15 +18,6 @@ using Vector = Eigen::VectorXd;
 using ColMatrix = Eigen::SparseMatrix<double>;
 using SparseLu = Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>>;
 
-/// The proximal point on a singular set's system A x = b (docs/method.md, "Rigid steps"):
-/// x <- x + (A + eps D)^-1 (b - A x), D = diag(A), from x, with `lu` holding A + eps D.
-/// Each iterate is the solution of the system nearest the last in the metric eps D, so the
-/// part of x that A leaves free (the hyperstatic network's self-stresses) keeps its start
-/// while the rest converges, at the rate eps / (lambda + eps) on a mode of stiffness lambda.
-/// Returns whether the iterates settled (a step below 1e-13 of x); they do not when the
-/// set's system has no solution (then they drift), nor when A has an eigenvalue near
-/// -eps D (then they grow): both seen on the rigid steps (docs/performance.md, "A proximal
-/// term on the rigid sets").
 /// The contacts whose statuses differ between two sets.
 int status_changes(const std::vector<LawStatus>& a, const std::vector<LawStatus>& b) {
   int changed = 0;
@@ -34,6 +25,15 @@ int status_changes(const std::vector<LawStatus>& a, const std::vector<LawStatus>
   return changed;
 }
 
+/// The proximal point on a singular set's system A x = b (docs/performance.md, "A
+/// proximal term on the rigid sets"): x <- x + (A + eps D)^-1 (b - A x) from x, D the
+/// diagonal of W on the rows that carry u, with `lu` holding A + eps D.
+/// Each iterate is the solution of the system nearest the last in the metric eps D, so the
+/// part of x that A leaves free (the hyperstatic network's self-stresses) keeps its start
+/// while the rest converges, at the rate eps / (lambda + eps) on a mode of stiffness lambda.
+/// Returns whether the iterates settled (a step below 1e-13 of x); they do not when the
+/// set's system has no solution (then they drift), nor when A has an eigenvalue near
+/// -eps D (then they grow): both seen on the rigid steps.
 bool proximal_solve(const SparseLu& lu, const ColMatrix& a, const Vector& b, Vector& x,
                     int max_iterations) {
   for (int j = 0; j < max_iterations; ++j) {
