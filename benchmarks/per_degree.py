@@ -26,7 +26,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipelines"))
 from cdpile_py.runfile import Run, text  # noqa: E402
-from cdpile_py.tables import fmt, write_tsv  # noqa: E402
+from cdpile_py.tables import emit_tsv  # noqa: E402
 
 COLUMNS = ["tilt_from_deg", "tilt_to_deg", "steps", "sweeps_and_iterations_per_step",
            "substeps_per_step", "steps_split", "steps_capped", "nu"]
@@ -71,15 +71,7 @@ def main():
             rows = per_degree(run)
     except (OSError, KeyError, ValueError) as e:
         sys.exit(f"per_degree.py: {a.run}: {e}")
-    if a.output:
-        write_tsv(a.output, COLUMNS, rows)
-    else:
-        try:
-            print("\t".join(COLUMNS))
-            for r in rows:
-                print("\t".join(fmt(r[c]) for c in COLUMNS))
-        except BrokenPipeError:
-            sys.stderr.close()
+    emit_tsv(a.output, COLUMNS, rows)
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ import h5py
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pipelines"))
 from cdpile_py.runfile import attributes, run_costs, text  # noqa: E402
-from cdpile_py.tables import fmt, write_tsv  # noqa: E402
+from cdpile_py.tables import emit_tsv  # noqa: E402
 
 PROG = "study_costs.py"
 COLUMNS = ["study", "seed", "stiffness_mgD", "theta_c_deg", "tilt_cpu_s", "steps",
@@ -91,15 +91,7 @@ def main():
                 rows.append(cost_row(path, study, seed))
             except (OSError, KeyError, ValueError) as e:
                 sys.exit(f"{PROG}: {path}: {e}")
-    if a.output:
-        write_tsv(a.output, COLUMNS, rows)
-        return
-    try:
-        print("\t".join(COLUMNS))
-        for r in rows:
-            print("\t".join(fmt(r[c]) for c in COLUMNS))
-    except BrokenPipeError:
-        sys.stderr.close()
+    emit_tsv(a.output, COLUMNS, rows)
 
 
 if __name__ == "__main__":

@@ -34,6 +34,20 @@ def write_tsv(path, columns, rows, comment=None, digits=4, missing="NA"):
     os.replace(path + ".tmp", path)
 
 
+def emit_tsv(path, columns, rows):
+    """The table to `path` (write_tsv: atomically), or to stdout when `path` is None or
+    empty, quiet when a pipe's reader stops early (samtools' manner: `| head` is no error)."""
+    if path:
+        write_tsv(path, columns, rows)
+        return
+    try:
+        print("\t".join(columns))
+        for r in rows:
+            print("\t".join(fmt(r[c]) for c in columns))
+    except BrokenPipeError:
+        sys.stderr.close()
+
+
 def read_tsv(path):
     """(header, rows as dicts of strings) of a TSV table; '#' lines and blank lines are
     skipped, the first other line is the header."""

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# The stiff limit on the wide 1000-grain piles, from their committed summaries alone
+# (docs/reproduction.md, "theta_c against k on wide piles"; the issue "Stiff and rigid steps
+# at the cost of soft ones", item 4).
+#
+#   benchmarks/stiff_limit_wide.sh [OUTDIR]
+#       reads pipelines/summaries/wide60-N1000-R1.5-mu0.5-rate0.001-pcg (k = 1e6, the
+#       defaults) and its -k1e7 and -k1e8 studies, made by
+#         make -C pipelines summaries NAME=wide60 GRAINS=1000 WIDTH=60 [STIFFNESS=1e7|1e8] SEEDS=S
+#       and writes into OUTDIR (default docs/figures/stiff-limit-wide):
+#         limit-*.{md,png,pdf}    nu over 0-10 deg and theta_c against k, paired by seed
+#                                 (make -s -C pipelines limit: pipelines/limit.py)
+#         per-degree-1e6-1e8.*    nu per degree to 15 deg, 1e8 against 1e6 (pipelines/stiffness.py)
+#         runs.tsv                each run's theta_c and cost (benchmarks/study_costs.py)
+#         nu_c.tsv                the static nu_c (critical's envelope over static frames) of
+#                                 each k over the seeds it shares with 1e6, and of 1e6 over the same
+#
+# critical from $CDPILE_BIN (default: build/bin beside this script).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$here/..
+bin=${CDPILE_BIN:-$root/build/bin}
+out=$(realpath -m "${1:-$root/docs/figures/stiff-limit-wide}")
+sums=$root/pipelines/summaries
+ref=$sums/wide60-N1000-R1.5-mu0.5-rate0.001-pcg
+[[ -d $ref ]] || { echo "stiff_limit_wide.sh: $ref: no summaries of the wide piles at k = 1e6" >&2; exit 1; }
+mkdir -p "$out"
+seeds_of() { ls "$1" | sed -n 's/^run-\([0-9]*\)\.summary\.h5$/\1/p' | sort; }  # as comm wants
+make -s -C "$root/pipelines" limit NAME=wide60 GRAINS=1000 WIDTH=60 STIFF_DOCS="$out" > /dev/null
+/usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = 1e8=$ref-k1e8" --to 15 \
+  -o "$out/per-degree-1e6-1e8.png" > "$out/per-degree-1e6-1e8.md.tmp"
+mv "$out/per-degree-1e6-1e8.md.tmp" "$out/per-degree-1e6-1e8.md"
+"$here/study_costs.py" "$ref" "$ref"-k* -o "$out/runs.tsv"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+nu_c() {  # label seeds folder: one row of the static nu_c over those seeds' summaries
+  local files=() s
+  for s in $2; do files+=("$3/run-$s.summary.h5"); done
+  "$bin/critical" "${files[@]}" --eps 1e-3 --quiet -o "$scratch/c.h5" 2> /dev/null
+  /usr/bin/python3 - "$scratch/c.h5" "$1" "$2" <<'PY'
+import sys, h5py
+r = h5py.File(sys.argv[1], "r")["results"].attrs
+print("\t".join([sys.argv[2], sys.argv[3]] + ["%.4f" % r[k] for k in ("nu_c_static", "nu_c_static_se", "nu_c", "nu_c_se")]))
+PY
+  rm -f "$scratch/c.h5"
+}
+{
+  printf 'k_mgD\tseeds\tnu_c_static\tnu_c_static_se\tnu_c_all_frames\tnu_c_all_frames_se\n'
+  for k in 1e7 1e8; do
+    [[ -d $ref-k$k ]] || continue
+    common=$(comm -12 <(seeds_of "$ref") <(seeds_of "$ref-k$k") | sort -n | paste -sd' ')
+    [[ -n $common ]] || continue
+    nu_c 1e6 "$common" "$ref"
+    nu_c $k "$common" "$ref-k$k"
+  done
+} > "$out/nu_c.tsv.tmp"
+mv "$out/nu_c.tsv.tmp" "$out/nu_c.tsv"
+echo "stiff_limit_wide.sh: $out: $(ls "$out" | paste -sd' ')"
