@@ -14,6 +14,8 @@
 #         runs.tsv                each run's theta_c and cost (benchmarks/study_costs.py)
 #         nu_c.tsv                the static nu_c (critical's envelope over static frames) of
 #                                 each k over the seeds it shares with 1e6, and of 1e6 over the same
+#         seeds.md                one row per seed: theta_c, nu over 0-10 deg and the tilt's CPU
+#                                 at each k, the work per step at 1e8 (docs/reproduction.md's table)
 #
 # critical from $CDPILE_BIN (default: build/bin beside this script).
 set -euo pipefail
@@ -55,4 +57,34 @@ PY
   done
 } > "$out/nu_c.tsv.tmp"
 mv "$out/nu_c.tsv.tmp" "$out/nu_c.tsv"
+# seeds.md: runs.tsv's theta_c, CPU and work beside each run's nu over 0-10 deg (the mean of
+# its per-degree nu, as limit.py pairs them)
+/usr/bin/python3 - "$root" "$out/runs.tsv" "$ref" > "$out/seeds.md.tmp" <<'PY'
+import csv, os, sys
+import numpy as np
+sys.path.insert(0, os.path.join(sys.argv[1], "pipelines"))
+from stiffness import from_summaries
+ref = sys.argv[3]
+ks = ["1e6", "1e7", "1e8"]
+folders = {"1e6": ref, "1e7": ref + "-k1e7", "1e8": ref + "-k1e8"}
+nu = {k: {s: float(np.nanmean(v)) for s, v in from_summaries(d, 10)[0].items()}
+      for k, d in folders.items() if os.path.isdir(d)}
+rows = {(r["stiffness_mgD"], int(r["seed"])): r for r in csv.DictReader(open(sys.argv[2]), delimiter="\t")}
+def cell(k, s, column, form):
+    r = rows.get((k, s))
+    return "-" if r is None or r[column] == "NA" else form % float(r[column])
+print("| seed | theta_c at 1e6 / 1e7 / 1e8 [deg] | nu over 0-10 deg at 1e6 / 1e7 / 1e8 "
+      "| tilt CPU at 1e6 / 1e7 / 1e8 [s] | sweeps and iterations per step, sub-steps per step at 1e8 |")
+print("|---:|---|---|---|---|")
+for s in sorted({s for (_, s) in rows}):
+    theta = " / ".join(cell(k, s, "theta_c_deg", "%.2f") for k in ks)
+    nus = " / ".join("%.4f" % nu[k][s] if s in nu.get(k, {}) else "-" for k in ks)
+    cpu = " / ".join(cell(k, s, "tilt_cpu_s", "%.0f") for k in ks)
+    r = rows.get(("1e8", s))
+    work = "-" if r is None else f"{r['sweeps_and_iterations_per_step']}, {r['substeps_per_step']}"
+    print(f"| {s} | {theta} | {nus} | {cpu} | {work} |")
+capped = sum(int(r["steps_capped"]) for r in rows.values() if r["steps_capped"] != "NA")
+print(f"\n{len(rows)} runs, {capped} of their steps stopped at the cap.")
+PY
+mv "$out/seeds.md.tmp" "$out/seeds.md"
 echo "stiff_limit_wide.sh: $out: $(ls "$out" | paste -sd' ')"
