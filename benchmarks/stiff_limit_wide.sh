@@ -57,18 +57,16 @@ PY
   done
 } > "$out/nu_c.tsv.tmp"
 mv "$out/nu_c.tsv.tmp" "$out/nu_c.tsv"
-# seeds.md: runs.tsv's theta_c, CPU and work beside each run's nu over 0-10 deg (the mean of
-# its per-degree nu, as limit.py pairs them)
+# seeds.md: runs.tsv's theta_c, CPU and work beside each run's nu over 0-10 deg (limit.py's
+# over_range, the values the limit tables pair)
 /usr/bin/python3 - "$root" "$out/runs.tsv" "$ref" > "$out/seeds.md.tmp" <<'PY'
 import csv, os, sys
-import numpy as np
 sys.path.insert(0, os.path.join(sys.argv[1], "pipelines"))
-from stiffness import from_summaries
+from limit import over_range
 ref = sys.argv[3]
 ks = ["1e6", "1e7", "1e8"]
 folders = {"1e6": ref, "1e7": ref + "-k1e7", "1e8": ref + "-k1e8"}
-nu = {k: {s: float(np.nanmean(v)) for s, v in from_summaries(d, 10)[0].items()}
-      for k, d in folders.items() if os.path.isdir(d)}
+nu = {k: {s: v[0] for s, v in over_range(d, 10).items()} for k, d in folders.items() if os.path.isdir(d)}
 rows = {(r["stiffness_mgD"], int(r["seed"])): r for r in csv.DictReader(open(sys.argv[2]), delimiter="\t")}
 def cell(k, s, column, form):
     r = rows.get((k, s))
