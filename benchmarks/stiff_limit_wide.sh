@@ -10,6 +10,8 @@
 #       and writes into OUTDIR (default docs/figures/stiff-limit-wide):
 #         limit-*.{md,png,pdf}    nu over 0-10 deg and theta_c against k, paired by seed
 #                                 (make -s -C pipelines limit: pipelines/limit.py)
+#         limit-k1e8-against-k1e7.*  the same pairs with 1e7 as the reference: how far 1e8
+#                                 moves what 1e7 gave (made once both share two seeds)
 #         per-degree-1e6-1e8.*    nu per degree to 15 deg, 1e8 against 1e6 (pipelines/stiffness.py)
 #         runs.tsv                each run's theta_c and cost (benchmarks/study_costs.py)
 #         nu_c.tsv                the static nu_c (critical's envelope over static frames) of
@@ -29,6 +31,12 @@ ref=$sums/wide60-N1000-R1.5-mu0.5-rate0.001-pcg
 mkdir -p "$out"
 seeds_of() { ls "$1" | sed -n 's/^run-\([0-9]*\)\.summary\.h5$/\1/p' | sort; }  # as comm wants
 make -s -C "$root/pipelines" limit NAME=wide60 GRAINS=1000 WIDTH=60 STIFF_DOCS="$out" > /dev/null
+if [[ -d $ref-k1e7 && -d $ref-k1e8 ]] &&
+   (( $(comm -12 <(seeds_of "$ref-k1e7") <(seeds_of "$ref-k1e8") | wc -l) >= 2 )); then
+  /usr/bin/python3 "$root/pipelines/limit.py" "$ref-k1e7" "$ref-k1e8" \
+    -o "$out/limit-k1e8-against-k1e7.png" > "$out/limit-k1e8-against-k1e7.md.tmp"
+  mv "$out/limit-k1e8-against-k1e7.md.tmp" "$out/limit-k1e8-against-k1e7.md"
+fi
 /usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = 1e8=$ref-k1e8" --to 15 \
   -o "$out/per-degree-1e6-1e8.png" > "$out/per-degree-1e6-1e8.md.tmp"
 mv "$out/per-degree-1e6-1e8.md.tmp" "$out/per-degree-1e6-1e8.md"
