@@ -3,7 +3,7 @@
 # alone, to the byte: a clone remakes them, and a summary committed without running the
 # script again fails here until its tables are remade.
 docs=$CDPILE_SOURCE/docs/figures/stiff-limit-wide
-"$CDPILE_SOURCE/benchmarks/stiff_limit_wide.sh" out > stdout.txt 2> /dev/null
+"$CDPILE_SOURCE/benchmarks/stiff_limit_wide.sh" out > stdout.txt 2> stderr.txt || { cat stderr.txt >&2; exit 1; }
 grep -q "^stiff_limit_wide.sh: .*/out: " stdout.txt
 found=0
 for made in out/*.md out/*.tsv; do
