@@ -3,11 +3,14 @@
 # (docs/reproduction.md, "theta_c against k on wide piles"; the issue "Stiff and rigid steps
 # at the cost of soft ones", item 4).
 #
-#   benchmarks/stiff_limit_wide.sh [OUTDIR]
+#   benchmarks/stiff_limit_wide.sh [--mu-deposit MU] [OUTDIR]
 #       reads pipelines/summaries/wide60-N1000-R1.5-mu0.5-rate0.001-pcg (k = 1e6, the
 #       defaults) and its -k1e7 and -k1e8 studies, made by
 #         make -C pipelines summaries NAME=wide60 GRAINS=1000 WIDTH=60 [STIFFNESS=1e7|1e8] SEEDS=S
-#       and writes into OUTDIR (default docs/figures/stiff-limit-wide):
+#       or with --mu-deposit MU the piles settled with that friction (the pipelines'
+#       MU_DEPOSIT: 0.1 makes them dense), ...-pcg-mudepMU and its -k1e7 and -k1e8 studies,
+#       and writes into OUTDIR (default docs/figures/stiff-limit-wide, with --mu-deposit
+#       docs/figures/stiff-limit-wide-mudepMU):
 #         limit-*.{md,png,pdf}    nu over 0-10 deg and theta_c against k, paired by seed
 #                                 (make -s -C pipelines limit: pipelines/limit.py)
 #         limit-k1e8-against-k1e7.*  the same pairs with 1e7 as the reference: how far 1e8
@@ -24,22 +27,31 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$here/..
 bin=${CDPILE_BIN:-$root/build/bin}
-out=$(realpath -m "${1:-$root/docs/figures/stiff-limit-wide}")
+mu_deposit=""
+if [[ ${1:-} == --mu-deposit ]]; then
+  [[ ${2:-} =~ ^[0-9.]+$ ]] || { echo "stiff_limit_wide.sh: --mu-deposit: '${2:-}' is not a friction" >&2; exit 2; }
+  mu_deposit=$2; shift 2
+fi
+(( $# <= 1 )) || { echo "usage: stiff_limit_wide.sh [--mu-deposit MU] [OUTDIR]" >&2; exit 2; }
+tag=${mu_deposit:+-mudep$mu_deposit}  # the pipelines' study name of the preparation
+out=$(realpath -m "${1:-$root/docs/figures/stiff-limit-wide$tag}")
 sums=$root/pipelines/summaries
-ref=$sums/wide60-N1000-R1.5-mu0.5-rate0.001-pcg
+ref=$sums/wide60-N1000-R1.5-mu0.5-rate0.001-pcg$tag
 [[ -d $ref ]] || { echo "stiff_limit_wide.sh: $ref: no summaries of the wide piles at k = 1e6" >&2; exit 1; }
 mkdir -p "$out"
 seeds_of() { ls "$1" | sed -n 's/^run-\([0-9]*\)\.summary\.h5$/\1/p' | sort; }  # as comm wants
-make -s -C "$root/pipelines" limit NAME=wide60 GRAINS=1000 WIDTH=60 STIFF_DOCS="$out" > /dev/null
+make -s -C "$root/pipelines" limit NAME=wide60 GRAINS=1000 WIDTH=60 MU_DEPOSIT="$mu_deposit" STIFF_DOCS="$out" > /dev/null
 if [[ -d $ref-k1e7 && -d $ref-k1e8 ]] &&
    (( $(comm -12 <(seeds_of "$ref-k1e7") <(seeds_of "$ref-k1e8") | wc -l) >= 2 )); then
   /usr/bin/python3 "$root/pipelines/limit.py" "$ref-k1e7" "$ref-k1e8" \
     -o "$out/limit-k1e8-against-k1e7.png" > "$out/limit-k1e8-against-k1e7.md.tmp"
   mv "$out/limit-k1e8-against-k1e7.md.tmp" "$out/limit-k1e8-against-k1e7.md"
 fi
-/usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = 1e8=$ref-k1e8" --to 15 \
-  -o "$out/per-degree-1e6-1e8.png" > "$out/per-degree-1e6-1e8.md.tmp"
-mv "$out/per-degree-1e6-1e8.md.tmp" "$out/per-degree-1e6-1e8.md"
+if [[ -d $ref-k1e8 ]]; then
+  /usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = 1e8=$ref-k1e8" --to 15 \
+    -o "$out/per-degree-1e6-1e8.png" > "$out/per-degree-1e6-1e8.md.tmp"
+  mv "$out/per-degree-1e6-1e8.md.tmp" "$out/per-degree-1e6-1e8.md"
+fi
 "$here/study_costs.py" "$ref" "$ref"-k* -o "$out/runs.tsv"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
