@@ -62,7 +62,7 @@ nu_c() {  # label seeds folder: one row of the static nu_c over those seeds' sum
   /usr/bin/python3 - "$scratch/c.h5" "$1" "$2" <<'PY'
 import sys, h5py
 r = h5py.File(sys.argv[1], "r")["results"].attrs
-# NA where critical gives none (its envelope's nu_c and s.e. need more than one run)
+# NA where critical gives none (one run, or an envelope that does not saturate)
 print("\t".join([sys.argv[2], sys.argv[3]] + ["%.4f" % r[k] if k in r else "NA" for k in ("nu_c_static", "nu_c_static_se", "nu_c", "nu_c_se")]))
 PY
   rm -f "$scratch/c.h5"
