@@ -10,7 +10,10 @@
 //                      [--polish N | --newton N]
 //                      [--prox EPS N [--prox-inner M]
 //                       [--prox-fb | --prox-anderson K [--prox-uniform]]]
-//                      [--fb N [--fb-smooth X] [--fb-lm THETA]] STEP.dat...
+//                      [--fb N [--fb-smooth X] [--fb-lm THETA]]
+//                      [--tnnmg N | --tnnmg-stick N | --tnnmg-law N] [--tnnmg-sweeps K]
+//                      [--tnnmg-eps E] [--tnnmg-frozen [--tnnmg-refreeze X]
+//                       [--tnnmg-qp-tolerance T]] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
@@ -35,7 +38,10 @@
 //   depth K (below);
 //   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
 //   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed;
-//   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's.
+//   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's;
+//   --tnnmg N, --tnnmg-stick N, --tnnmg-law N: from the warm start, up to N iterations of
+//   the truncated nonsmooth Newton below and its two variants (K sweeps of Gauss-Seidel
+//   each, default 5; eps the regularisation, default 1e-10).
 #include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
@@ -727,6 +733,385 @@ PolishReport anderson_proximal(const cd::DelassusProblem& p, Vector& r, double e
   return report;
 }
 
+// --tnnmg N: a truncated nonsmooth Newton in the manner of Graser and Kornhuber's TNNMG
+// (Graser, Sack and Sander 2009; research note section 6), a direct solve in place of the
+// multigrid (docs/performance.md, "A truncated nonsmooth Newton"). Each iteration:
+//   1. K sweeps of the engine's exact Coulomb Gauss-Seidel (cd::solve_nsgs; the smoother);
+//   2. De Saxce's shift s = mu |u_t| frozen at the impulses reached, which makes the step
+//      the convex QP  min E(y) = y.M y / 2 + c_s.y  over y >= 0  (the LCP form above,
+//      y = G R, c_s = G^-T (q + (s, 0)));
+//   3. the truncation: the components at their bound (y_i = 0: an open contact's two, a
+//      sliding contact's one) are held, and the linear correction M_FF v_F = -grad_F E
+//      solved on the rest with one numeric factorisation (SimplicialLDLT, pattern analysed
+//      once; eps times M's diagonal added, which keeps a rigid hyperstatic set regular);
+//   4. of the projected arc max(0, y + alpha v), alpha = 1, 1/2, ..., 1/1024 (Bertsekas'
+//      projected Newton), the point of least E.
+// Step 4 never raises E, so with the shift frozen it is a descent method whose smoother
+// alone converges; the shift moves between iterations (step 2 again), which no theorem
+// covers. Stops on the law's residual.
+// --tnnmg-frozen: the shift frozen at the start's instead, the smoother then block
+// Gauss-Seidel on that QP (each contact's 2x2 bound-constrained QP solved exactly): the
+// QP alone, stopped when its projected gradient has fallen by --tnnmg-qp-tolerance (1e-8)
+// from the first iteration's; --tnnmg-refreeze X (0: never) moves the shift to the
+// current velocity each time that residual has fallen by X since the last move (an
+// outer fixed point on the shift, each QP solved to X).
+PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, int sweeps, double eps,
+                   double tolerance, double velocity_floor, int trace, int& sweeps_done, bool frozen,
+                   double refreeze_ratio, double qp_tolerance) {
+  PolishReport report;
+  const Eigen::Index n = 2 * p.contacts();
+  if (n == 0) return report;
+  const LcpForm f = lcp_form(p);
+  // G per contact: y1 = mu R_n - R_t, y2 = mu R_n + R_t.
+  auto to_y = [&](const Vector& rr, Vector& y) {
+    for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+      y[2 * a] = p.mu[a] * rr[2 * a] - rr[2 * a + 1];
+      y[2 * a + 1] = p.mu[a] * rr[2 * a] + rr[2 * a + 1];
+    }
+  };
+  ColMatrix a_matrix = f.m;  // M's pattern, values set each iteration
+  a_matrix.makeCompressed();
+  Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  ldlt.analyzePattern(a_matrix);
+  const Vector diag = f.m.diagonal();
+  Vector y(n), a(n), grad(n), v(n), mv(n);
+  std::vector<char> held(n);
+  cd::NsgsOptions no;
+  no.tolerance = 1e-300;
+  no.max_sweeps = sweeps;
+  sweeps_done = 0;
+  // --tnnmg-frozen: the shift held at the start's for the whole solve (the QP alone), the
+  // smoother then block Gauss-Seidel on that QP (each contact's 2x2 bound-constrained QP exact).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> m_rows = f.m;
+  Vector frozen_shift(n);
+  {
+    to_y(r, y);
+    a = f.m * y + f.c;
+    for (Eigen::Index i = 0; i < n; i += 2) frozen_shift[i] = frozen_shift[i + 1] = 0.5 * std::abs(a[i + 1] - a[i]);
+  }
+  auto qp_sweep = [&]() {
+    for (Eigen::Index i = 0; i < n; i += 2) {
+      double g[2], b[2][2] = {{0, 0}, {0, 0}};
+      for (int l = 0; l < 2; ++l) {
+        double sum = f.c[i + l] + frozen_shift[i + l];
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(m_rows, i + l); it; ++it) {
+          sum += it.value() * y[it.col()];
+          if (it.col() == i || it.col() == i + 1) b[l][it.col() - i] = it.value();
+        }
+        g[l] = sum;
+      }
+      const double y0[2] = {y[i], y[i + 1]};
+      // candidates for the new (y1, y2): the local minimiser on each face of the quadrant
+      auto local_e = [&](double z1, double z2) {
+        const double d1 = z1 - y0[0], d2 = z2 - y0[1];
+        return g[0] * d1 + g[1] * d2 + 0.5 * (b[0][0] * d1 * d1 + 2 * b[0][1] * d1 * d2 + b[1][1] * d2 * d2);
+      };
+      double best_e = local_e(0.0, 0.0), z1 = 0.0, z2 = 0.0;
+      const double det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+      if (det > 0.0) {
+        const double d1 = -(b[1][1] * g[0] - b[0][1] * g[1]) / det, d2 = -(b[0][0] * g[1] - b[1][0] * g[0]) / det;
+        if (y0[0] + d1 >= 0.0 && y0[1] + d2 >= 0.0) {
+          const double e = local_e(y0[0] + d1, y0[1] + d2);
+          if (e < best_e) best_e = e, z1 = y0[0] + d1, z2 = y0[1] + d2;
+        }
+      }
+      {  // y1 = 0
+        const double d1 = -y0[0];
+        const double c2 = std::max(0.0, y0[1] - (g[1] + b[1][0] * d1) / b[1][1]);
+        const double e = local_e(0.0, c2);
+        if (e < best_e) best_e = e, z1 = 0.0, z2 = c2;
+      }
+      {  // y2 = 0
+        const double d2 = -y0[1];
+        const double c1 = std::max(0.0, y0[0] - (g[0] + b[0][1] * d2) / b[0][0]);
+        const double e = local_e(c1, 0.0);
+        if (e < best_e) best_e = e, z1 = c1, z2 = 0.0;
+      }
+      y[i] = z1;
+      y[i + 1] = z2;
+    }
+  };
+  double qp_first = -1.0, qp_start = -1.0;
+  int refreezes = 0;
+  for (int k = 1; k <= max_iterations; ++k) {
+    if (frozen) {
+      to_y(r, y);
+      for (Eigen::Index i = 0; i < n; ++i) y[i] = std::max(0.0, y[i]);
+      for (int sw = 0; sw < sweeps; ++sw) qp_sweep();
+      sweeps_done += sweeps;
+      r = f.gi * y;
+    } else if (sweeps > 0) {
+      cd::solve_nsgs(p, r, no);
+      sweeps_done += sweeps;
+    }
+    report.residual = cd::admm_law_residual(p, r, velocity_floor);
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+    to_y(r, y);
+    a = f.m * y + f.c;
+    int n_held = 0;
+    double qp_residual = 0.0;  // with the shift frozen: the projected gradient's largest
+    for (Eigen::Index i = 0; i < n; i += 2) {
+      const double s = frozen ? frozen_shift[i] : 0.5 * std::abs(a[i + 1] - a[i]);  // (mu |u_t|, 0) in y's coordinates
+      grad[i] = a[i] + s;
+      grad[i + 1] = a[i + 1] + s;
+      const double scale = std::abs(y[i]) + std::abs(y[i + 1]);
+      for (Eigen::Index j = i; j < i + 2; ++j) {
+        if (y[j] < 0.0) y[j] = 0.0;
+        held[j] = y[j] <= 1e-12 * scale || scale == 0.0 ? 1 : 0;
+        n_held += held[j];
+        qp_residual = std::max(qp_residual, std::abs(y[j] - std::max(0.0, y[j] - grad[j] / diag[j])) * diag[j]);
+      }
+    }
+    if (frozen) {
+      // the shift moved to the current velocity once the QP's residual has fallen by
+      // refreeze_ratio since the last move (an inexact outer fixed point on the shift)
+      if (qp_start < 0.0) qp_start = qp_residual;
+      if (refreeze_ratio == 0.0 && qp_residual <= qp_tolerance * qp_start) {
+        report.iterations = k - 1;
+        break;
+      }
+      if (qp_first < 0.0) {
+        qp_first = qp_residual;
+      } else if (qp_residual <= refreeze_ratio * qp_first) {
+        for (Eigen::Index i = 0; i < n; i += 2) {
+          const double sh = 0.5 * std::abs(a[i + 1] - a[i]);
+          frozen_shift[i] = frozen_shift[i + 1] = sh;
+          grad[i] = a[i] + sh;
+          grad[i + 1] = a[i + 1] + sh;
+        }
+        qp_first = -1.0;
+        ++refreezes;
+      }
+    }
+    // M with the held rows and columns replaced by the identity's.
+    for (Eigen::Index c = 0; c < a_matrix.outerSize(); ++c) {
+      const Eigen::Index begin = f.m.outerIndexPtr()[c], end = f.m.outerIndexPtr()[c + 1];
+      for (Eigen::Index q = begin; q < end; ++q) {
+        const Eigen::Index row = f.m.innerIndexPtr()[q];
+        double value = f.m.valuePtr()[q];
+        if (held[row] || held[c]) value = row == c ? 1.0 : 0.0;
+        else if (row == c) value += eps * diag[row];
+        a_matrix.valuePtr()[q] = value;
+      }
+    }
+    ldlt.factorize(a_matrix);
+    report.iterations = k;
+    if (ldlt.info() != Eigen::Success) {
+      std::printf("  tnnmg %d: the factorisation failed\n", k);
+      break;
+    }
+    Vector rhs = -grad;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (held[i]) rhs[i] = 0.0;
+    v = ldlt.solve(rhs);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (held[i]) v[i] = 0.0;
+    // The projected arc y(alpha) = max(0, y + alpha v) (Bertsekas' projected Newton): the
+    // alpha in 1, 1/2, ..., 1/1024 of least E, E(y) = y.M y / 2 + c_s.y with the shift frozen.
+    Vector c_s = f.c;
+    for (Eigen::Index i = 0; i < n; i += 2) {
+      const double s = grad[i] - a[i];
+      c_s[i] += s;
+      c_s[i + 1] += s;
+    }
+    auto energy = [&](const Vector& z) { return 0.5 * z.dot(f.m * z) + c_s.dot(z); };
+    const double e0 = energy(y);
+    double best = e0, alpha = 0.0;
+    int clipped = 0;
+    Vector trial(n), best_y = y;
+    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
+      trial = (y + step * v).cwiseMax(0.0);
+      const double e = energy(trial);
+      if (e < best) {
+        best = e;
+        alpha = step;
+        best_y = trial;
+      } else if (alpha > 0.0) {
+        break;
+      }
+    }
+    for (Eigen::Index i = 0; i < n; ++i) clipped += y[i] + alpha * v[i] < 0.0 ? 1 : 0;
+    y = best_y;
+    r = f.gi * y;
+    if (trace > 0 && k % trace == 0)
+      std::printf("  tnnmg %4d: law before %.3e, qp %.3e, held %d of %ld, clipped %d, alpha %.3f, law after %.3e\n", k,
+                  report.residual, qp_residual, n_held, static_cast<long>(n), clipped, alpha,
+                  cd::admm_law_residual(p, r, velocity_floor));
+  }
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  report.converged = report.residual <= tolerance;
+  if (trace > 0) std::printf("  tnnmg: %d moves of the shift\n", refreezes);
+  return report;
+}
+
+// --tnnmg-law N: the same scheme with the law's own linearisation instead of the frozen
+// shift's QP: K sweeps of the exact Coulomb Gauss-Seidel, the statuses read from the
+// impulses' geometry as TNNMG truncates (R_n = 0: open; |R_t| = mu R_n: sliding; else
+// sticking), that set's linear system (cd::status_system, one sparse LU), and of the arc
+// Proj_K(r + alpha (R_set - r)), alpha = 1, 1/2, ..., 1/1024, the point of least law
+// residual if it is below the smoother's (else the smoother's impulses are kept).
+void project_on_cone(double mu, double& rn, double& rt) {
+  if (std::abs(rt) <= mu * rn) return;
+  if (mu * std::abs(rt) <= -rn) {
+    rn = rt = 0.0;
+    return;
+  }
+  // onto the edge (1, +-mu)
+  const double sign = rt > 0.0 ? 1.0 : -1.0;
+  const double t = (rn + mu * std::abs(rt)) / (1.0 + mu * mu);
+  rn = t;
+  rt = sign * mu * t;
+}
+
+PolishReport tnnmg_law(const cd::DelassusProblem& p, Vector& r, int max_iterations, int sweeps, double tolerance,
+                       double velocity_floor, int trace, int& sweeps_done) {
+  PolishReport report;
+  const Eigen::Index m = p.contacts(), n = 2 * m;
+  if (n == 0) return report;
+  cd::NsgsOptions no;
+  no.tolerance = 1e-300;
+  no.max_sweeps = sweeps;
+  sweeps_done = 0;
+  std::vector<cd::LawStatus> st(m);
+  Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
+  Vector trial(n), best_r(n);
+  for (int k = 1; k <= max_iterations; ++k) {
+    cd::solve_nsgs(p, r, no);
+    sweeps_done += sweeps;
+    report.residual = cd::admm_law_residual(p, r, velocity_floor);
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+    int counts[4] = {0, 0, 0, 0};
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const double rn = r[2 * a], rt = r[2 * a + 1], mu = p.mu[a];
+      st[a] = rn <= 0.0                                 ? cd::LawStatus::open
+              : std::abs(rt) < (1.0 - 1e-12) * mu * rn ? cd::LawStatus::stick
+              : rt < 0.0                                ? cd::LawStatus::slip_plus
+                                                        : cd::LawStatus::slip_minus;
+      ++counts[static_cast<int>(st[a])];
+    }
+    ColMatrix a_matrix;
+    Vector b;
+    cd::status_system(p, st, a_matrix, b);
+    lu.compute(a_matrix);
+    report.iterations = k;
+    if (lu.info() != Eigen::Success) {
+      if (trace > 0) std::printf("  tnnmg-law %d: the LU failed\n", k);
+      continue;
+    }
+    const Vector v = lu.solve(b) - r;
+    double best = report.residual, alpha = 0.0;
+    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
+      trial = r + step * v;
+      for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], trial[2 * a], trial[2 * a + 1]);
+      const double law = cd::admm_law_residual(p, trial, velocity_floor);
+      if (law < best) {
+        best = law;
+        alpha = step;
+        best_r = trial;
+      }
+    }
+    if (alpha > 0.0) r = best_r;
+    if (trace > 0 && k % trace == 0)
+      std::printf("  tnnmg-law %4d: law before %.3e, open %d stick %d slip %d, alpha %.4f, law after %.3e\n", k,
+                  report.residual, counts[0], counts[1], counts[2] + counts[3], alpha, best);
+  }
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  report.converged = report.residual <= tolerance;
+  return report;
+}
+
+// --tnnmg-stick N: the truncation kept to the sticking contacts, where the law is linear
+// and symmetric (u = 0, no shift): K sweeps of the exact Coulomb Gauss-Seidel, then the
+// sticking set's system W_SS dR_S = -u_S (open and sliding contacts held; one numeric
+// LDLT of W with the held rows and columns made the identity's, its pattern analysed once),
+// and of the arc Proj_K(r + alpha dR), alpha = 1, 1/2, ..., 1/1024, the point of least
+// E = R.W R / 2 + q.R (the sub-problem's energy: only sticking contacts move) if below
+// the smoother's.
+PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterations, int sweeps, double eps,
+                         double tolerance, double velocity_floor, int trace, int& sweeps_done) {
+  PolishReport report;
+  const Eigen::Index m = p.contacts(), n = 2 * m;
+  if (n == 0) return report;
+  cd::NsgsOptions no;
+  no.tolerance = 1e-300;
+  no.max_sweeps = sweeps;
+  sweeps_done = 0;
+  const ColMatrix w = p.W;
+  ColMatrix a_matrix = w;
+  a_matrix.makeCompressed();
+  Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  ldlt.analyzePattern(a_matrix);
+  const Vector diag = w.diagonal();
+  std::vector<char> free_row(n);
+  Vector u(n), rhs(n), trial(n), best_r(n);
+  auto energy = [&](const Vector& z) { return 0.5 * z.dot(p.W * z) + p.q.dot(z); };
+  for (int k = 1; k <= max_iterations; ++k) {
+    if (sweeps > 0) {
+      cd::solve_nsgs(p, r, no);
+      sweeps_done += sweeps;
+    }
+    report.residual = cd::admm_law_residual(p, r, velocity_floor);
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+    int sticking = 0;
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const double rn = r[2 * a], rt = r[2 * a + 1];
+      const bool stick = rn > 0.0 && std::abs(rt) < (1.0 - 1e-9) * p.mu[a] * rn;
+      free_row[2 * a] = free_row[2 * a + 1] = stick ? 1 : 0;
+      sticking += stick ? 1 : 0;
+    }
+    for (Eigen::Index c = 0; c < w.outerSize(); ++c)
+      for (Eigen::Index q = w.outerIndexPtr()[c]; q < w.outerIndexPtr()[c + 1]; ++q) {
+        const Eigen::Index row = w.innerIndexPtr()[q];
+        double value = w.valuePtr()[q];
+        if (!free_row[row] || !free_row[c]) value = row == c ? 1.0 : 0.0;
+        else if (row == c) value += eps * diag[row];
+        a_matrix.valuePtr()[q] = value;
+      }
+    ldlt.factorize(a_matrix);
+    report.iterations = k;
+    if (ldlt.info() != Eigen::Success) {
+      if (trace > 0) std::printf("  tnnmg-stick %d: the factorisation failed\n", k);
+      continue;
+    }
+    u = p.W * r + p.q;
+    for (Eigen::Index i = 0; i < n; ++i) rhs[i] = free_row[i] ? -u[i] : 0.0;
+    Vector v = ldlt.solve(rhs);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!free_row[i]) v[i] = 0.0;
+    const double e0 = energy(r);
+    double best = e0, alpha = 0.0;
+    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
+      trial = r + step * v;
+      for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], trial[2 * a], trial[2 * a + 1]);
+      const double e = energy(trial);
+      if (e < best) {
+        best = e;
+        alpha = step;
+        best_r = trial;
+      } else if (alpha > 0.0) {
+        break;
+      }
+    }
+    if (alpha > 0.0) r = best_r;
+    if (trace > 0 && k % trace == 0)
+      std::printf("  tnnmg-stick %4d: law before %.3e, sticking %d of %ld, alpha %.4f, law after %.3e\n", k,
+                  report.residual, sticking, static_cast<long>(m), alpha,
+                  cd::admm_law_residual(p, r, velocity_floor));
+  }
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  report.converged = report.residual <= tolerance;
+  return report;
+}
+
 Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
   std::ifstream in(path);
   std::vector<double> v;
@@ -769,6 +1154,14 @@ int main(int argc, char** argv) {
   bool prox_fb = false;
   int prox_anderson = 0;
   bool prox_uniform = false;
+  int tnnmg_iterations = 0;
+  int tnnmg_sweeps = 5;
+  double tnnmg_eps = 1e-10;
+  bool tnnmg_frozen = false;
+  bool tnnmg_law_form = false;
+  bool tnnmg_stick_form = false;
+  double tnnmg_refreeze = 1e-2;
+  double tnnmg_qp_tolerance = 1e-8;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -835,6 +1228,25 @@ int main(int argc, char** argv) {
       fb_levenberg = std::stod(argv[++a]);
     } else if (arg == "--fb-smooth" && has) {
       fb_smoothing = std::stod(argv[++a]);
+    } else if (arg == "--tnnmg" && has) {
+      tnnmg_iterations = std::stoi(argv[++a]);
+      skip = true;
+    } else if (arg == "--tnnmg-sweeps" && has) {
+      tnnmg_sweeps = std::stoi(argv[++a]);
+    } else if (arg == "--tnnmg-law" && has) {
+      tnnmg_iterations = std::stoi(argv[++a]);
+      tnnmg_law_form = skip = true;
+    } else if (arg == "--tnnmg-stick" && has) {
+      tnnmg_iterations = std::stoi(argv[++a]);
+      tnnmg_stick_form = skip = true;
+    } else if (arg == "--tnnmg-frozen") {
+      tnnmg_frozen = true;
+    } else if (arg == "--tnnmg-qp-tolerance" && has) {
+      tnnmg_qp_tolerance = std::stod(argv[++a]);
+    } else if (arg == "--tnnmg-refreeze" && has) {
+      tnnmg_refreeze = std::stod(argv[++a]);
+    } else if (arg == "--tnnmg-eps" && has) {
+      tnnmg_eps = std::stod(argv[++a]);
     } else if (arg == "--nsgs" && has)
       nsgs_sweeps = std::stoi(argv[++a]);
     else
@@ -898,6 +1310,18 @@ int main(int argc, char** argv) {
         }
         rep.iterations += done;
         rep.converged = rep.residual <= o.tolerance;
+      }
+      if (tnnmg_iterations > 0) {
+        int sweeps_done = 0;
+        const PolishReport pr = tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+                                                               o.velocity_floor, trace, sweeps_done) : tnnmg_law_form ? tnnmg_law(p, r, tnnmg_iterations, tnnmg_sweeps, o.tolerance,
+                                                           o.velocity_floor, trace, sweeps_done) : tnnmg(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+                                      o.velocity_floor, trace, sweeps_done, tnnmg_frozen, tnnmg_refreeze,
+                                                  tnnmg_qp_tolerance);
+        rep.iterations += pr.iterations + sweeps_done;
+        rep.factorisations += pr.iterations;
+        rep.residual = pr.residual;
+        rep.converged = pr.converged;
       }
       if (fb_iterations > 0) {
         const IpmReport i = solve_fb(p, r, fb_iterations, o.tolerance, o.velocity_floor, trace, fb_smoothing, fb_levenberg);
