@@ -1294,6 +1294,18 @@ int main(int argc, char** argv) {
       } else if (!skip) {
         rep = cd::solve_admm(p, r, o);
       }
+      if (tnnmg_iterations > 0) {
+        int sweeps_done = 0;
+        const PolishReport pr = tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+                                                               o.velocity_floor, trace, sweeps_done) : tnnmg_law_form ? tnnmg_law(p, r, tnnmg_iterations, tnnmg_sweeps, o.tolerance,
+                                                           o.velocity_floor, trace, sweeps_done) : tnnmg(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+                                      o.velocity_floor, trace, sweeps_done, tnnmg_frozen, tnnmg_refreeze,
+                                                  tnnmg_qp_tolerance);
+        rep.iterations += pr.iterations + sweeps_done;
+        rep.factorisations += pr.iterations;
+        rep.residual = pr.residual;
+        rep.converged = pr.converged;
+      }
       if (nsgs_sweeps > 0) {
         // NSGS then, in chunks of 500 sweeps, to the law's residual (Siconos' measure stops
         // each chunk only at 1e-300): how far a start brings Gauss-Seidel.
@@ -1310,18 +1322,6 @@ int main(int argc, char** argv) {
         }
         rep.iterations += done;
         rep.converged = rep.residual <= o.tolerance;
-      }
-      if (tnnmg_iterations > 0) {
-        int sweeps_done = 0;
-        const PolishReport pr = tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
-                                                               o.velocity_floor, trace, sweeps_done) : tnnmg_law_form ? tnnmg_law(p, r, tnnmg_iterations, tnnmg_sweeps, o.tolerance,
-                                                           o.velocity_floor, trace, sweeps_done) : tnnmg(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
-                                      o.velocity_floor, trace, sweeps_done, tnnmg_frozen, tnnmg_refreeze,
-                                                  tnnmg_qp_tolerance);
-        rep.iterations += pr.iterations + sweeps_done;
-        rep.factorisations += pr.iterations;
-        rep.residual = pr.residual;
-        rep.converged = pr.converged;
       }
       if (fb_iterations > 0) {
         const IpmReport i = solve_fb(p, r, fb_iterations, o.tolerance, o.velocity_floor, trace, fb_smoothing, fb_levenberg);
