@@ -23,21 +23,12 @@ bench=${CDPILE_BENCH:-$here/../build/benchmarks}
 out=${1:?usage: prox_newton.sh OUTDIR}
 mkdir -p "$out"
 cd "$out"
-[ -e pile.h5 ] || "$bin/deposit" --grains 1000 --width 30 --seed 1 --quiet -o pile.h5
-[ -e run.h5 ] || "$bin/tilt-cd" pile.h5 --rate 0.01 --quiet -o run.h5
-export_set() {  # export_set NAME DEG STIFFNESS
-  [ -d "$1" ] || "$bench/export_steps" run.h5 "$2" 4 "$1" --all --stiffness "$3" --max-substeps 1 \
-    --max-sweeps 200000 > "$1.pcg.tsv"
-}
+. "$here/hard_steps.sh"
+hard_pile
 export_set k1e6-14.5 14.5 1e6
 export_set k1e8-14.5 14.5 1e8
 export_set k1e8-26.5 26.5 1e8
 export_set rigid-14.5 14.5 0
-method() {  # method SET NAME OPTIONS...: admm_on_steps on SET's steps into SET.NAME.tsv
-  local set=$1 name=$2; shift 2
-  [ -e "$set.$name.tsv" ] || { "$bench/admm_on_steps" "$@" "$set"/*.dat > "$set.$name.tsv.tmp" &&
-    mv "$set.$name.tsv.tmp" "$set.$name.tsv"; }
-}
 for set in k1e6-14.5 k1e8-14.5 k1e8-26.5 rigid-14.5; do
   method "$set" polish --warm --polish 30
   method "$set" newton --warm --newton 30
