@@ -733,6 +733,20 @@ PolishReport anderson_proximal(const cd::DelassusProblem& p, Vector& r, double e
   return report;
 }
 
+// The truncated system of --tnnmg and --tnnmg-stick: m's values with the held rows and
+// columns made the identity's and eps times m's diagonal added on the rest, into `out`,
+// which has m's compressed pattern (so one analysis serves every iteration).
+void truncated_matrix(const ColMatrix& m, const std::vector<char>& held, double eps, ColMatrix& out) {
+  for (Eigen::Index c = 0; c < m.outerSize(); ++c)
+    for (Eigen::Index q = m.outerIndexPtr()[c]; q < m.outerIndexPtr()[c + 1]; ++q) {
+      const Eigen::Index row = m.innerIndexPtr()[q];
+      double value = m.valuePtr()[q];
+      if (held[row] || held[c]) value = row == c ? 1.0 : 0.0;
+      else if (row == c) value += eps * value;
+      out.valuePtr()[q] = value;
+    }
+}
+
 // --tnnmg N: a truncated nonsmooth Newton in the manner of Graser and Kornhuber's TNNMG
 // (Graser, Sack and Sander 2009; research note section 6), a direct solve in place of the
 // multigrid (docs/performance.md, "A truncated nonsmooth Newton"). Each iteration:
@@ -886,17 +900,7 @@ PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
         ++refreezes;
       }
     }
-    // M with the held rows and columns replaced by the identity's.
-    for (Eigen::Index c = 0; c < a_matrix.outerSize(); ++c) {
-      const Eigen::Index begin = f.m.outerIndexPtr()[c], end = f.m.outerIndexPtr()[c + 1];
-      for (Eigen::Index q = begin; q < end; ++q) {
-        const Eigen::Index row = f.m.innerIndexPtr()[q];
-        double value = f.m.valuePtr()[q];
-        if (held[row] || held[c]) value = row == c ? 1.0 : 0.0;
-        else if (row == c) value += eps * diag[row];
-        a_matrix.valuePtr()[q] = value;
-      }
-    }
+    truncated_matrix(f.m, held, eps, a_matrix);
     ldlt.factorize(a_matrix);
     report.iterations = k;
     if (ldlt.info() != Eigen::Success) {
@@ -1047,8 +1051,7 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
   a_matrix.makeCompressed();
   Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
   ldlt.analyzePattern(a_matrix);
-  const Vector diag = w.diagonal();
-  std::vector<char> free_row(n);
+  std::vector<char> held(n);
   Vector u(n), rhs(n), trial(n), best_r(n);
   auto energy = [&](const Vector& z) { return 0.5 * z.dot(p.W * z) + p.q.dot(z); };
   for (int k = 1; k <= max_iterations; ++k) {
@@ -1065,17 +1068,10 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
     for (Eigen::Index a = 0; a < m; ++a) {
       const double rn = r[2 * a], rt = r[2 * a + 1];
       const bool stick = rn > 0.0 && std::abs(rt) < (1.0 - 1e-9) * p.mu[a] * rn;
-      free_row[2 * a] = free_row[2 * a + 1] = stick ? 1 : 0;
+      held[2 * a] = held[2 * a + 1] = stick ? 0 : 1;
       sticking += stick ? 1 : 0;
     }
-    for (Eigen::Index c = 0; c < w.outerSize(); ++c)
-      for (Eigen::Index q = w.outerIndexPtr()[c]; q < w.outerIndexPtr()[c + 1]; ++q) {
-        const Eigen::Index row = w.innerIndexPtr()[q];
-        double value = w.valuePtr()[q];
-        if (!free_row[row] || !free_row[c]) value = row == c ? 1.0 : 0.0;
-        else if (row == c) value += eps * diag[row];
-        a_matrix.valuePtr()[q] = value;
-      }
+    truncated_matrix(w, held, eps, a_matrix);
     ldlt.factorize(a_matrix);
     report.iterations = k;
     if (ldlt.info() != Eigen::Success) {
@@ -1083,10 +1079,10 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
       continue;
     }
     u = p.W * r + p.q;
-    for (Eigen::Index i = 0; i < n; ++i) rhs[i] = free_row[i] ? -u[i] : 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) rhs[i] = held[i] ? 0.0 : -u[i];
     Vector v = ldlt.solve(rhs);
     for (Eigen::Index i = 0; i < n; ++i)
-      if (!free_row[i]) v[i] = 0.0;
+      if (held[i]) v[i] = 0.0;
     const double e0 = energy(r);
     double best = e0, alpha = 0.0;
     for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
