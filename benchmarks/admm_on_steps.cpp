@@ -11,7 +11,7 @@
 //                      [--prox EPS N [--prox-inner M]
 //                       [--prox-fb | --prox-anderson K [--prox-uniform]]]
 //                      [--fb N [--fb-smooth X] [--fb-lm THETA]]
-//                      [--tnnmg N | --tnnmg-stick N | --tnnmg-law N] [--tnnmg-sweeps K]
+//                      [--tnnmg N | --tnnmg-stick N | --tnnmg-law N | --tresca N] [--tnnmg-sweeps K]
 //                      [--tnnmg-eps E] [--tnnmg-frozen [--tnnmg-refreeze X]
 //                       [--tnnmg-qp-tolerance T]] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
@@ -39,9 +39,9 @@
 //   --fb N: instead of ADMM, up to N semismooth Newton iterations on Fischer and
 //   Burmeister's merit from the warm start (below); --fb-smooth X: |u_t| smoothed;
 //   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's;
-//   --tnnmg N, --tnnmg-stick N, --tnnmg-law N: from the warm start, up to N iterations of
-//   the truncated nonsmooth Newton below and its two variants (K sweeps of Gauss-Seidel
-//   each, default 5; eps the regularisation, default 1e-10).
+//   --tnnmg N, --tnnmg-stick N, --tnnmg-law N, --tresca N: from the warm start, up to N
+//   iterations of the truncated nonsmooth Newton below and its variants (K sweeps of
+//   Gauss-Seidel each, default 5; eps the regularisation, default 1e-10).
 #include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
@@ -1108,6 +1108,140 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
   return report;
 }
 
+// --tresca N: the same truncated Newton on Tresca's problem instead of the frozen shift's:
+// with the friction bound g_a = mu R_n held, the step is the convex QP
+//   min R.W R / 2 + q.R  over R_n >= 0, |R_t| <= g_a
+// (no shift: its normal condition is Signorini's on u_n itself), smoothed by block
+// Gauss-Seidel (each contact's 2x2 box QP solved exactly), its held components those at a
+// bound, corrected on the rest by one numeric LDLT of W and the projected arc; g moves to
+// mu R_n each time the QP's projected gradient has fallen by --tnnmg-refreeze X (an outer
+// fixed point on the bound, Panagiotopoulos'), whose fixed points are Coulomb's law.
+PolishReport tresca(const cd::DelassusProblem& p, Vector& r, int max_iterations, int sweeps, double eps,
+                    double tolerance, double velocity_floor, int trace, int& sweeps_done, double refreeze_ratio) {
+  PolishReport report;
+  const Eigen::Index m = p.contacts(), n = 2 * m;
+  if (n == 0) return report;
+  const ColMatrix w = p.W;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& rows = p.W;
+  ColMatrix a_matrix = w;
+  a_matrix.makeCompressed();
+  Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  ldlt.analyzePattern(a_matrix);
+  Vector bound(m), lo(n), hi(n), u(n), v(n), trial(n), best_r(n);
+  auto set_bounds = [&]() {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      bound[a] = p.mu[a] * std::max(0.0, r[2 * a]);
+      lo[2 * a] = 0.0;
+      hi[2 * a] = std::numeric_limits<double>::infinity();
+      lo[2 * a + 1] = -bound[a];
+      hi[2 * a + 1] = bound[a];
+    }
+  };
+  set_bounds();
+  r = r.cwiseMax(lo).cwiseMin(hi);
+  auto box_sweep = [&]() {
+    for (Eigen::Index a = 0; a < m; ++a) {
+      const Eigen::Index i = 2 * a;
+      double g[2], b[2][2] = {{0, 0}, {0, 0}};
+      for (int l = 0; l < 2; ++l) {
+        double sum = p.q[i + l];
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, i + l); it; ++it) {
+          sum += it.value() * r[it.col()];
+          if (it.col() == i || it.col() == i + 1) b[l][it.col() - i] = it.value();
+        }
+        g[l] = sum;
+      }
+      const double z0[2] = {r[i], r[i + 1]};
+      auto local_e = [&](double z1, double z2) {
+        const double d1 = z1 - z0[0], d2 = z2 - z0[1];
+        return g[0] * d1 + g[1] * d2 + 0.5 * (b[0][0] * d1 * d1 + 2 * b[0][1] * d1 * d2 + b[1][1] * d2 * d2);
+      };
+      // the 1D minimiser of one component with the other at `other`, clipped to its bounds
+      auto along = [&](int l, double other) {
+        const int o = 1 - l;
+        const double d_other = other - z0[o];
+        const double z = z0[l] - (g[l] + b[l][o] * d_other) / b[l][l];
+        return std::clamp(z, lo[i + l], hi[i + l]);
+      };
+      double best_e = std::numeric_limits<double>::infinity(), z1 = z0[0], z2 = z0[1];
+      auto consider = [&](double c1, double c2) {
+        const double e = local_e(c1, c2);
+        if (e < best_e) best_e = e, z1 = c1, z2 = c2;
+      };
+      const double det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+      if (det > 0.0) {
+        const double c1 = z0[0] - (b[1][1] * g[0] - b[0][1] * g[1]) / det;
+        const double c2 = z0[1] - (b[0][0] * g[1] - b[1][0] * g[0]) / det;
+        if (c1 >= lo[i] && c2 >= lo[i + 1] && c2 <= hi[i + 1]) consider(c1, c2);
+      }
+      consider(0.0, along(1, 0.0));          // R_n = 0
+      consider(along(0, lo[i + 1]), lo[i + 1]);  // R_t = -g
+      consider(along(0, hi[i + 1]), hi[i + 1]);  // R_t = +g
+      r[i] = z1;
+      r[i + 1] = z2;
+    }
+  };
+  auto energy = [&](const Vector& z) { return 0.5 * z.dot(p.W * z) + p.q.dot(z); };
+  std::vector<char> held(n);
+  double qp_first = -1.0;
+  int moves = 0;
+  sweeps_done = 0;
+  for (int k = 1; k <= max_iterations; ++k) {
+    for (int s = 0; s < sweeps; ++s) box_sweep();
+    sweeps_done += sweeps;
+    report.residual = cd::admm_law_residual(p, r, velocity_floor);
+    if (report.residual <= tolerance) {
+      report.converged = true;
+      break;
+    }
+    u = p.W * r + p.q;
+    double qp_residual = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double d = p.W.coeff(i, i);
+      qp_residual = std::max(qp_residual, std::abs(r[i] - std::clamp(r[i] - u[i] / d, lo[i], hi[i])) * d);
+      held[i] = r[i] <= lo[i] || r[i] >= hi[i] ? 1 : 0;
+    }
+    if (qp_first < 0.0) {
+      qp_first = qp_residual;
+    } else if (qp_residual <= refreeze_ratio * qp_first) {
+      set_bounds();  // g = mu R_n: the next QP
+      r = r.cwiseMax(lo).cwiseMin(hi);
+      qp_first = -1.0;
+      ++moves;
+      continue;
+    }
+    truncated_matrix(w, held, eps, a_matrix);
+    ldlt.factorize(a_matrix);
+    report.iterations = k;
+    if (ldlt.info() != Eigen::Success) continue;
+    Vector rhs(n);
+    for (Eigen::Index i = 0; i < n; ++i) rhs[i] = held[i] ? 0.0 : -u[i];
+    v = ldlt.solve(rhs);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (held[i]) v[i] = 0.0;
+    double best = energy(r), alpha = 0.0;
+    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
+      trial = (r + step * v).cwiseMax(lo).cwiseMin(hi);
+      const double e = energy(trial);
+      if (e < best) {
+        best = e;
+        alpha = step;
+        best_r = trial;
+      } else if (alpha > 0.0) {
+        break;
+      }
+    }
+    if (alpha > 0.0) r = best_r;
+    if (trace > 0 && k % trace == 0)
+      std::printf("  tresca %4d: law %.3e, qp %.3e, alpha %.4f, moves %d\n", k, report.residual, qp_residual, alpha,
+                  moves);
+  }
+  report.residual = cd::admm_law_residual(p, r, velocity_floor);
+  report.converged = report.residual <= tolerance;
+  if (trace > 0) std::printf("  tresca: %d moves of the bound\n", moves);
+  return report;
+}
+
 Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
   std::ifstream in(path);
   std::vector<double> v;
@@ -1156,6 +1290,7 @@ int main(int argc, char** argv) {
   bool tnnmg_frozen = false;
   bool tnnmg_law_form = false;
   bool tnnmg_stick_form = false;
+  bool tresca_form = false;
   double tnnmg_refreeze = 1e-2;
   double tnnmg_qp_tolerance = 1e-8;
   std::vector<std::string> files;
@@ -1235,6 +1370,9 @@ int main(int argc, char** argv) {
     } else if (arg == "--tnnmg-stick" && has) {
       tnnmg_iterations = std::stoi(argv[++a]);
       tnnmg_stick_form = skip = true;
+    } else if (arg == "--tresca" && has) {
+      tnnmg_iterations = std::stoi(argv[++a]);
+      tresca_form = skip = true;
     } else if (arg == "--tnnmg-frozen") {
       tnnmg_frozen = true;
     } else if (arg == "--tnnmg-qp-tolerance" && has) {
@@ -1292,7 +1430,8 @@ int main(int argc, char** argv) {
       }
       if (tnnmg_iterations > 0) {
         int sweeps_done = 0;
-        const PolishReport pr = tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+        const PolishReport pr = tresca_form ? tresca(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
+                                                     o.velocity_floor, trace, sweeps_done, tnnmg_refreeze) : tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
                                                                o.velocity_floor, trace, sweeps_done) : tnnmg_law_form ? tnnmg_law(p, r, tnnmg_iterations, tnnmg_sweeps, o.tolerance,
                                                            o.velocity_floor, trace, sweeps_done) : tnnmg(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
                                       o.velocity_floor, trace, sweeps_done, tnnmg_frozen, tnnmg_refreeze,

@@ -18,6 +18,8 @@
 #                  correction between (--tnnmg 200 --tnnmg-sweeps K; K = 5, 20, 100)
 #         stick-20 the correction on the sticking contacts only (--tnnmg-stick 200)
 #         law      the law's linearisation on the smoother's statuses (--tnnmg-law 60)
+#         tresca   Tresca's QP (friction bound mu R_n held) by the same method, the bound
+#                  moved each time the QP is solved to 1e-6 (--tresca 300 --tnnmg-refreeze 1e-6)
 #       Every output stays in OUTDIR; the tables are OUTDIR/SET.METHOD.tsv. A table that
 #       exists is kept, so a second call makes only the missing ones.
 #
@@ -42,5 +44,6 @@ for set in k1e6-14.5 k1e7-14.5 k1e8-14.5 rigid-14.5; do
   for k in 5 20 100; do method "$set" "coulomb-$k" --tnnmg 200 --tnnmg-sweeps "$k"; done
   method "$set" stick-20 --tnnmg-stick 200 --tnnmg-sweeps 20
   method "$set" law --tnnmg-law 60
+  method "$set" tresca --tresca 300 --tnnmg-refreeze 1e-6
 done
 head -n 100 ./*.tsv
