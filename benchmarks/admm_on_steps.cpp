@@ -733,6 +733,56 @@ PolishReport anderson_proximal(const cd::DelassusProblem& p, Vector& r, double e
   return report;
 }
 
+// One sweep of block Gauss-Seidel on the QP  min x.A x / 2 + rhs.x  over lo <= x <= hi
+// (A given by its rows, 2x2 blocks per contact): each block's box QP solved exactly, its
+// minimiser being the interior one or the clipped 1D minimiser on one of its faces.
+// --tnnmg-frozen (y >= 0) and --tresca (R_n >= 0, |R_t| <= g) use it.
+void block_box_sweep(const Eigen::SparseMatrix<double, Eigen::RowMajor>& rows, const Vector& rhs, const Vector& lo,
+                     const Vector& hi, Vector& x) {
+  for (Eigen::Index i = 0; i < x.size(); i += 2) {
+    double g[2], b[2][2] = {{0, 0}, {0, 0}};
+    for (int l = 0; l < 2; ++l) {
+      double sum = rhs[i + l];
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, i + l); it; ++it) {
+        sum += it.value() * x[it.col()];
+        if (it.col() == i || it.col() == i + 1) b[l][it.col() - i] = it.value();
+      }
+      g[l] = sum;
+    }
+    const double z0[2] = {x[i], x[i + 1]};
+    auto local_e = [&](double z1, double z2) {
+      const double d1 = z1 - z0[0], d2 = z2 - z0[1];
+      return g[0] * d1 + g[1] * d2 + 0.5 * (b[0][0] * d1 * d1 + 2 * b[0][1] * d1 * d2 + b[1][1] * d2 * d2);
+    };
+    // the 1D minimiser of component l with the other at `other`, clipped to its bounds
+    auto along = [&](int l, double other) {
+      const int o = 1 - l;
+      const double z = z0[l] - (g[l] + b[l][o] * (other - z0[o])) / b[l][l];
+      return std::clamp(z, lo[i + l], hi[i + l]);
+    };
+    double best_e = std::numeric_limits<double>::infinity(), z1 = z0[0], z2 = z0[1];
+    auto consider = [&](double c1, double c2) {
+      const double e = local_e(c1, c2);
+      if (e < best_e) best_e = e, z1 = c1, z2 = c2;
+    };
+    const double det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
+    if (det > 0.0) {
+      const double c1 = z0[0] - (b[1][1] * g[0] - b[0][1] * g[1]) / det;
+      const double c2 = z0[1] - (b[0][0] * g[1] - b[1][0] * g[0]) / det;
+      if (c1 >= lo[i] && c1 <= hi[i] && c2 >= lo[i + 1] && c2 <= hi[i + 1]) consider(c1, c2);
+    }
+    for (int l = 0; l < 2; ++l)
+      for (const double bound : {lo[i + l], hi[i + l]}) {
+        if (!std::isfinite(bound)) continue;
+        const int o = 1 - l;
+        const double other = along(o, bound);
+        l == 0 ? consider(bound, other) : consider(other, bound);
+      }
+    x[i] = z1;
+    x[i + 1] = z2;
+  }
+}
+
 // The truncated system of --tnnmg and --tnnmg-stick: m's values with the held rows and
 // columns made the identity's and eps times m's diagonal added on the rest, into `out`,
 // which has m's compressed pattern (so one analysis serves every iteration).
@@ -803,48 +853,8 @@ PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
     a = f.m * y + f.c;
     for (Eigen::Index i = 0; i < n; i += 2) frozen_shift[i] = frozen_shift[i + 1] = 0.5 * std::abs(a[i + 1] - a[i]);
   }
-  auto qp_sweep = [&]() {
-    for (Eigen::Index i = 0; i < n; i += 2) {
-      double g[2], b[2][2] = {{0, 0}, {0, 0}};
-      for (int l = 0; l < 2; ++l) {
-        double sum = f.c[i + l] + frozen_shift[i + l];
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(m_rows, i + l); it; ++it) {
-          sum += it.value() * y[it.col()];
-          if (it.col() == i || it.col() == i + 1) b[l][it.col() - i] = it.value();
-        }
-        g[l] = sum;
-      }
-      const double y0[2] = {y[i], y[i + 1]};
-      // candidates for the new (y1, y2): the local minimiser on each face of the quadrant
-      auto local_e = [&](double z1, double z2) {
-        const double d1 = z1 - y0[0], d2 = z2 - y0[1];
-        return g[0] * d1 + g[1] * d2 + 0.5 * (b[0][0] * d1 * d1 + 2 * b[0][1] * d1 * d2 + b[1][1] * d2 * d2);
-      };
-      double best_e = local_e(0.0, 0.0), z1 = 0.0, z2 = 0.0;
-      const double det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-      if (det > 0.0) {
-        const double d1 = -(b[1][1] * g[0] - b[0][1] * g[1]) / det, d2 = -(b[0][0] * g[1] - b[1][0] * g[0]) / det;
-        if (y0[0] + d1 >= 0.0 && y0[1] + d2 >= 0.0) {
-          const double e = local_e(y0[0] + d1, y0[1] + d2);
-          if (e < best_e) best_e = e, z1 = y0[0] + d1, z2 = y0[1] + d2;
-        }
-      }
-      {  // y1 = 0
-        const double d1 = -y0[0];
-        const double c2 = std::max(0.0, y0[1] - (g[1] + b[1][0] * d1) / b[1][1]);
-        const double e = local_e(0.0, c2);
-        if (e < best_e) best_e = e, z1 = 0.0, z2 = c2;
-      }
-      {  // y2 = 0
-        const double d2 = -y0[1];
-        const double c1 = std::max(0.0, y0[0] - (g[0] + b[0][1] * d2) / b[0][0]);
-        const double e = local_e(c1, 0.0);
-        if (e < best_e) best_e = e, z1 = c1, z2 = 0.0;
-      }
-      y[i] = z1;
-      y[i + 1] = z2;
-    }
-  };
+  const Vector zero = Vector::Zero(n), unbounded = Vector::Constant(n, std::numeric_limits<double>::infinity());
+  auto qp_sweep = [&]() { block_box_sweep(m_rows, f.c + frozen_shift, zero, unbounded, y); };
   double qp_first = -1.0, qp_start = -1.0;
   int refreezes = 0;
   for (int k = 1; k <= max_iterations; ++k) {
@@ -1139,48 +1149,7 @@ PolishReport tresca(const cd::DelassusProblem& p, Vector& r, int max_iterations,
   };
   set_bounds();
   r = r.cwiseMax(lo).cwiseMin(hi);
-  auto box_sweep = [&]() {
-    for (Eigen::Index a = 0; a < m; ++a) {
-      const Eigen::Index i = 2 * a;
-      double g[2], b[2][2] = {{0, 0}, {0, 0}};
-      for (int l = 0; l < 2; ++l) {
-        double sum = p.q[i + l];
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, i + l); it; ++it) {
-          sum += it.value() * r[it.col()];
-          if (it.col() == i || it.col() == i + 1) b[l][it.col() - i] = it.value();
-        }
-        g[l] = sum;
-      }
-      const double z0[2] = {r[i], r[i + 1]};
-      auto local_e = [&](double z1, double z2) {
-        const double d1 = z1 - z0[0], d2 = z2 - z0[1];
-        return g[0] * d1 + g[1] * d2 + 0.5 * (b[0][0] * d1 * d1 + 2 * b[0][1] * d1 * d2 + b[1][1] * d2 * d2);
-      };
-      // the 1D minimiser of one component with the other at `other`, clipped to its bounds
-      auto along = [&](int l, double other) {
-        const int o = 1 - l;
-        const double d_other = other - z0[o];
-        const double z = z0[l] - (g[l] + b[l][o] * d_other) / b[l][l];
-        return std::clamp(z, lo[i + l], hi[i + l]);
-      };
-      double best_e = std::numeric_limits<double>::infinity(), z1 = z0[0], z2 = z0[1];
-      auto consider = [&](double c1, double c2) {
-        const double e = local_e(c1, c2);
-        if (e < best_e) best_e = e, z1 = c1, z2 = c2;
-      };
-      const double det = b[0][0] * b[1][1] - b[0][1] * b[1][0];
-      if (det > 0.0) {
-        const double c1 = z0[0] - (b[1][1] * g[0] - b[0][1] * g[1]) / det;
-        const double c2 = z0[1] - (b[0][0] * g[1] - b[1][0] * g[0]) / det;
-        if (c1 >= lo[i] && c2 >= lo[i + 1] && c2 <= hi[i + 1]) consider(c1, c2);
-      }
-      consider(0.0, along(1, 0.0));          // R_n = 0
-      consider(along(0, lo[i + 1]), lo[i + 1]);  // R_t = -g
-      consider(along(0, hi[i + 1]), hi[i + 1]);  // R_t = +g
-      r[i] = z1;
-      r[i + 1] = z2;
-    }
-  };
+  auto box_sweep = [&]() { block_box_sweep(rows, p.q, lo, hi, r); };
   auto energy = [&](const Vector& z) { return 0.5 * z.dot(p.W * z) + p.q.dot(z); };
   std::vector<char> held(n);
   double qp_first = -1.0;
