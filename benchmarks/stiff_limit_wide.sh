@@ -15,7 +15,8 @@
 #                                 (make -s -C pipelines limit: pipelines/limit.py)
 #         limit-k1e8-against-k1e7.*  the same pairs with 1e7 as the reference: how far 1e8
 #                                 moves what 1e7 gave (made once both share two seeds)
-#         per-degree-1e6-1e8.*    nu per degree to 15 deg, 1e8 against 1e6 (pipelines/stiffness.py)
+#         per-degree-1e6-1e7.*, per-degree-1e6-1e8.*
+#                                 nu per degree to 15 deg, 1e7 and 1e8 against 1e6 (pipelines/stiffness.py)
 #         runs.tsv                each run's theta_c and cost (benchmarks/study_costs.py)
 #         nu_c.tsv                the static nu_c (critical's envelope over static frames) of
 #                                 each k over the seeds it shares with 1e6, and of 1e6 over the same
@@ -47,11 +48,12 @@ if [[ -d $ref-k1e7 && -d $ref-k1e8 ]] &&
     -o "$out/limit-k1e8-against-k1e7.png" > "$out/limit-k1e8-against-k1e7.md.tmp"
   mv "$out/limit-k1e8-against-k1e7.md.tmp" "$out/limit-k1e8-against-k1e7.md"
 fi
-if [[ -d $ref-k1e8 ]]; then
-  /usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = 1e8=$ref-k1e8" --to 15 \
-    -o "$out/per-degree-1e6-1e8.png" > "$out/per-degree-1e6-1e8.md.tmp"
-  mv "$out/per-degree-1e6-1e8.md.tmp" "$out/per-degree-1e6-1e8.md"
-fi
+for k in 1e7 1e8; do
+  [[ -d $ref-k$k ]] || continue
+  /usr/bin/python3 "$root/pipelines/stiffness.py" "k = 1e6=$ref" "k = $k=$ref-k$k" --to 15 \
+    -o "$out/per-degree-1e6-$k.png" > "$out/per-degree-1e6-$k.md.tmp"
+  mv "$out/per-degree-1e6-$k.md.tmp" "$out/per-degree-1e6-$k.md"
+done
 "$here/study_costs.py" "$ref" "$ref"-k* -o "$out/runs.tsv"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT

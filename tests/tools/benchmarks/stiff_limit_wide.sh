@@ -23,7 +23,7 @@ check() {
   ls out/*.md out/*.tsv | wc -l > count.txt
 }
 check "$docs/stiff-limit-wide"
-expect_eq 6 "$(cat count.txt)" "(loose tables made: limit-*.md, per-degree-1e6-1e8.md, seeds.md, runs.tsv, nu_c.tsv)"
+expect_eq 7 "$(cat count.txt)" "(loose tables made: limit-*.md, per-degree-1e6-1e7.md, per-degree-1e6-1e8.md, seeds.md, runs.tsv, nu_c.tsv)"
 preparations=0
 for folder in "$docs"/stiff-limit-wide-mudep*; do
   [[ -d $folder ]] || continue
