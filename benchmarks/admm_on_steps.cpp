@@ -783,6 +783,31 @@ void block_box_sweep(const Eigen::SparseMatrix<double, Eigen::RowMajor>& rows, c
   }
 }
 
+// The projected arc x(alpha) = project(x + alpha v), alpha = 1, 1/2, ..., 1/1024, of the
+// --tnnmg variants: moves x to the arc's point of least merit if it is below merit(x) and
+// returns its alpha (0: x kept). With stop_when_rising, the search ends at the first alpha
+// whose merit no longer falls after a fall (the energies' searches); without, every alpha
+// is tried (the law residual's, which is not monotone along the arc).
+template <class Project, class Merit>
+double least_on_arc(Vector& x, const Vector& v, Project project, Merit merit, bool stop_when_rising) {
+  double best = merit(x), alpha = 0.0;
+  Vector trial(x.size()), best_x;
+  for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
+    trial = x + step * v;
+    project(trial);
+    const double e = merit(trial);
+    if (e < best) {
+      best = e;
+      alpha = step;
+      best_x = trial;
+    } else if (stop_when_rising && alpha > 0.0) {
+      break;
+    }
+  }
+  if (alpha > 0.0) x = best_x;
+  return alpha;
+}
+
 // The truncated system of --tnnmg and --tnnmg-stick: m's values with the held rows and
 // columns made the identity's and eps times m's diagonal added on the rest, into `out`,
 // which has m's compressed pattern (so one analysis serves every iteration).
@@ -932,23 +957,10 @@ PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
       c_s[i + 1] += s;
     }
     auto energy = [&](const Vector& z) { return 0.5 * z.dot(f.m * z) + c_s.dot(z); };
-    const double e0 = energy(y);
-    double best = e0, alpha = 0.0;
     int clipped = 0;
-    Vector trial(n), best_y = y;
-    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
-      trial = (y + step * v).cwiseMax(0.0);
-      const double e = energy(trial);
-      if (e < best) {
-        best = e;
-        alpha = step;
-        best_y = trial;
-      } else if (alpha > 0.0) {
-        break;
-      }
-    }
-    for (Eigen::Index i = 0; i < n; ++i) clipped += y[i] + alpha * v[i] < 0.0 ? 1 : 0;
-    y = best_y;
+    const Vector y_before = y;
+    const double alpha = least_on_arc(y, v, [](Vector& z) { z = z.cwiseMax(0.0); }, energy, true);
+    for (Eigen::Index i = 0; i < n; ++i) clipped += y_before[i] + alpha * v[i] < 0.0 ? 1 : 0;
     r = f.gi * y;
     if (trace > 0 && k % trace == 0)
       std::printf("  tnnmg %4d: law before %.3e, qp %.3e, held %d of %ld, clipped %d, alpha %.3f, law after %.3e\n", k,
@@ -991,7 +1003,6 @@ PolishReport tnnmg_law(const cd::DelassusProblem& p, Vector& r, int max_iteratio
   sweeps_done = 0;
   std::vector<cd::LawStatus> st(m);
   Eigen::SparseLU<ColMatrix, Eigen::COLAMDOrdering<int>> lu;
-  Vector trial(n), best_r(n);
   for (int k = 1; k <= max_iterations; ++k) {
     cd::solve_nsgs(p, r, no);
     sweeps_done += sweeps;
@@ -1019,18 +1030,9 @@ PolishReport tnnmg_law(const cd::DelassusProblem& p, Vector& r, int max_iteratio
       continue;
     }
     const Vector v = lu.solve(b) - r;
-    double best = report.residual, alpha = 0.0;
-    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
-      trial = r + step * v;
-      for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], trial[2 * a], trial[2 * a + 1]);
-      const double law = cd::admm_law_residual(p, trial, velocity_floor);
-      if (law < best) {
-        best = law;
-        alpha = step;
-        best_r = trial;
-      }
-    }
-    if (alpha > 0.0) r = best_r;
+    const auto law = [&](const Vector& z) { return cd::admm_law_residual(p, z, velocity_floor); };
+    const double alpha = least_on_arc(r, v, [&](Vector& z) { for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], z[2 * a], z[2 * a + 1]); }, law, false);
+    const double best = alpha > 0.0 ? law(r) : report.residual;
     if (trace > 0 && k % trace == 0)
       std::printf("  tnnmg-law %4d: law before %.3e, open %d stick %d slip %d, alpha %.4f, law after %.3e\n", k,
                   report.residual, counts[0], counts[1], counts[2] + counts[3], alpha, best);
@@ -1062,7 +1064,7 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
   Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
   ldlt.analyzePattern(a_matrix);
   std::vector<char> held(n);
-  Vector u(n), rhs(n), trial(n), best_r(n);
+  Vector u(n), rhs(n);
   auto energy = [&](const Vector& z) { return 0.5 * z.dot(p.W * z) + p.q.dot(z); };
   for (int k = 1; k <= max_iterations; ++k) {
     if (sweeps > 0) {
@@ -1093,21 +1095,7 @@ PolishReport tnnmg_stick(const cd::DelassusProblem& p, Vector& r, int max_iterat
     Vector v = ldlt.solve(rhs);
     for (Eigen::Index i = 0; i < n; ++i)
       if (held[i]) v[i] = 0.0;
-    const double e0 = energy(r);
-    double best = e0, alpha = 0.0;
-    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
-      trial = r + step * v;
-      for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], trial[2 * a], trial[2 * a + 1]);
-      const double e = energy(trial);
-      if (e < best) {
-        best = e;
-        alpha = step;
-        best_r = trial;
-      } else if (alpha > 0.0) {
-        break;
-      }
-    }
-    if (alpha > 0.0) r = best_r;
+    const double alpha = least_on_arc(r, v, [&](Vector& z) { for (Eigen::Index a = 0; a < m; ++a) project_on_cone(p.mu[a], z[2 * a], z[2 * a + 1]); }, energy, true);
     if (trace > 0 && k % trace == 0)
       std::printf("  tnnmg-stick %4d: law before %.3e, sticking %d of %ld, alpha %.4f, law after %.3e\n", k,
                   report.residual, sticking, static_cast<long>(m), alpha,
@@ -1137,7 +1125,7 @@ PolishReport tresca(const cd::DelassusProblem& p, Vector& r, int max_iterations,
   a_matrix.makeCompressed();
   Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
   ldlt.analyzePattern(a_matrix);
-  Vector bound(m), lo(n), hi(n), u(n), v(n), trial(n), best_r(n);
+  Vector bound(m), lo(n), hi(n), u(n), v(n);
   auto set_bounds = [&]() {
     for (Eigen::Index a = 0; a < m; ++a) {
       bound[a] = p.mu[a] * std::max(0.0, r[2 * a]);
@@ -1188,19 +1176,7 @@ PolishReport tresca(const cd::DelassusProblem& p, Vector& r, int max_iterations,
     v = ldlt.solve(rhs);
     for (Eigen::Index i = 0; i < n; ++i)
       if (held[i]) v[i] = 0.0;
-    double best = energy(r), alpha = 0.0;
-    for (double step = 1.0; step >= 1.0 / 1024; step *= 0.5) {
-      trial = (r + step * v).cwiseMax(lo).cwiseMin(hi);
-      const double e = energy(trial);
-      if (e < best) {
-        best = e;
-        alpha = step;
-        best_r = trial;
-      } else if (alpha > 0.0) {
-        break;
-      }
-    }
-    if (alpha > 0.0) r = best_r;
+    const double alpha = least_on_arc(r, v, [&](Vector& z) { z = z.cwiseMax(lo).cwiseMin(hi); }, energy, true);
     if (trace > 0 && k % trace == 0)
       std::printf("  tresca %4d: law %.3e, qp %.3e, alpha %.4f, moves %d\n", k, report.residual, qp_residual, alpha,
                   moves);
