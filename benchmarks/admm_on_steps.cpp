@@ -13,7 +13,8 @@
 //                      [--fb N [--fb-smooth X] [--fb-lm THETA]]
 //                      [--tnnmg N | --tnnmg-stick N | --tnnmg-law N | --tresca N] [--tnnmg-sweeps K]
 //                      [--tnnmg-eps E] [--tnnmg-frozen [--tnnmg-refreeze X]
-//                       [--tnnmg-qp-tolerance T]] STEP.dat...
+//                       [--tnnmg-qp-tolerance T] [--tnnmg-shift start|previous|zero]]
+//                      [--against-engine] STEP.dat...
 //   C: the compliance 1/(k h^2) of the step (the smallest on W's diagonal; 0: rigid);
 //   R: the first rho relative to D (default: sqrt(lambda_min lambda_max));
 //   --trace K: a line every K iterations;
@@ -41,7 +42,10 @@
 //   --fb-lm THETA: Levenberg and Marquardt's step instead of Newton's;
 //   --tnnmg N, --tnnmg-stick N, --tnnmg-law N, --tresca N: from the warm start, up to N
 //   iterations of the truncated nonsmooth Newton below and its variants (K sweeps of
-//   Gauss-Seidel each, default 5; eps the regularisation, default 1e-10).
+//   Gauss-Seidel each, default 5; eps the regularisation, default 1e-10);
+//   --against-engine: seven more columns, the impulses reached beside the engine's
+//   (compare() below).
+#include "cdpile/analysis/critical.hpp"
 #include "cdpile/cd/active_set.hpp"
 #include "cdpile/cd/admm.hpp"
 #include "cdpile/cd/contact_system.hpp"
@@ -62,6 +66,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -843,10 +848,12 @@ void truncated_matrix(const ColMatrix& m, const std::vector<char>& held, double 
 // QP alone, stopped when its projected gradient has fallen by --tnnmg-qp-tolerance (1e-8)
 // from the first iteration's; --tnnmg-refreeze X (0: never) moves the shift to the
 // current velocity each time that residual has fallen by X since the last move (an
-// outer fixed point on the shift, each QP solved to X).
+// outer fixed point on the shift, each QP solved to X). --tnnmg-shift previous freezes it
+// at the previous step's |u_t| (step-K.ut0: the law lagged by a step), zero at 0 (the
+// associated law, no shift), start at the start's (the default).
 PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, int sweeps, double eps,
                    double tolerance, double velocity_floor, int trace, int& sweeps_done, bool frozen,
-                   double refreeze_ratio, double qp_tolerance) {
+                   double refreeze_ratio, double qp_tolerance, const Vector* frozen_speed) {
   PolishReport report;
   const Eigen::Index n = 2 * p.contacts();
   if (n == 0) return report;
@@ -877,6 +884,9 @@ PolishReport tnnmg(const cd::DelassusProblem& p, Vector& r, int max_iterations, 
     to_y(r, y);
     a = f.m * y + f.c;
     for (Eigen::Index i = 0; i < n; i += 2) frozen_shift[i] = frozen_shift[i + 1] = 0.5 * std::abs(a[i + 1] - a[i]);
+    // --tnnmg-shift previous or zero: the shift frozen at given speeds |u_t| instead
+    if (frozen_speed)
+      for (Eigen::Index c = 0; c < p.contacts(); ++c) frozen_shift[2 * c] = frozen_shift[2 * c + 1] = 0.5 * (*frozen_speed)[c];
   }
   const Vector zero = Vector::Zero(n), unbounded = Vector::Constant(n, std::numeric_limits<double>::infinity());
   auto qp_sweep = [&]() { block_box_sweep(m_rows, f.c + frozen_shift, zero, unbounded, y); };
@@ -1187,6 +1197,35 @@ PolishReport tresca(const cd::DelassusProblem& p, Vector& r, int max_iterations,
   return report;
 }
 
+// --against-engine: a method's impulses r beside the engine's (the exact law's to its
+// tolerance) on the same step: the critical contacts of each (analysis::is_critical with
+// its default eps, the rule the tools count by), the contacts critical in one and not the
+// other, the active ones (R_n > 0) likewise, |r - engine| / |engine|, and the largest |u_n|
+// over each one's active contacts [m/s] (0 for the exact law at a rigid step; a law with a
+// frozen shift lets a sliding contact open or press by mu times its change of |u_t|).
+struct Comparison {
+  int critical_engine = 0, critical = 0, critical_differ = 0, active_differ = 0;
+  double impulse_difference = 0.0, largest_un_engine = 0.0, largest_un = 0.0;
+};
+
+Comparison compare(const cd::DelassusProblem& p, const Vector& r, const Vector& engine) {
+  Comparison c;
+  const Vector u = p.W * r + p.q, ue = p.W * engine + p.q;
+  const double eps = cdpile::analysis::default_eps;
+  for (Eigen::Index a = 0; a < p.contacts(); ++a) {
+    const bool ce = cdpile::analysis::is_critical(engine[2 * a], engine[2 * a + 1], p.mu[a], eps);
+    const bool cm = cdpile::analysis::is_critical(r[2 * a], r[2 * a + 1], p.mu[a], eps);
+    c.critical_engine += ce;
+    c.critical += cm;
+    c.critical_differ += ce != cm;
+    c.active_differ += (engine[2 * a] > 0.0) != (r[2 * a] > 0.0);
+    if (engine[2 * a] > 0.0) c.largest_un_engine = std::max(c.largest_un_engine, std::abs(ue[2 * a]));
+    if (r[2 * a] > 0.0) c.largest_un = std::max(c.largest_un, std::abs(u[2 * a]));
+  }
+  c.impulse_difference = (r - engine).norm() / std::max(engine.norm(), 1e-300);
+  return c;
+}
+
 Eigen::VectorXd read_row(const std::string& path, Eigen::Index n) {
   std::ifstream in(path);
   std::vector<double> v;
@@ -1238,6 +1277,8 @@ int main(int argc, char** argv) {
   bool tresca_form = false;
   double tnnmg_refreeze = 1e-2;
   double tnnmg_qp_tolerance = 1e-8;
+  std::string tnnmg_shift = "start";
+  bool against_engine = false;
   std::vector<std::string> files;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -1324,6 +1365,14 @@ int main(int argc, char** argv) {
       tnnmg_qp_tolerance = std::stod(argv[++a]);
     } else if (arg == "--tnnmg-refreeze" && has) {
       tnnmg_refreeze = std::stod(argv[++a]);
+    } else if (arg == "--tnnmg-shift" && has) {
+      tnnmg_shift = argv[++a];
+      if (tnnmg_shift != "start" && tnnmg_shift != "previous" && tnnmg_shift != "zero") {
+        std::cerr << "admm_on_steps: --tnnmg-shift: '" << tnnmg_shift << "' is not start, previous or zero\n";
+        return 2;
+      }
+    } else if (arg == "--against-engine") {
+      against_engine = true;
     } else if (arg == "--tnnmg-eps" && has) {
       tnnmg_eps = std::stod(argv[++a]);
     } else if (arg == "--nsgs" && has)
@@ -1343,7 +1392,9 @@ int main(int argc, char** argv) {
     };
   std::printf(
       "file\tcontacts\titerations\tfactorisations\tlaw\tconverged\tcpu_ms\tnatural_map\t"
-      "engine_natural_map\tengine_law\n");
+      "engine_natural_map\tengine_law%s\n",
+      against_engine ? "\tcritical_engine\tcritical\tcritical_differ\tactive_differ\timpulse_difference\t"
+                       "largest_un_engine\tlargest_un" : "");
   try {
     for (const std::string& file : files) {
       const cd::DelassusProblem p = cdpile::io::read_siconos_fc2d(file);
@@ -1375,12 +1426,20 @@ int main(int argc, char** argv) {
       }
       if (tnnmg_iterations > 0) {
         int sweeps_done = 0;
+        Vector speed;  // --tnnmg-shift previous / zero: the speeds |u_t| the shift is frozen at
+        if (tnnmg_shift == "previous") {
+          if (!std::ifstream(stem + ".ut0"))
+            throw std::runtime_error(stem + ".ut0: missing (export_steps writes it from the second step on)");
+          speed = read_row(stem + ".ut0", p.contacts());
+        } else if (tnnmg_shift == "zero") {
+          speed = Vector::Zero(p.contacts());
+        }
         const PolishReport pr = tresca_form ? tresca(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
                                                      o.velocity_floor, trace, sweeps_done, tnnmg_refreeze) : tnnmg_stick_form ? tnnmg_stick(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
                                                                o.velocity_floor, trace, sweeps_done) : tnnmg_law_form ? tnnmg_law(p, r, tnnmg_iterations, tnnmg_sweeps, o.tolerance,
                                                            o.velocity_floor, trace, sweeps_done) : tnnmg(p, r, tnnmg_iterations, tnnmg_sweeps, tnnmg_eps, o.tolerance,
                                       o.velocity_floor, trace, sweeps_done, tnnmg_frozen, tnnmg_refreeze,
-                                                  tnnmg_qp_tolerance);
+                                                  tnnmg_qp_tolerance, speed.size() ? &speed : nullptr);
         rep.iterations += pr.iterations + sweeps_done;
         rep.factorisations += pr.iterations;
         rep.residual = pr.residual;
@@ -1454,11 +1513,17 @@ int main(int argc, char** argv) {
         for (Eigen::Index i = 0; i < r.size(); ++i) out << (i ? " " : "") << r[i];
         out << "\n";
       }
-      std::printf("%s\t%ld\t%d\t%d\t%.3e\t%d\t%.1f\t%.3e\t%.3e\t%.3e\n", file.c_str(),
+      std::printf("%s\t%ld\t%d\t%d\t%.3e\t%d\t%.1f\t%.3e\t%.3e\t%.3e", file.c_str(),
                   static_cast<long>(p.contacts()), rep.iterations, rep.factorisations, rep.residual,
                   rep.converged ? 1 : 0, ms, cd::natural_map_residual(p, r),
                   cd::natural_map_residual(p, engine),
                   cd::admm_law_residual(p, engine, o.velocity_floor));
+      if (against_engine) {
+        const Comparison c = compare(p, r, engine);
+        std::printf("\t%d\t%d\t%d\t%d\t%.3e\t%.3e\t%.3e", c.critical_engine, c.critical, c.critical_differ,
+                    c.active_differ, c.impulse_difference, c.largest_un_engine, c.largest_un);
+      }
+      std::printf("\n");
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {

@@ -11,6 +11,10 @@
 //   step-K.r     the impulses the engine ended the step with, 2m values on one line
 //   step-K.r0    the impulses it started from (the previous step's, matched by the pair
 //                as the engine's warm start matches them; 0 for a new pair), same layout
+//   step-K.ut0   from the second step on: the previous step's tangential speed |u_t| at
+//                its end (u = W R + q of its problem and impulses) [m/s], matched by the
+//                pair the same way, one value per contact: the De Saxce shift a lagged law
+//                would freeze (docs/performance.md, "A shift lagged by a step")
 // and prints one line per step on stdout (TSV): the step K after the branch, tilt [deg],
 // contact candidates m, active contacts, sweeps, the engine's residual (its maxm
 // measure, docs/method.md) and the natural-map residual of its impulses (Siconos'
@@ -36,6 +40,8 @@
 #include "cdpile/sim/common.hpp"
 #include "cdpile/sim/tilt.hpp"
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -73,6 +79,28 @@ void write_row(std::ostream& o, const Eigen::VectorXd& values) {
     std::snprintf(v, sizeof v, "%.17g", values[i]);
     o << v << (i + 1 < values.size() ? " " : "\n");
   }
+}
+
+using Pair = std::pair<std::int32_t, std::int32_t>;
+
+/// Each contact's tangential speed |u_t| at the end of a step, u = W R + q, by its pair.
+std::map<Pair, double> tangential_speeds(const cd::DelassusProblem& p, const Eigen::VectorXd& r,
+                                         const cdpile::Contacts& rows) {
+  const Eigen::VectorXd u = p.W * r + p.q;
+  std::map<Pair, double> by_pair;
+  for (std::size_t a = 0; a < rows.size(); ++a)
+    by_pair[{rows.i[a], rows.j[a]}] = std::abs(u[2 * static_cast<Eigen::Index>(a) + 1]);
+  return by_pair;
+}
+
+/// The previous step's |u_t| in this step's row order, 0 where the pair is new.
+Eigen::VectorXd matched_speeds(const std::map<Pair, double>& previous, const cdpile::Contacts& rows) {
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t a = 0; a < rows.size(); ++a) {
+    const auto it = previous.find({rows.i[a], rows.j[a]});
+    if (it != previous.end()) s[static_cast<Eigen::Index>(a)] = it->second;
+  }
+  return s;
 }
 
 /// The warm start of the step in the problem's row order: the stored impulse of each row's
@@ -149,6 +177,7 @@ int main(int argc, char** argv) {
 
     std::printf("step\ttilt_deg\tcandidates\tcontacts\tsweeps\tresidual\tnatural_map\tfile\t"
                 "substeps\tcpu_ms\n");
+    std::map<Pair, double> previous_speeds;  // |u_t| at the end of the step before
     for (long k = 1; k <= steps; ++k) {
       const double deg = pile.branch->tilt_deg + static_cast<double>(k) * rate_deg;
       const std::vector<cd::StoredImpulse> start = engine.state().impulses;
@@ -167,7 +196,12 @@ int main(int argc, char** argv) {
         write_text(dir + "/" + name + ".r0", [&](std::ostream& o) {
           write_row(o, matched_start(start, engine.contacts()));
         });
+        if (k > 1)
+          write_text(dir + "/" + name + ".ut0", [&](std::ostream& o) {
+            write_row(o, matched_speeds(previous_speeds, engine.contacts()));
+          });
       }
+      previous_speeds = tangential_speeds(p, impulses, engine.contacts());
       std::printf("%ld\t%.3f\t%d\t%d\t%d\t%.3e\t%.3e\t%s\t%d\t%.1f\n", k, deg, r.candidates,
                   r.contacts, r.sweeps, r.residual, cd::natural_map_residual(p, impulses),
                   file.c_str(), r.substeps, cpu_ms);

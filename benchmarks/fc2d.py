@@ -1,6 +1,7 @@
 """What the Python benchmarks share about 2D frictional contact problems in Delassus form,
 u = W r + q with r = (r_n, r_t) per contact (cd/delassus.hpp), without Siconos."""
 import numpy as np
+import scipy.sparse as sp
 
 
 def natural_map_residual(W, q, mu, r):
@@ -20,3 +21,36 @@ def natural_map_residual(W, q, mu, r):
     error = np.sqrt(np.sum((rn - pn) ** 2 + (rt - pt) ** 2))
     norm_q = np.linalg.norm(q)
     return error / norm_q if norm_q > np.finfo(float).eps else error
+
+
+def load_step(path):
+    """W, q, mu of a step-K.dat (export_steps' cs_print layout), the engine's answer and
+    its warm start."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    m = int(lines[1])
+    rows, cols, vals = [], [], []
+    k, col = 8, -1
+    while True:
+        line = lines[k].strip()
+        if line.startswith("col"):
+            col = int(line.split()[1])
+        elif line:
+            head, sep, value = line.partition(":")
+            if not sep or " " in head.strip():
+                break
+            rows.append(int(head))
+            cols.append(col)
+            vals.append(float(value))
+        k += 1
+    q = np.array(lines[k].split(), float)
+    mu = np.array(lines[k + 1].split(), float)
+    W = sp.csr_matrix((vals, (rows, cols)), shape=(2 * m, 2 * m))
+    return W, q, mu, np.loadtxt(path[:-4] + ".r"), np.loadtxt(path[:-4] + ".r0")
+
+
+def critical(r, mu, eps=1e-3):
+    """The contacts critical by the tools' rule (analysis::is_critical): r_n > 0 and
+    |r_t| >= (1 - eps) mu r_n."""
+    rn, rt = r[0::2], r[1::2]
+    return (rn > 0) & (np.abs(rt) >= (1 - eps) * mu * rn)

@@ -3,9 +3,9 @@
 #   hard_pile [TO]            one 1000-grain pile 30 D wide (seed 1, the tools' defaults),
 #                             tilted at 0.01 degree per step (to TO degrees, or past its
 #                             avalanche): pile.h5, run.h5
-#   export_set NAME DEG K     its first 4 steps from DEG degrees at stiffness K, at the full
-#                             h with pcg's impulses to 1e-6 or 200 000 sweeps: NAME/ and
-#                             NAME.pcg.tsv (export_steps: pcg's sweeps and CPU per step)
+#   export_set NAME DEG K [N] its first N (4) steps from DEG degrees at stiffness K, at the
+#                             full h with pcg's impulses to 1e-6 or 200 000 sweeps: NAME/
+#                             and NAME.pcg.tsv (export_steps: pcg's sweeps and CPU per step)
 #   method SET NAME OPTS...   admm_on_steps OPTS on SET's steps into SET.NAME.tsv
 # Each keeps what exists, so a second call makes only what is missing.
 hard_pile() {
@@ -13,7 +13,7 @@ hard_pile() {
   [ -e run.h5 ] || "$bin/tilt-cd" pile.h5 --rate 0.01 ${1:+--to "$1"} --quiet -o run.h5
 }
 export_set() {
-  [ -d "$1" ] || "$bench/export_steps" run.h5 "$2" 4 "$1" --all --stiffness "$3" --max-substeps 1 \
+  [ -d "$1" ] || "$bench/export_steps" run.h5 "$2" "${4:-4}" "$1" --all --stiffness "$3" --max-substeps 1 \
     --max-sweeps 200000 > "$1.pcg.tsv"
 }
 method() {

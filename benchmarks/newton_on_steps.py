@@ -39,7 +39,7 @@ except ImportError:
              "(Debian package python3-siconos)")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fc2d import natural_map_residual  # noqa: E402
+from fc2d import critical, natural_map_residual  # noqa: E402
 
 warnings.filterwarnings("ignore", message=".*Performance warning.*")
 
@@ -64,11 +64,6 @@ def embed3(W, q):
     W3.indices = W3.indices.astype(np.int64)
     W3.indptr = W3.indptr.astype(np.int64)
     return W3, P @ q, P
-
-
-def critical(r, mu, eps=1e-3):
-    rn, rt = r[0::2], r[1::2]
-    return (rn > 0) & (np.abs(rt) >= (1 - eps) * mu * rn)
 
 
 def fc2d_nsgs(W, q, mu, r0, sweeps):

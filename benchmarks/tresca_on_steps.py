@@ -30,33 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fc2d import natural_map_residual as natural_map  # noqa: E402
-
-
-def load(path):
-    """W, q, mu of a step-K.dat (export_steps' cs_print layout), the engine's answer and
-    its warm start."""
-    with open(path) as f:
-        lines = f.read().split("\n")
-    m = int(lines[1])
-    rows, cols, vals = [], [], []
-    k, col = 8, -1
-    while True:
-        line = lines[k].strip()
-        if line.startswith("col"):
-            col = int(line.split()[1])
-        elif line:
-            head, sep, value = line.partition(":")
-            if not sep or " " in head.strip():
-                break
-            rows.append(int(head))
-            cols.append(col)
-            vals.append(float(value))
-        k += 1
-    q = np.array(lines[k].split(), float)
-    mu = np.array(lines[k + 1].split(), float)
-    W = sp.csr_matrix((vals, (rows, cols)), shape=(2 * m, 2 * m))
-    return W, q, mu, np.loadtxt(path[:-4] + ".r"), np.loadtxt(path[:-4] + ".r0")
+from fc2d import load_step as load, natural_map_residual as natural_map  # noqa: E402
 
 
 class Products:
