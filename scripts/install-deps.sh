@@ -18,7 +18,7 @@ packages=(
   gnuplot-nox                        # the docs' gnuplot recipes, run by tests/tools/docs/gnuplot_recipes.sh
   slurm-wlm munge                    # a one-node Slurm cluster on localhost: the test
                                      # pipelines/slurm_cluster (docs/cluster.md)
-  clang libclang-rt-14-dev           # libFuzzer and clang's sanitizer runtimes: the fuzz preset (docs/fuzzing.md)
+  clang libclang-rt-14-dev           # libFuzzer and clang's sanitizer runtimes: the asan and fuzz presets (docs/fuzzing.md)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -545,7 +545,9 @@ Args parse(const Usage& usage, const std::vector<std::string>& argv) {
     else
       desc.add_options()(key.c_str(), po::value<std::string>());
   }
-  for (const auto& [old_name, n] : usage.aliases_) {
+  for (const auto& alias : usage.aliases_) {
+    const std::string& old_name = alias.first;
+    const std::string& n = alias.second;  // a plain reference: clang 14 (the sanitizer builds) cannot capture a structured binding
     const auto o = std::find_if(usage.options.begin(), usage.options.end(),
                                 [&](const OptionSpec& x) { return x.name == n; });
     if (o->kind == Kind::flag)
