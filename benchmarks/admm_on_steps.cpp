@@ -1380,6 +1380,10 @@ int main(int argc, char** argv) {
     else
       files.push_back(arg);
   }
+  if (tnnmg_shift != "start" && !tnnmg_frozen) {
+    std::cerr << "admm_on_steps: --tnnmg-shift needs --tnnmg-frozen (the shift it freezes)\n";
+    return 2;
+  }
   if (files.empty()) {
     std::cerr << "usage: admm_on_steps [--compliance C] [--rho R] [--tolerance T] [--max N] "
                  "[--trace K] STEP.dat...\n";
